@@ -1,0 +1,148 @@
+// The 10-node (quadratic) tetrahedron: barycentric frame, Bernstein form of the field,
+// and the field along a ray as an exact quadratic.
+//
+// Node order is VTK_QUADRATIC_TETRA's: vertices 0..3, then the mid-edge nodes of the edges
+// (0,1) (1,2) (0,2) (0,3) (1,3) (2,3). The paper's shape functions (its eq. 2),
+//   f = sum_i f_i L_i (2 L_i - 1) + sum_{edges ab} 4 f_ab L_a L_b,
+// rewritten with sum_j L_j = 1 become the homogeneous quadratic form
+//   f = L^T B L,  B_ii = f_i,  B_ab = B_ba = 2 f_ab - (f_a + f_b) / 2,
+// whose entries are the Bernstein-Bezier coefficients of f on the simplex. Two consequences:
+// f lies between the min and max of the 10 entries of B (convex hull property), and along a
+// ray L is affine in t, so f(t) is exactly the quadratic (dL^T B dL) t^2 + 2 (L^T B dL) t + L^T B L.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <array>
+
+namespace tetdsr
+{
+
+/// Vertex pairs of the six edges, in the order of the mid-edge nodes 4..9.
+inline constexpr std::array<std::array<int, 2>, 6> kEdgeVertices = {
+  { { 0, 1 }, { 1, 2 }, { 0, 2 }, { 0, 3 }, { 1, 3 }, { 2, 3 } }
+};
+
+/// The symmetric 4x4 Bernstein coefficient matrix B of f = L^T B L.
+struct BernsteinForm
+{
+  double b[4][4];
+
+  /// @param nodeValues the field at the 10 nodes, VTK order.
+  static BernsteinForm fromNodeValues(const double nodeValues[10])
+  {
+    BernsteinForm form{};
+    for (int i = 0; i < 4; ++i)
+    {
+      form.b[i][i] = nodeValues[i];
+    }
+    for (int e = 0; e < 6; ++e)
+    {
+      const int a = kEdgeVertices[e][0];
+      const int c = kEdgeVertices[e][1];
+      const double coefficient = 2.0 * nodeValues[4 + e] - 0.5 * (nodeValues[a] + nodeValues[c]);
+      form.b[a][c] = coefficient;
+      form.b[c][a] = coefficient;
+    }
+    return form;
+  }
+
+  /// Rigorous bounds of f over the cell: the min and max Bernstein coefficient.
+  void range(double& lo, double& hi) const
+  {
+    lo = hi = b[0][0];
+    for (int i = 0; i < 4; ++i)
+    {
+      for (int j = i; j < 4; ++j)
+      {
+        lo = std::min(lo, b[i][j]);
+        hi = std::max(hi, b[i][j]);
+      }
+    }
+  }
+
+  /// u^T B v.
+  double bilinear(const double u[4], const double v[4]) const
+  {
+    double sum = 0.0;
+    for (int i = 0; i < 4; ++i)
+    {
+      const double bv = b[i][0] * v[0] + b[i][1] * v[1] + b[i][2] * v[2] + b[i][3] * v[3];
+      sum += u[i] * bv;
+    }
+    return sum;
+  }
+};
+
+/// Affine map from world coordinates to barycentric coordinates of a straight-sided tet.
+struct TetFrame
+{
+  glm::dvec3 vertex[4];
+  /// gradient[k] = grad L_k (constant over the cell).
+  glm::dvec3 gradient[4];
+  /// det[x1-x0, x2-x0, x3-x0] = 6 * signed volume (the paper's T_vol, eq. 1).
+  double orientedVolume6 = 0.0;
+
+  /// Returns false for a zero-volume cell (no barycentric frame exists).
+  static bool fromVertices(const glm::dvec3 vertices[4], TetFrame& frame)
+  {
+    for (int k = 0; k < 4; ++k)
+    {
+      frame.vertex[k] = vertices[k];
+    }
+    const glm::dvec3 e1 = vertices[1] - vertices[0];
+    const glm::dvec3 e2 = vertices[2] - vertices[0];
+    const glm::dvec3 e3 = vertices[3] - vertices[0];
+    const glm::dvec3 n1 = glm::cross(e2, e3);
+    frame.orientedVolume6 = glm::dot(e1, n1);
+    if (frame.orientedVolume6 == 0.0 || !std::isfinite(frame.orientedVolume6))
+    {
+      return false;
+    }
+    // Cramer's rule: grad L_k is the face normal opposite vertex k scaled by 1/det, so
+    // grad L_k . (x_j - x_0) = delta_kj. The sign of det cancels, so inverted cells get the
+    // same barycentric coordinates (and the same field gradient) as well-oriented ones.
+    const double inverse = 1.0 / frame.orientedVolume6;
+    frame.gradient[1] = n1 * inverse;
+    frame.gradient[2] = glm::cross(e3, e1) * inverse;
+    frame.gradient[3] = glm::cross(e1, e2) * inverse;
+    frame.gradient[0] = -(frame.gradient[1] + frame.gradient[2] + frame.gradient[3]);
+    return true;
+  }
+
+  /// Barycentric coordinates of p. Each L_k is measured from a vertex on the face where L_k = 0,
+  /// so points on a face get L_k close to 0 with an error relative to the cell, not to |p|.
+  void barycentric(const glm::dvec3& p, double L[4]) const
+  {
+    L[0] = glm::dot(gradient[0], p - vertex[1]);
+    L[1] = glm::dot(gradient[1], p - vertex[0]);
+    L[2] = glm::dot(gradient[2], p - vertex[0]);
+    L[3] = glm::dot(gradient[3], p - vertex[0]);
+  }
+
+  /// Barycentric rate of change along direction d (sums to 0).
+  void barycentricDirection(const glm::dvec3& d, double dL[4]) const
+  {
+    for (int k = 0; k < 4; ++k)
+    {
+      dL[k] = glm::dot(gradient[k], d);
+    }
+  }
+};
+
+/// Field gradient in world coordinates at barycentric point L: grad f = sum_k 2 (B L)_k grad L_k.
+inline glm::dvec3 fieldGradient(const BernsteinForm& form, const TetFrame& frame, const double L[4])
+{
+  glm::dvec3 g(0.0);
+  for (int k = 0; k < 4; ++k)
+  {
+    const double bl =
+      form.b[k][0] * L[0] + form.b[k][1] * L[1] + form.b[k][2] * L[2] + form.b[k][3] * L[3];
+    g += (2.0 * bl) * frame.gradient[k];
+  }
+  return g;
+}
+
+} // namespace tetdsr

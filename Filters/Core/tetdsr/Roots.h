@@ -1,0 +1,61 @@
+// Roots of the ray quadratic a s^2 + b s + c = 0, solved stably.
+#pragma once
+
+#include <cmath>
+#include <utility>
+
+namespace tetdsr
+{
+
+/// b^2 - 4ac with the product a*c split exactly by fma (Kahan's discriminant), so a
+/// discriminant that is small next to b^2 keeps its relative accuracy: the result is within a
+/// few ulps of the exact value instead of an absolute error of eps * b^2.
+inline double discriminant(double a, double b, double c)
+{
+  const double product = a * c;
+  const double productError = std::fma(a, c, -product); // a*c = product + productError exactly
+  return std::fma(b, b, -4.0 * product) - 4.0 * productError;
+}
+
+/// Smallest root of a s^2 + b s + c in [lo, hi]; returns false if there is none.
+/// A segment on which the quadratic is identically zero (a = b = c = 0: the field equals the
+/// iso-value along the whole segment) reports its start.
+inline bool firstRootInInterval(double a, double b, double c, double lo, double hi, double& root)
+{
+  auto accept = [&](double s) {
+    if (s >= lo && s <= hi)
+    {
+      root = s;
+      return true;
+    }
+    return false;
+  };
+  if (a == 0.0)
+  {
+    if (b == 0.0)
+    {
+      return c == 0.0 && accept(lo);
+    }
+    return accept(-c / b); // linear: one root
+  }
+  const double disc = discriminant(a, b, c);
+  if (disc < 0.0)
+  {
+    return false; // no real root: the ray passes the surface (a grazing ray lands here too)
+  }
+  // Stable formula: q has no cancellation; the roots are q/a and c/q (Vieta: product c/a).
+  const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+  if (q == 0.0)
+  {
+    return accept(0.0); // b = 0 and disc = 0 force c = 0: double root at 0
+  }
+  double s0 = q / a;
+  double s1 = c / q;
+  if (s0 > s1)
+  {
+    std::swap(s0, s1);
+  }
+  return accept(s0) || accept(s1);
+}
+
+} // namespace tetdsr

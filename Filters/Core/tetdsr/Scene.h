@@ -1,0 +1,108 @@
+// A quadratic tetrahedral mesh prepared for ray casting: per-cell validation and rigorous
+// value ranges, and a bounding volume hierarchy whose nodes carry the value interval of their
+// subtree, so a ray skips every subtree that cannot reach an iso-value.
+#pragma once
+
+#include "tetdsr/Camera.h"
+
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace tetdsr
+{
+
+/// Point and cell ids: 64-bit, the same type as VTK's vtkIdType, so VTK's connectivity can be
+/// viewed without a copy.
+using NodeId = long long;
+
+/// Non-owning view of a mesh of 10-node tetrahedra (VTK node order).
+struct MeshView
+{
+  const double* points = nullptr; ///< x, y, z per point
+  NodeId numberOfPoints = 0;
+  /// 10 node ids per cell. A mid-edge id of -1 marks a straight edge whose mid-edge value is the
+  /// mean of its ends: that is how a linear tetrahedron enters as an exact quadratic one.
+  const NodeId* cellNodes = nullptr;
+  NodeId numberOfCells = 0;
+  const double* values = nullptr; ///< one scalar per point
+};
+
+/// What preprocessing found. Cells that are not valid are left out of the hierarchy.
+struct PreprocessSummary
+{
+  NodeId validCells = 0;
+  NodeId invertedCells = 0;   ///< valid, negative orientation (rendered the same way)
+  NodeId degenerateCells = 0; ///< zero volume, or a node id repeated within the cell
+  NodeId nonFiniteCells = 0;  ///< a NaN or Inf nodal value or coordinate
+  NodeId invalidIdCells = 0;  ///< a node id outside [0, numberOfPoints)
+};
+
+/// Iso-values sorted ascending, with the test "does [lo, hi] contain any of them".
+class IsoValues
+{
+public:
+  explicit IsoValues(std::vector<double> values);
+  bool anyWithin(double lo, double hi) const;
+  const std::vector<double>& sorted() const { return Sorted_; }
+
+private:
+  std::vector<double> Sorted_;
+};
+
+struct SurfaceHit
+{
+  double t = 0.0; ///< ray parameter (distance along the unit direction)
+  NodeId cellId = -1;
+  glm::dvec3 gradient{ 0.0 }; ///< exact field gradient at the hit
+};
+
+class Scene
+{
+public:
+  /// Validates every cell and builds the hierarchy. The mesh's arrays must outlive the scene.
+  explicit Scene(const MeshView& mesh);
+
+  const PreprocessSummary& summary() const { return Summary_; }
+
+  /// The first crossing of any iso-value along the ray with t >= 0; false if there is none.
+  bool firstHit(const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit) const;
+
+  /// Bytes this scene allocates (the mesh it views is not counted).
+  std::size_t memoryBytes() const;
+
+  /// Barycentric tolerance by which a cell is widened when clipping a ray to it. Rounding in
+  /// the two cells that share a face gives slightly different barycentric coordinates there;
+  /// without overlap a ray through a shared edge or vertex could fall between them. A
+  /// difference of 1e-10 of a cell's size between the neighbours' polynomials moves a hit by
+  /// the same fraction of the cell, far below pixel size.
+  static constexpr double kBarycentricTolerance = 1e-10;
+
+private:
+  struct Node
+  {
+    double boxLo[3];
+    double boxHi[3];
+    double valueLo;
+    double valueHi;
+    NodeId firstOrSecondChild; ///< leaf: first slot; interior: index of the second child
+    std::int32_t count;        ///< leaf: number of cells; interior: 0 (first child = this + 1)
+    std::int32_t axis;
+  };
+  struct BuildItem;
+
+  void loadCell(NodeId cellId, glm::dvec3 vertices[4], double values[10]) const;
+  NodeId build(std::vector<BuildItem>& items, std::size_t begin, std::size_t end, int depth);
+  bool intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues,
+    double tLimit, SurfaceHit& hit) const;
+
+  MeshView Mesh_;
+  PreprocessSummary Summary_;
+  std::vector<Node> Nodes_;
+  std::vector<NodeId> SlotCell_; ///< cell id of each leaf slot
+  std::vector<double> SlotRange_;      ///< Bernstein min and max of each leaf slot's cell
+};
+
+} // namespace tetdsr

@@ -1,0 +1,517 @@
+#include "vtkDirectSurfaceRayCaster.h"
+
+#include "vtkCamera.h"
+#include "vtkCellArray.h"
+#include "vtkCellType.h"
+#include "vtkContourValues.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include "tetdsr/Renderer.h"
+#include "tetdsr/Scene.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+static_assert(std::is_same<vtkIdType, tetdsr::NodeId>::value,
+  "TetDSR needs VTK built with 64-bit ids (VTK_USE_64BIT_IDS)");
+
+vtkStandardNewMacro(vtkDirectSurfaceRayCaster);
+vtkCxxSetObjectMacro(vtkDirectSurfaceRayCaster, Camera, vtkCamera);
+
+/// The converted mesh and its scene, kept until the mesh or the scalar array changes.
+/// Arrays VTK already stores in the core's layout are viewed, not copied.
+struct vtkDirectSurfaceRayCaster::Cache
+{
+  // Identity of what the scene was built from.
+  vtkUnstructuredGrid* Input = nullptr;
+  vtkMTimeType InputTime = 0;
+  vtkDataArray* Array = nullptr;
+  vtkMTimeType ArrayTime = 0;
+  int Component = 0;
+
+  // Keep the viewed VTK arrays alive as long as the scene views them.
+  vtkSmartPointer<vtkDataArray> PointArray;
+  vtkSmartPointer<vtkDataArray> ConnectivityArray;
+  vtkSmartPointer<vtkDataArray> ScalarArray;
+  std::vector<double> PointsCopy;
+  std::vector<vtkIdType> CellNodesCopy;
+  std::vector<double> ValuesCopy;
+  std::vector<vtkIdType> InputCellIds; ///< scene cell -> input cell; empty when the identity
+
+  std::unique_ptr<tetdsr::Scene> Scene;
+  vtkIdType UnsupportedCells = 0;
+
+  /// Convert the input to the core's MeshView, copying only what VTK stores differently.
+  tetdsr::MeshView View(vtkUnstructuredGrid* input, vtkDataArray* scalars, int component);
+
+  bool Matches(vtkUnstructuredGrid* input, vtkDataArray* array, int component) const
+  {
+    return this->Scene && input == this->Input && input->GetMTime() == this->InputTime &&
+      array == this->Array && array->GetMTime() == this->ArrayTime && component == this->Component;
+  }
+};
+
+namespace
+{
+// Rows rendered between two progress reports / abort checks.
+constexpr int kProgressSteps = 32;
+}
+
+//------------------------------------------------------------------------------
+vtkDirectSurfaceRayCaster::vtkDirectSurfaceRayCaster()
+  : ContourValues(vtkContourValues::New())
+{
+  this->SetNumberOfInputPorts(1);
+  this->SetNumberOfOutputPorts(1);
+  this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS,
+    vtkDataSetAttributes::SCALARS);
+}
+
+//------------------------------------------------------------------------------
+vtkDirectSurfaceRayCaster::~vtkDirectSurfaceRayCaster()
+{
+  this->ContourValues->Delete();
+  this->SetCamera(nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceRayCaster::SetValue(int i, double value)
+{
+  this->ContourValues->SetValue(i, value);
+}
+double vtkDirectSurfaceRayCaster::GetValue(int i)
+{
+  return this->ContourValues->GetValue(i);
+}
+double* vtkDirectSurfaceRayCaster::GetValues()
+{
+  return this->ContourValues->GetValues();
+}
+void vtkDirectSurfaceRayCaster::GetValues(double* contourValues)
+{
+  this->ContourValues->GetValues(contourValues);
+}
+void vtkDirectSurfaceRayCaster::SetNumberOfContours(int number)
+{
+  this->ContourValues->SetNumberOfContours(number);
+}
+vtkIdType vtkDirectSurfaceRayCaster::GetNumberOfContours()
+{
+  return this->ContourValues->GetNumberOfContours();
+}
+void vtkDirectSurfaceRayCaster::GenerateValues(int numContours, double range[2])
+{
+  this->ContourValues->GenerateValues(numContours, range);
+}
+void vtkDirectSurfaceRayCaster::GenerateValues(int numContours, double rangeStart, double rangeEnd)
+{
+  this->ContourValues->GenerateValues(numContours, rangeStart, rangeEnd);
+}
+
+//------------------------------------------------------------------------------
+vtkMTimeType vtkDirectSurfaceRayCaster::GetMTime()
+{
+  vtkMTimeType time = std::max(this->Superclass::GetMTime(), this->ContourValues->GetMTime());
+  if (this->Camera)
+  {
+    time = std::max(time, this->Camera->GetMTime());
+  }
+  return time;
+}
+
+//------------------------------------------------------------------------------
+int vtkDirectSurfaceRayCaster::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkUnstructuredGrid");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkDirectSurfaceRayCaster::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  if (this->ImageSize[0] <= 0 || this->ImageSize[1] <= 0)
+  {
+    vtkErrorMacro("ImageSize must be positive, got " << this->ImageSize[0] << " x "
+                                                     << this->ImageSize[1] << ".");
+    return 0;
+  }
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  const int extent[6] = { 0, this->ImageSize[0] - 1, 0, this->ImageSize[1] - 1, 0, 0 };
+  const double spacing[3] = { 1.0, 1.0, 1.0 };
+  const double origin[3] = { 0.0, 0.0, 0.0 };
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
+  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
+  vtkDataObject::SetPointDataActiveScalarInfo(outInfo, VTK_UNSIGNED_CHAR, 4);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkDirectSurfaceRayCaster::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0]);
+  vtkImageData* output = vtkImageData::GetData(outputVector);
+  const int width = this->ImageSize[0];
+  const int height = this->ImageSize[1];
+  if (width <= 0 || height <= 0)
+  {
+    vtkErrorMacro("ImageSize must be positive, got " << width << " x " << height << ".");
+    return 0;
+  }
+  if (!input || input->GetNumberOfCells() == 0 || input->GetNumberOfPoints() == 0)
+  {
+    vtkErrorMacro("The input mesh is empty: it has no cells or no points.");
+    return 0;
+  }
+
+  // The scalar field.
+  int association = -1;
+  vtkDataArray* scalars = this->GetInputArrayToProcess(0, inputVector, association);
+  if (!scalars)
+  {
+    vtkInformation* arrayInfo = this->GetInputArrayInformation(0);
+    const char* name =
+      arrayInfo->Has(vtkDataObject::FIELD_NAME()) ? arrayInfo->Get(vtkDataObject::FIELD_NAME()) : nullptr;
+    if (name)
+    {
+      vtkErrorMacro("No point array named '" << name << "' in the input.");
+    }
+    else
+    {
+      vtkErrorMacro("No point scalars: the input has no active point scalars; choose an array "
+                    "with SetInputArrayToProcess(0, 0, 0, FIELD_ASSOCIATION_POINTS, name).");
+    }
+    return 0;
+  }
+  const char* arrayName = scalars->GetName() ? scalars->GetName() : "(unnamed)";
+  if (association != vtkDataObject::FIELD_ASSOCIATION_POINTS)
+  {
+    vtkErrorMacro("Array '" << arrayName << "' is not a point array: the quadratic field needs "
+                            << "values at the nodes.");
+    return 0;
+  }
+  const int components = scalars->GetNumberOfComponents();
+  int component = this->ArrayComponent;
+  if (component < 0)
+  {
+    if (components != 1)
+    {
+      vtkErrorMacro("Array '" << arrayName << "' has " << components
+                              << " components: choose one with SetArrayComponent.");
+      return 0;
+    }
+    component = 0;
+  }
+  else if (component >= components)
+  {
+    vtkErrorMacro("ArrayComponent " << component << " is out of range: array '" << arrayName
+                                    << "' has " << components << " components.");
+    return 0;
+  }
+
+  const int numberOfValues = this->ContourValues->GetNumberOfContours();
+  if (numberOfValues == 0)
+  {
+    vtkErrorMacro("No iso-value: set one with SetValue(0, value).");
+    return 0;
+  }
+  std::vector<double> values(this->ContourValues->GetValues(),
+    this->ContourValues->GetValues() + numberOfValues);
+  for (double value : values)
+  {
+    if (!std::isfinite(value))
+    {
+      vtkErrorMacro("Iso-value " << value << " is not finite.");
+      return 0;
+    }
+  }
+
+  // Preprocess once per mesh and array.
+  if (!this->Prepared || !this->Prepared->Matches(input, scalars, component))
+  {
+    this->Prepared.reset(new Cache);
+    const tetdsr::MeshView mesh = this->Prepared->View(input, scalars, component);
+    this->Prepared->Scene.reset(new tetdsr::Scene(mesh));
+  }
+  const Cache& prepared = *this->Prepared;
+  const tetdsr::PreprocessSummary& summary = prepared.Scene->summary();
+  this->NumberOfRenderedCells = summary.validCells;
+  this->NumberOfInvertedCells = summary.invertedCells;
+  this->NumberOfDegenerateCells = summary.degenerateCells;
+  this->NumberOfNonFiniteCells = summary.nonFiniteCells;
+  this->NumberOfInvalidIdCells = summary.invalidIdCells;
+  this->NumberOfUnsupportedCells = prepared.UnsupportedCells;
+  if (prepared.UnsupportedCells > 0)
+  {
+    vtkWarningMacro("Skipped " << prepared.UnsupportedCells
+                               << " cells whose type is neither VTK_QUADRATIC_TETRA nor VTK_TETRA.");
+  }
+  if (summary.degenerateCells > 0)
+  {
+    vtkWarningMacro("Skipped " << summary.degenerateCells
+                               << " degenerate cells (zero volume or a repeated node id).");
+  }
+  if (summary.nonFiniteCells > 0)
+  {
+    vtkWarningMacro("Skipped " << summary.nonFiniteCells << " cells with NaN or Inf values of '"
+                               << arrayName << "' or coordinates at their nodes.");
+  }
+  if (summary.invalidIdCells > 0)
+  {
+    vtkWarningMacro("Skipped " << summary.invalidIdCells << " cells with node ids outside [0, "
+                               << input->GetNumberOfPoints() << ").");
+  }
+  if (summary.validCells == 0)
+  {
+    vtkErrorMacro("No cell can be rendered: all " << input->GetNumberOfCells()
+                                                  << " input cells were skipped.");
+    return 0;
+  }
+
+  // Camera.
+  tetdsr::Camera camera;
+  if (this->Camera)
+  {
+    double v[3];
+    this->Camera->GetPosition(v);
+    camera.position = glm::dvec3(v[0], v[1], v[2]);
+    this->Camera->GetFocalPoint(v);
+    camera.focalPoint = glm::dvec3(v[0], v[1], v[2]);
+    this->Camera->GetViewUp(v);
+    camera.viewUp = glm::dvec3(v[0], v[1], v[2]);
+    camera.viewAngleDegrees = this->Camera->GetViewAngle();
+    camera.parallelProjection = this->Camera->GetParallelProjection() != 0;
+    camera.parallelScale = this->Camera->GetParallelScale();
+  }
+  else
+  {
+    camera = tetdsr::resetCamera(input->GetBounds(), static_cast<double>(width) / height);
+  }
+  if (!tetdsr::RayGenerator::valid(camera))
+  {
+    vtkErrorMacro("The camera is degenerate: position and focal point must differ, view up must "
+                  "not be parallel to the view direction, and the view angle (or parallel scale) "
+                  "must be positive.");
+    return 0;
+  }
+
+  // Output arrays, written in place by the core.
+  output->SetExtent(0, width - 1, 0, height - 1, 0, 0);
+  const vtkIdType pixels = static_cast<vtkIdType>(width) * height;
+  vtkNew<vtkUnsignedCharArray> colors;
+  colors->SetName("Colors");
+  colors->SetNumberOfComponents(4);
+  colors->SetNumberOfTuples(pixels);
+  vtkNew<vtkDoubleArray> depth;
+  depth->SetName("Depth");
+  depth->SetNumberOfTuples(pixels);
+  vtkNew<vtkDoubleArray> normals;
+  normals->SetName("Normals");
+  normals->SetNumberOfComponents(3);
+  normals->SetNumberOfTuples(pixels);
+  vtkNew<vtkIdTypeArray> cellIds;
+  cellIds->SetName("CellId");
+  cellIds->SetNumberOfTuples(pixels);
+  vtkPointData* pointData = output->GetPointData();
+  pointData->Initialize();
+  pointData->SetScalars(colors);
+  pointData->AddArray(depth);
+  pointData->SetNormals(normals);
+  pointData->AddArray(cellIds);
+
+  tetdsr::ImageView image;
+  image.width = width;
+  image.height = height;
+  image.colors = colors->GetPointer(0);
+  image.depth = depth->GetPointer(0);
+  image.normals = normals->GetPointer(0);
+  image.cellIds = cellIds->GetPointer(0);
+  tetdsr::Material material;
+  material.color = glm::dvec3(this->SurfaceColor[0], this->SurfaceColor[1], this->SurfaceColor[2]);
+  material.ambient = this->Ambient;
+  material.diffuse = this->Diffuse;
+  material.specular = this->Specular;
+  material.specularPower = this->SpecularPower;
+  const glm::dvec3 light = this->LightAtCamera
+    ? camera.position
+    : glm::dvec3(this->LightPosition[0], this->LightPosition[1], this->LightPosition[2]);
+  const tetdsr::IsoValues isoValues(values);
+  const tetdsr::Renderer renderer(*prepared.Scene, camera, isoValues, material, light, image);
+
+  // All cores by default: ParaView's VTK defaults to the Sequential backend.
+  std::string backend = vtkSMPTools::GetBackend();
+  if (backend == "Sequential" && !std::getenv("VTK_SMP_BACKEND_IN_USE"))
+  {
+    backend = "STDThread";
+  }
+  int rowsDone = 0;
+  vtkSMPTools::LocalScope(vtkSMPTools::Config{ this->NumberOfThreads, backend, false }, [&]() {
+    const int step = std::max(1, height / kProgressSteps);
+    for (; rowsDone < height; rowsDone = std::min(height, rowsDone + step))
+    {
+      if (this->CheckAbort())
+      {
+        break;
+      }
+      vtkSMPTools::For(rowsDone, std::min(height, rowsDone + step), 1,
+        [&](vtkIdType begin, vtkIdType end) {
+          renderer.renderRows(static_cast<int>(begin), static_cast<int>(end));
+        });
+      this->UpdateProgress(static_cast<double>(std::min(height, rowsDone + step)) / height);
+    }
+  });
+  if (rowsDone < height)
+  {
+    renderer.clearRows(rowsDone, height); // an aborted image shows background, not garbage
+    vtkWarningMacro("Aborted after " << rowsDone << " of " << height << " rows.");
+    return 1;
+  }
+
+  // Map scene cell indices back to input cell ids where cells were re-indexed.
+  if (!prepared.InputCellIds.empty())
+  {
+    vtkIdType* ids = cellIds->GetPointer(0);
+    for (vtkIdType p = 0; p < pixels; ++p)
+    {
+      if (ids[p] >= 0)
+      {
+        ids[p] = prepared.InputCellIds[static_cast<std::size_t>(ids[p])];
+      }
+    }
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+tetdsr::MeshView vtkDirectSurfaceRayCaster::Cache::View(
+  vtkUnstructuredGrid* input, vtkDataArray* scalars, int component)
+{
+  Cache& cache = *this;
+  cache.Input = input;
+  cache.InputTime = input->GetMTime();
+  cache.Array = scalars;
+  cache.ArrayTime = scalars->GetMTime();
+  cache.Component = component;
+
+  tetdsr::MeshView mesh;
+  const vtkIdType numberOfPoints = input->GetNumberOfPoints();
+  mesh.numberOfPoints = numberOfPoints;
+
+  vtkDataArray* points = input->GetPoints()->GetData();
+  if (auto* doublePoints = vtkDoubleArray::FastDownCast(points))
+  {
+    cache.PointArray = doublePoints;
+    mesh.points = doublePoints->GetPointer(0);
+  }
+  else
+  {
+    cache.PointsCopy.resize(3 * static_cast<std::size_t>(numberOfPoints));
+    for (vtkIdType p = 0; p < numberOfPoints; ++p)
+    {
+      points->GetTuple(p, cache.PointsCopy.data() + 3 * p);
+    }
+    mesh.points = cache.PointsCopy.data();
+  }
+
+  if (scalars->GetNumberOfComponents() == 1 && vtkDoubleArray::FastDownCast(scalars))
+  {
+    cache.ScalarArray = scalars;
+    mesh.values = vtkDoubleArray::FastDownCast(scalars)->GetPointer(0);
+  }
+  else
+  {
+    cache.ValuesCopy.resize(static_cast<std::size_t>(numberOfPoints));
+    for (vtkIdType p = 0; p < numberOfPoints; ++p)
+    {
+      cache.ValuesCopy[p] = scalars->GetComponent(p, component);
+    }
+    mesh.values = cache.ValuesCopy.data();
+  }
+
+  // Connectivity: view it directly when every cell is a quadratic tet (10 ids each).
+  vtkCellArray* cells = input->GetCells();
+  vtkUnsignedCharArray* types = input->GetCellTypesArray();
+  const vtkIdType numberOfCells = input->GetNumberOfCells();
+  vtkIdType quadratic = 0;
+  for (vtkIdType c = 0; c < numberOfCells; ++c)
+  {
+    quadratic += types->GetValue(c) == VTK_QUADRATIC_TETRA;
+  }
+  if (quadratic == numberOfCells && cells->IsStorage64Bit())
+  {
+    cache.ConnectivityArray = cells->GetConnectivityArray();
+    mesh.cellNodes = cells->GetConnectivityArray64()->GetPointer(0);
+    mesh.numberOfCells = numberOfCells;
+    return mesh;
+  }
+  const vtkIdType* ids;
+  vtkIdType count;
+  for (vtkIdType c = 0; c < numberOfCells; ++c)
+  {
+    const int type = types->GetValue(c);
+    if (type != VTK_QUADRATIC_TETRA && type != VTK_TETRA)
+    {
+      ++cache.UnsupportedCells;
+      continue;
+    }
+    cells->GetCellAtId(c, count, ids);
+    const vtkIdType expected = type == VTK_QUADRATIC_TETRA ? 10 : 4;
+    if (count != expected)
+    {
+      ++cache.UnsupportedCells; // malformed: wrong number of nodes for its type
+      continue;
+    }
+    for (vtkIdType n = 0; n < 10; ++n)
+    {
+      cache.CellNodesCopy.push_back(n < count ? ids[n] : -1);
+    }
+    cache.InputCellIds.push_back(c);
+  }
+  mesh.cellNodes = cache.CellNodesCopy.data();
+  mesh.numberOfCells = static_cast<vtkIdType>(cache.InputCellIds.size());
+  return mesh;
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  this->ContourValues->PrintSelf(os, indent.GetNextIndent());
+  os << indent << "Camera: " << this->Camera << "\n";
+  os << indent << "ImageSize: " << this->ImageSize[0] << " x " << this->ImageSize[1] << "\n";
+  os << indent << "ArrayComponent: " << this->ArrayComponent << "\n";
+  os << indent << "SurfaceColor: (" << this->SurfaceColor[0] << ", " << this->SurfaceColor[1]
+     << ", " << this->SurfaceColor[2] << ")\n";
+  os << indent << "Ambient: " << this->Ambient << "\n";
+  os << indent << "Diffuse: " << this->Diffuse << "\n";
+  os << indent << "Specular: " << this->Specular << "\n";
+  os << indent << "SpecularPower: " << this->SpecularPower << "\n";
+  os << indent << "LightAtCamera: " << this->LightAtCamera << "\n";
+  os << indent << "LightPosition: (" << this->LightPosition[0] << ", " << this->LightPosition[1]
+     << ", " << this->LightPosition[2] << ")\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "NumberOfRenderedCells: " << this->NumberOfRenderedCells << "\n";
+  os << indent << "NumberOfInvertedCells: " << this->NumberOfInvertedCells << "\n";
+  os << indent << "NumberOfDegenerateCells: " << this->NumberOfDegenerateCells << "\n";
+  os << indent << "NumberOfNonFiniteCells: " << this->NumberOfNonFiniteCells << "\n";
+  os << indent << "NumberOfInvalidIdCells: " << this->NumberOfInvalidIdCells << "\n";
+  os << indent << "NumberOfUnsupportedCells: " << this->NumberOfUnsupportedCells << "\n";
+}

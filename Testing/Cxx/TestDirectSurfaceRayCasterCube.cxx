@@ -1,0 +1,1 @@
+int TestDirectSurfaceRayCasterCube(int, char*[]) { return 0; }
