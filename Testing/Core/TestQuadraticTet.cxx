@@ -1,2 +1,492 @@
+// Core tests against analytic truth: quadratic polynomials are reproduced exactly by the
+// 10-node tet, so every expected value here comes from the polynomial itself, not from the core.
+#include "LatticeMesh.h"
+
+#include "tetdsr/Camera.h"
+#include "tetdsr/QuadraticTet.h"
+#include "tetdsr/Roots.h"
+#include "tetdsr/Scene.h"
+
 #include <gtest/gtest.h>
-TEST(X, Y) { EXPECT_EQ(1, 1); }
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+using tetdsr_test::LatticeMesh;
+using tetdsr_test::makeLattice;
+
+namespace
+{
+
+/// f(x) = x^T A x + b.x + c with random symmetric A.
+struct Quadric
+{
+  glm::dmat3 A;
+  glm::dvec3 b;
+  double c;
+  double operator()(const glm::dvec3& x) const { return glm::dot(x, A * x) + glm::dot(b, x) + c; }
+  glm::dvec3 gradient(const glm::dvec3& x) const { return 2.0 * (A * x) + b; }
+};
+
+Quadric randomQuadric(std::mt19937_64& rng)
+{
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Quadric q;
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j)
+      q.A[i][j] = q.A[j][i] = u(rng);
+  q.b = glm::dvec3(u(rng), u(rng), u(rng));
+  q.c = u(rng);
+  return q;
+}
+
+/// Random point inside the tet with vertices v (uniform barycentric weights, normalised).
+glm::dvec3 randomInside(std::mt19937_64& rng, const glm::dvec3 v[4], double L[4])
+{
+  std::exponential_distribution<double> e(1.0);
+  double sum = 0.0;
+  for (int k = 0; k < 4; ++k)
+    sum += (L[k] = e(rng));
+  glm::dvec3 p(0.0);
+  for (int k = 0; k < 4; ++k)
+    p += (L[k] /= sum) * v[k];
+  return p;
+}
+
+void randomTet(std::mt19937_64& rng, glm::dvec3 v[4])
+{
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  do
+  {
+    for (int k = 0; k < 4; ++k)
+      v[k] = glm::dvec3(u(rng), u(rng), u(rng));
+  } while (std::abs(glm::dot(v[1] - v[0], glm::cross(v[2] - v[0], v[3] - v[0]))) < 0.5);
+}
+
+void nodeValues(const Quadric& f, const glm::dvec3 v[4], double values[10])
+{
+  for (int k = 0; k < 4; ++k)
+    values[k] = f(v[k]);
+  for (int e = 0; e < 6; ++e)
+    values[4 + e] = f(0.5 * (v[tetdsr::kEdgeVertices[e][0]] + v[tetdsr::kEdgeVertices[e][1]]));
+}
+
+double angleBetween(const glm::dvec3& a, const glm::dvec3& b)
+{
+  return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
+
+} // namespace
+
+TEST(QuadraticTet, BernsteinFormReproducesQuadraticsExactly)
+{
+  std::mt19937_64 rng(1);
+  double worst = 0.0;
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    glm::dvec3 v[4];
+    randomTet(rng, v);
+    const Quadric f = randomQuadric(rng);
+    double values[10];
+    nodeValues(f, v, values);
+    const auto form = tetdsr::BernsteinForm::fromNodeValues(values);
+    tetdsr::TetFrame frame;
+    ASSERT_TRUE(tetdsr::TetFrame::fromVertices(v, frame));
+    for (int s = 0; s < 20; ++s)
+    {
+      double weights[4], L[4];
+      const glm::dvec3 p = randomInside(rng, v, weights);
+      frame.barycentric(p, L);
+      for (int k = 0; k < 4; ++k)
+        EXPECT_NEAR(L[k], weights[k], 1e-12) << "barycentric coordinate " << k;
+      worst = std::max(worst, std::abs(form.bilinear(L, L) - f(p)));
+      const glm::dvec3 g = tetdsr::fieldGradient(form, frame, L);
+      EXPECT_LT(glm::length(g - f.gradient(p)), 1e-11 * (1.0 + glm::length(f.gradient(p))))
+        << "gradient: expected " << f.gradient(p).x << "," << f.gradient(p).y << ","
+        << f.gradient(p).z << " got " << g.x << "," << g.y << "," << g.z;
+    }
+  }
+  EXPECT_LT(worst, 1e-12) << "max |L^T B L - f(p)| over 4000 points";
+}
+
+TEST(QuadraticTet, BernsteinRangeBoundsTheField)
+{
+  std::mt19937_64 rng(2);
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    glm::dvec3 v[4];
+    randomTet(rng, v);
+    const Quadric f = randomQuadric(rng);
+    double values[10];
+    nodeValues(f, v, values);
+    double lo, hi;
+    tetdsr::BernsteinForm::fromNodeValues(values).range(lo, hi);
+    double nodalLo = values[0], nodalHi = values[0];
+    for (double x : values)
+    {
+      nodalLo = std::min(nodalLo, x);
+      nodalHi = std::max(nodalHi, x);
+    }
+    EXPECT_LE(lo, nodalLo);
+    EXPECT_GE(hi, nodalHi);
+    for (int s = 0; s < 200; ++s)
+    {
+      double L[4];
+      const double value = f(randomInside(rng, v, L));
+      ASSERT_GE(value, lo - 1e-12) << "field below its Bernstein minimum";
+      ASSERT_LE(value, hi + 1e-12) << "field above its Bernstein maximum";
+    }
+  }
+}
+
+TEST(QuadraticTet, RayQuadraticMatchesDirectEvaluation)
+{
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    glm::dvec3 v[4];
+    randomTet(rng, v);
+    const Quadric f = randomQuadric(rng);
+    double values[10];
+    nodeValues(f, v, values);
+    const auto form = tetdsr::BernsteinForm::fromNodeValues(values);
+    tetdsr::TetFrame frame;
+    ASSERT_TRUE(tetdsr::TetFrame::fromVertices(v, frame));
+    const glm::dvec3 origin(u(rng), u(rng), u(rng));
+    const glm::dvec3 direction = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
+    double L[4], dL[4];
+    frame.barycentric(origin, L);
+    frame.barycentricDirection(direction, dL);
+    const double a = form.bilinear(dL, dL);
+    const double b = 2.0 * form.bilinear(L, dL);
+    const double c = form.bilinear(L, L);
+    // Closed form along the ray: f(o + t d) = (d.A d) t^2 + (2 d.A o + b.d) t + f(o).
+    EXPECT_NEAR(a, glm::dot(direction, f.A * direction), 1e-11);
+    EXPECT_NEAR(b, 2.0 * glm::dot(direction, f.A * origin) + glm::dot(f.b, direction), 1e-11);
+    EXPECT_NEAR(c, f(origin), 1e-11);
+    for (double t : { -1.5, -0.3, 0.0, 0.7, 2.0 })
+      EXPECT_NEAR(a * t * t + b * t + c, f(origin + t * direction), 1e-10) << "t = " << t;
+  }
+}
+
+TEST(Roots, StableFormulaKeepsBothRootsAccurate)
+{
+  // (s - 1e-8)(s - 1e8): the naive formula loses the small root to cancellation.
+  double root;
+  const double small = 1e-8, large = 1e8;
+  ASSERT_TRUE(tetdsr::firstRootInInterval(1.0, -(small + large), small * large, 0.0, 1.0, root));
+  EXPECT_NEAR(root, small, 1e-15 * small) << "expected 1e-8, got " << root;
+  ASSERT_TRUE(tetdsr::firstRootInInterval(1.0, -(small + large), small * large, 1.0, 1e9, root));
+  EXPECT_NEAR(root, large, 1e-15 * large);
+  const double naive = (-(-(small + large)) - std::sqrt((small + large) * (small + large) -
+                                                  4.0 * small * large)) / 2.0;
+  EXPECT_GT(std::abs(naive - small), 1e-3 * small) << "the naive formula should fail here";
+}
+
+TEST(Roots, DegenerateCases)
+{
+  double root;
+  // Linear (a = 0): 2s - 1 = 0.
+  ASSERT_TRUE(tetdsr::firstRootInInterval(0.0, 2.0, -1.0, 0.0, 1.0, root));
+  EXPECT_EQ(root, 0.5);
+  // Constant equal to the iso-value: the segment's start.
+  ASSERT_TRUE(tetdsr::firstRootInInterval(0.0, 0.0, 0.0, 0.25, 1.0, root));
+  EXPECT_EQ(root, 0.25);
+  // Constant different from the iso-value: none.
+  EXPECT_FALSE(tetdsr::firstRootInInterval(0.0, 0.0, 1e-300, 0.0, 1.0, root));
+  // Double root (s - 0.5)^2, exactly representable: found.
+  ASSERT_TRUE(tetdsr::firstRootInInterval(1.0, -1.0, 0.25, 0.0, 1.0, root));
+  EXPECT_EQ(root, 0.5);
+  // No real root.
+  EXPECT_FALSE(tetdsr::firstRootInInterval(1.0, 0.0, 1.0, -10.0, 10.0, root));
+  // Roots exactly at the interval ends (s = 0 and s = 1): both ends are inclusive.
+  ASSERT_TRUE(tetdsr::firstRootInInterval(1.0, -1.0, 0.0, 0.0, 1.0, root));
+  EXPECT_EQ(root, 0.0);
+  ASSERT_TRUE(tetdsr::firstRootInInterval(1.0, -1.0, 0.0, 0.5, 1.0, root));
+  EXPECT_EQ(root, 1.0);
+  // Both roots outside.
+  EXPECT_FALSE(tetdsr::firstRootInInterval(1.0, -1.0, 0.0, 0.2, 0.8, root));
+}
+
+TEST(Roots, DiscriminantIsAccurateUnderCancellation)
+{
+  // Kahan's example: with b = 2 * 94906267, b^2 - 4ac = 4 * 1.890625 = 7.5625 exactly, while
+  // the naive double evaluation returns 8.
+  const double a = 94906265.625, b = 2.0 * 94906267.0, c = 94906268.375;
+  EXPECT_EQ(tetdsr::discriminant(a, b, c), 7.5625);
+  EXPECT_NE(b * b - 4.0 * a * c, 7.5625) << "the naive formula should be inexact here";
+}
+
+namespace
+{
+// Independent truth for f = |x - c|^2 with iso-value r^2: the ray/sphere intersection.
+struct SphereTruth
+{
+  glm::dvec3 centre;
+  double radius;
+  // First t >= 0 on the sphere; `margin` = how far the ray's closest approach is from grazing.
+  bool hit(const tetdsr::Ray& ray, double& t, double& margin) const
+  {
+    const glm::dvec3 oc = ray.origin - centre;
+    const double half = glm::dot(ray.direction, oc);
+    const double closest = glm::length(oc - half * ray.direction);
+    margin = std::abs(closest - radius) / radius;
+    if (closest > radius)
+      return false;
+    t = -half - std::sqrt(radius * radius - closest * closest);
+    return t >= 0.0;
+  }
+};
+} // namespace
+
+TEST(Scene, SphereMatchesExactRaySphereIntersection)
+{
+  LatticeMesh mesh = makeLattice(4, glm::dvec3(0.0), 1.0);
+  const SphereTruth sphere{ glm::dvec3(0.45, 0.52, 0.48), 0.31 };
+  mesh.sample([&](const glm::dvec3& x) { return glm::dot(x - sphere.centre, x - sphere.centre); });
+  const tetdsr::Scene scene(mesh.view());
+  ASSERT_EQ(scene.summary().validCells, 4 * 4 * 4 * 6);
+  const tetdsr::IsoValues iso({ sphere.radius * sphere.radius });
+  const double diagonal = std::sqrt(3.0);
+
+  for (bool parallel : { false, true })
+  {
+    tetdsr::Camera camera;
+    camera.position = glm::dvec3(1.9, 1.4, 2.6);
+    camera.focalPoint = glm::dvec3(0.5);
+    camera.viewUp = glm::dvec3(0.0, 1.0, 0.0);
+    camera.viewAngleDegrees = 25.0;
+    camera.parallelProjection = parallel;
+    camera.parallelScale = 0.45;
+    const int width = 96, height = 80;
+    const tetdsr::RayGenerator rays(camera, width, height);
+    int covered = 0, excluded = 0, wrongCoverage = 0;
+    double worstDepth = 0.0, worstAngle = 0.0;
+    for (int j = 0; j < height; ++j)
+      for (int i = 0; i < width; ++i)
+      {
+        const tetdsr::Ray ray = rays.pixelRay(i, j);
+        double tTrue, margin;
+        const bool expected = sphere.hit(ray, tTrue, margin);
+        if (margin < 1e-6)
+        {
+          ++excluded; // within 1e-6 of the silhouette: grazing rays
+          continue;
+        }
+        tetdsr::SurfaceHit hit;
+        const bool got = scene.firstHit(ray, iso, hit);
+        if (got != expected)
+        {
+          ++wrongCoverage;
+          continue;
+        }
+        if (!got)
+          continue;
+        ++covered;
+        worstDepth = std::max(worstDepth, std::abs(hit.t - tTrue));
+        const glm::dvec3 p = ray.origin + tTrue * ray.direction;
+        worstAngle = std::max(worstAngle, angleBetween(hit.gradient, p - sphere.centre));
+      }
+    EXPECT_EQ(wrongCoverage, 0) << (parallel ? "parallel" : "perspective");
+    EXPECT_GT(covered, 1000);
+    EXPECT_LE(excluded, 4);
+    EXPECT_LT(worstDepth, 1e-9 * diagonal) << "max depth error " << worstDepth;
+    EXPECT_LT(worstAngle, 1e-6) << "max normal error (rad) " << worstAngle;
+  }
+}
+
+TEST(Scene, RaysThroughSharedVerticesAndEdgesNeverFallThroughCracks)
+{
+  // A plane crossing the whole lattice, seen by parallel cameras whose pixel centres land on
+  // the lattice's vertices and mid-edge nodes (where 4 to 24 cells meet). The lattice is offset
+  // and scaled by numbers with no exact binary form, so the cells' barycentric coordinates
+  // round differently on either side of a shared face.
+  const int n = 5;
+  const glm::dvec3 origin(0.1, -0.3, 0.7);
+  const double size = 0.7;
+  LatticeMesh mesh = makeLattice(n, origin, size);
+  const double planeZ = origin.z + 0.37 * size;
+  mesh.sample([&](const glm::dvec3& x) { return x.z - 0.1 * x.x + 0.05 * x.y; });
+  const tetdsr::Scene scene(mesh.view());
+  const double step = 0.5 * size / n;
+  const int pixels = 2 * n + 1; // pixel pitch = step: centres at origin + k * step
+  int holes = 0, rays = 0;
+  double worstDepth = 0.0;
+  for (const glm::dvec3& view : { glm::dvec3(0.0, 0.0, 1.0), glm::dvec3(0.0, 0.0, -1.0) })
+  {
+    tetdsr::Camera camera;
+    camera.parallelProjection = true;
+    camera.focalPoint = origin + glm::dvec3(0.5 * size, 0.5 * size, 0.0);
+    camera.position = camera.focalPoint + 3.0 * view;
+    camera.viewUp = glm::dvec3(0.0, 1.0, 0.0);
+    camera.parallelScale = 0.5 * pixels * step;
+    const tetdsr::RayGenerator generator(camera, pixels, pixels);
+    for (int j = 0; j < pixels; ++j)
+      for (int i = 0; i < pixels; ++i)
+      {
+        const tetdsr::Ray ray = generator.pixelRay(i, j);
+        const glm::dvec3 p = ray.origin;
+        const double fieldOffset = -0.1 * p.x + 0.05 * p.y; // f = z + offset; iso planeZ + ...
+        const tetdsr::IsoValues iso({ planeZ + fieldOffset });
+        tetdsr::SurfaceHit hit;
+        ++rays;
+        if (!scene.firstHit(ray, iso, hit))
+        {
+          ++holes;
+          continue;
+        }
+        worstDepth = std::max(worstDepth, std::abs(hit.t - std::abs(p.z - planeZ)));
+      }
+  }
+  EXPECT_EQ(holes, 0) << "of " << rays << " rays through vertices and edges";
+  EXPECT_LT(worstDepth, 1e-12);
+
+  // Rays along the cells' shared diagonal faces and edges: direction (1, 1, 1) through vertices.
+  int diagonalHoles = 0;
+  for (int k = 1; k < 2 * n; ++k)
+  {
+    const glm::dvec3 onPlane = origin + glm::dvec3(k * step, k * step, 0.37 * size);
+    const tetdsr::Ray ray{ onPlane - 0.1 * glm::dvec3(1.0), glm::normalize(glm::dvec3(1.0)) };
+    const double value = onPlane.z - 0.1 * onPlane.x + 0.05 * onPlane.y;
+    tetdsr::SurfaceHit hit;
+    diagonalHoles += !scene.firstHit(ray, tetdsr::IsoValues({ value }), hit);
+  }
+  EXPECT_EQ(diagonalHoles, 0);
+}
+
+TEST(Scene, InvertedCellsRenderIdenticallyAndAreCounted)
+{
+  LatticeMesh mesh = makeLattice(2, glm::dvec3(-1.0), 2.0);
+  const SphereTruth sphere{ glm::dvec3(0.1, -0.05, 0.0), 0.6 };
+  mesh.sample([&](const glm::dvec3& x) { return glm::dot(x - sphere.centre, x - sphere.centre); });
+  LatticeMesh flipped = mesh;
+  // Swap vertices 1 and 2 in every other cell, with the mid-edge nodes that follow them:
+  // edges (0,1)<->(0,2) and (1,3)<->(2,3); (1,2) maps to itself.
+  const tetdsr::NodeId cells = static_cast<tetdsr::NodeId>(mesh.cellNodes.size() / 10);
+  for (tetdsr::NodeId c = 0; c < cells; c += 2)
+  {
+    tetdsr::NodeId* ids = flipped.cellNodes.data() + 10 * c;
+    std::swap(ids[1], ids[2]);
+    std::swap(ids[4], ids[6]);
+    std::swap(ids[8], ids[9]);
+  }
+  const tetdsr::Scene original(mesh.view());
+  const tetdsr::Scene mixed(flipped.view());
+  EXPECT_EQ(original.summary().invertedCells, 0);
+  EXPECT_EQ(mixed.summary().invertedCells, (cells + 1) / 2);
+  EXPECT_EQ(mixed.summary().validCells, cells);
+
+  const tetdsr::IsoValues iso({ sphere.radius * sphere.radius });
+  tetdsr::Camera camera;
+  camera.position = glm::dvec3(0.3, 0.2, 4.0);
+  const tetdsr::RayGenerator rays(camera, 40, 40);
+  int compared = 0;
+  for (int j = 0; j < 40; ++j)
+    for (int i = 0; i < 40; ++i)
+    {
+      const tetdsr::Ray ray = rays.pixelRay(i, j);
+      tetdsr::SurfaceHit a, b;
+      const bool hitA = original.firstHit(ray, iso, a);
+      ASSERT_EQ(hitA, mixed.firstHit(ray, iso, b));
+      if (!hitA)
+        continue;
+      ++compared;
+      EXPECT_NEAR(a.t, b.t, 1e-12);
+      EXPECT_LT(angleBetween(a.gradient, b.gradient), 1e-9) << "normals flipped by orientation";
+    }
+  EXPECT_GT(compared, 100);
+}
+
+TEST(Scene, BadCellsAreSkippedAndCounted)
+{
+  LatticeMesh mesh = makeLattice(1, glm::dvec3(0.0), 1.0); // 6 cells
+  mesh.sample([](const glm::dvec3& x) { return x.x; });
+  // Cell 3: zero volume, vertex 3 moved onto the plane of vertices 0, 1, 2 (a new point).
+  const glm::dvec3 v0 = mesh.point(mesh.cellNodes[30]), v1 = mesh.point(mesh.cellNodes[31]),
+                   v2 = mesh.point(mesh.cellNodes[32]);
+  const glm::dvec3 flat = v0 + 0.3 * (v1 - v0) + 0.3 * (v2 - v0);
+  mesh.points.insert(mesh.points.end(), { flat.x, flat.y, flat.z });
+  mesh.values.push_back(flat.x);
+  mesh.cellNodes[33] = static_cast<tetdsr::NodeId>(mesh.values.size() - 1);
+  mesh.cellNodes[10 * 1 + 3] = mesh.cellNodes[10 * 1 + 0]; // cell 1: repeated vertex id
+  mesh.cellNodes[10 * 2 + 5] = mesh.view().numberOfPoints;  // cell 2: id out of range
+  const tetdsr::NodeId nanNode = mesh.cellNodes[10 * 4 + 7];
+  mesh.values[static_cast<std::size_t>(nanNode)] = std::nan(""); // cell 4 (and its sharers): NaN
+  // Expected counts, in the order the checks apply: ids in range, distinct ids, finite values,
+  // non-zero volume.
+  int nonFinite = 0;
+  for (int c : { 0, 3, 4, 5 })
+  {
+    bool uses = false;
+    for (int k = 0; k < 10; ++k)
+      uses = uses || mesh.cellNodes[10 * c + k] == nanNode;
+    nonFinite += uses;
+  }
+  const bool cell3UsesNaN = std::count(mesh.cellNodes.begin() + 30, mesh.cellNodes.begin() + 40,
+                              nanNode) > 0;
+  const tetdsr::Scene scene(mesh.view());
+  const auto& summary = scene.summary();
+  EXPECT_EQ(summary.invalidIdCells, 1);
+  EXPECT_EQ(summary.degenerateCells, cell3UsesNaN ? 1 : 2);
+  EXPECT_EQ(summary.nonFiniteCells, nonFinite);
+  EXPECT_EQ(summary.validCells, 6 - summary.invalidIdCells - summary.degenerateCells - nonFinite);
+  EXPECT_GE(nonFinite, 1);
+}
+
+TEST(Scene, LinearTetEqualsQuadraticTetWithMidpointValues)
+{
+  LatticeMesh quadratic = makeLattice(2, glm::dvec3(0.0), 1.0);
+  quadratic.sample([](const glm::dvec3& x) { return 0.3 * x.x - 0.5 * x.y + 0.8 * x.z; });
+  LatticeMesh linear = quadratic;
+  for (std::size_t c = 0; c < linear.cellNodes.size() / 10; ++c)
+    for (int k = 4; k < 10; ++k)
+      linear.cellNodes[10 * c + k] = -1;
+  const tetdsr::Scene a(quadratic.view()), b(linear.view());
+  const tetdsr::IsoValues iso({ 0.2 });
+  tetdsr::Camera camera;
+  camera.position = glm::dvec3(2.0, 1.5, 3.0);
+  camera.focalPoint = glm::dvec3(0.5);
+  const tetdsr::RayGenerator rays(camera, 32, 32);
+  int hits = 0;
+  for (int j = 0; j < 32; ++j)
+    for (int i = 0; i < 32; ++i)
+    {
+      tetdsr::SurfaceHit ha, hb;
+      const tetdsr::Ray ray = rays.pixelRay(i, j);
+      const bool hitA = a.firstHit(ray, iso, ha);
+      ASSERT_EQ(hitA, b.firstHit(ray, iso, hb));
+      if (hitA)
+      {
+        ++hits;
+        EXPECT_NEAR(ha.t, hb.t, 1e-12);
+        EXPECT_NEAR(glm::length(ha.gradient - hb.gradient), 0.0, 1e-12);
+      }
+    }
+  EXPECT_GT(hits, 100);
+}
+
+TEST(Scene, SeveralIsoValuesGiveTheNearestCrossingAndThinShellsTheFirstRoot)
+{
+  // One cell, f = |x - c|^2 with c outside the ray's near side: a ray through the cell crosses
+  // iso-values r1^2 < r2^2 of two concentric spheres; the first crossing is the outer sphere.
+  LatticeMesh mesh = makeLattice(1, glm::dvec3(-1.0), 2.0);
+  mesh.sample([](const glm::dvec3& x) { return glm::dot(x, x); });
+  const tetdsr::Scene scene(mesh.view());
+  const tetdsr::Ray ray{ glm::dvec3(0.05, -0.02, 5.0), glm::dvec3(0.0, 0.0, -1.0) };
+  const double r1 = 0.3, r2 = 0.7;
+  const double rho2 = 0.05 * 0.05 + 0.02 * 0.02;
+  tetdsr::SurfaceHit hit;
+  ASSERT_TRUE(scene.firstHit(ray, tetdsr::IsoValues({ r1 * r1, r2 * r2 }), hit));
+  EXPECT_NEAR(hit.t, 5.0 - std::sqrt(r2 * r2 - rho2), 1e-12) << "outer sphere first";
+  // A thin shell: both roots of one sphere lie within the cells; the first one is returned.
+  ASSERT_TRUE(scene.firstHit(ray, tetdsr::IsoValues({ r1 * r1 }), hit));
+  EXPECT_NEAR(hit.t, 5.0 - std::sqrt(r1 * r1 - rho2), 1e-12);
+  // A sphere of radius 1e-3 of the cell size, entirely inside one cell.
+  const double tiny = 2e-3;
+  const tetdsr::Ray centred{ glm::dvec3(0.0, 0.0, 5.0), glm::dvec3(0.0, 0.0, -1.0) };
+  ASSERT_TRUE(scene.firstHit(centred, tetdsr::IsoValues({ tiny * tiny }), hit));
+  EXPECT_NEAR(hit.t, 5.0 - tiny, 1e-12);
+}
