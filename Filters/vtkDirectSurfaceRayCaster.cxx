@@ -380,7 +380,7 @@ int vtkDirectSurfaceRayCaster::RequestData(
   });
   if (rowsDone < height)
   {
-    renderer.clearRows(rowsDone, height); // an aborted image shows background, not garbage
+    // CheckAbort set AbortOutput: the executive empties the output and marks it aborted.
     vtkWarningMacro("Aborted after " << rowsDone << " of " << height << " rows.");
     return 1;
   }

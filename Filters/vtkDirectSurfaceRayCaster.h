@@ -54,7 +54,7 @@ public:
   ///@{
   /**
    * Iso-values, with vtkContourFilter's API. With several values a pixel shows the nearest
-   * crossing of any of them. Default: none (the filter reports an error until one is set).
+   * crossing of any of them. Default: one value, 0 (as vtkContourFilter).
    */
   void SetValue(int i, double value);
   double GetValue(int i);

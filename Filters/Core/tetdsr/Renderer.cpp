@@ -72,15 +72,6 @@ void Renderer::renderRows(int rowBegin, int rowEnd) const
   }
 }
 
-void Renderer::clearRows(int rowBegin, int rowEnd) const
-{
-  for (std::size_t pixel = static_cast<std::size_t>(rowBegin) * Image_.width;
-       pixel < static_cast<std::size_t>(rowEnd) * Image_.width; ++pixel)
-  {
-    writeMiss(pixel);
-  }
-}
-
 void Renderer::writeMiss(std::size_t pixel) const
 {
   std::uint8_t* rgba = Image_.colors + 4 * pixel;

@@ -46,9 +46,6 @@ public:
   /// threads gives the same image bit for bit.
   void renderRows(int rowBegin, int rowEnd) const;
 
-  /// Writes background (a miss) into rows [rowBegin, rowEnd).
-  void clearRows(int rowBegin, int rowEnd) const;
-
 private:
   void writeMiss(std::size_t pixel) const;
 

@@ -1,0 +1,69 @@
+"""The ParaView XML documents every property and its defaults equal the C++ constructor's.
+
+Usage (with /usr/bin/python3 and the built tetdsr package): test_plugin_xml.py <xml file>
+"""
+import sys
+import unittest
+import xml.etree.ElementTree as ElementTree
+
+from vtkmodules.vtkRenderingCore import vtkCamera
+
+from tetdsr import vtkDirectSurfaceRayCaster
+
+XML = sys.argv.pop(1)
+
+
+class PluginXml(unittest.TestCase):
+    def setUp(self):
+        self.proxy = ElementTree.parse(XML).getroot().find("ProxyGroup/SourceProxy")
+        self.properties = [p for p in self.proxy if p.get("name") and p.tag.endswith("Property")]
+
+    def test_label_and_class(self):
+        self.assertEqual(self.proxy.get("label"), "Direct Surface Ray Cast")
+        self.assertEqual(self.proxy.get("class"), "vtkPVDirectSurfaceRayCaster")
+
+    def test_every_property_is_documented(self):
+        self.assertGreater(len(self.properties), 10)
+        for prop in self.properties:
+            doc = prop.find("Documentation")
+            self.assertTrue(doc is not None and doc.text and doc.text.strip(),
+                            f"property {prop.get('name')} has no documentation")
+
+    def test_domains(self):
+        by_name = {p.get("name"): p for p in self.properties}
+        self.assertIsNotNone(by_name["SelectInputScalars"].find("ArrayListDomain"))
+        self.assertIsNotNone(by_name["ContourValues"].find("ArrayRangeDomain"))
+
+    def test_defaults_equal_the_constructor(self):
+        caster = vtkDirectSurfaceRayCaster()
+        camera = vtkCamera()
+        # The plugin's camera properties edit a vtkCamera: their defaults are vtkCamera's, and
+        # FitCameraToMesh on means "no camera set", the C++ default.
+        camera_getters = {"SetCameraPosition": camera.GetPosition,
+                          "SetCameraFocalPoint": camera.GetFocalPoint,
+                          "SetCameraViewUp": camera.GetViewUp,
+                          "SetCameraViewAngle": camera.GetViewAngle,
+                          "SetCameraParallelProjection": camera.GetParallelProjection,
+                          "SetCameraParallelScale": camera.GetParallelScale,
+                          "SetFitCameraToMesh": lambda: int(caster.GetCamera() is None),
+                          "SetValue": lambda: [caster.GetValue(i)
+                                               for i in range(caster.GetNumberOfContours())]}
+        checked = 0
+        for prop in self.properties:
+            default = prop.get("default_values")
+            command = prop.get("command")
+            if default is None or default == "none":
+                continue
+            getter = camera_getters.get(command) or getattr(caster, "G" + command[1:])
+            actual = getter()
+            actual = list(actual) if isinstance(actual, (tuple, list)) else [actual]
+            expected = [float(v) for v in default.split()]
+            self.assertEqual([float(a) for a in actual], expected,
+                             f"{prop.get('name')}: XML default {expected}, C++ default {actual}")
+            checked += 1
+        self.assertGreaterEqual(checked, 14)
+        self.assertEqual(caster.GetNumberOfContours(), 1, "one iso-value by default, as in the XML")
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
