@@ -2,14 +2,18 @@
 """Render the exact isosurface of a quadratic tetrahedral mesh to a PNG (VTK Python pipeline).
 
   PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Examples/render_isosurface.py \
-      Data/cube27.vtu --iso 0.8 --size 512 512 --out cube27.png
+      Data/cube27.vtu --iso 0.8 --size 512 512 --view 3 2.2 4.1 --out cube27.png
+
+Without --view the filter's default camera looks down -z at the whole mesh.
 """
 import argparse
+import math
 import sys
 
 from vtkmodules.vtkCommonCore import vtkCommand
 from vtkmodules.vtkIOImage import vtkPNGWriter
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+from vtkmodules.vtkRenderingCore import vtkCamera
 
 from tetdsr import vtkDirectSurfaceRayCaster
 
@@ -20,11 +24,14 @@ def main():
     parser.add_argument("--array", help="point array to render (default: active scalars)")
     parser.add_argument("--iso", type=float, nargs="+", required=True, help="iso-value(s)")
     parser.add_argument("--size", type=int, nargs=2, default=[512, 512], metavar=("W", "H"))
+    parser.add_argument("--view", type=float, nargs=3, metavar=("X", "Y", "Z"),
+                        help="look at the mesh from this direction (the whole mesh in view)")
     parser.add_argument("--out", default="isosurface.png", help="output PNG")
     args = parser.parse_args()
 
     reader = vtkXMLUnstructuredGridReader()
     reader.SetFileName(args.mesh)
+    reader.Update()
 
     caster = vtkDirectSurfaceRayCaster()
     caster.SetInputConnection(reader.GetOutputPort())
@@ -33,6 +40,18 @@ def main():
     for i, value in enumerate(args.iso):
         caster.SetValue(i, value)
     caster.SetImageSize(*args.size)
+    if args.view:
+        # Fit the mesh's bounding sphere in the 30 degree view angle, as ResetCamera does.
+        bounds = reader.GetOutput().GetBounds()
+        centre = [(bounds[2 * k] + bounds[2 * k + 1]) / 2 for k in range(3)]
+        radius = reader.GetOutput().GetLength() / 2
+        norm = math.sqrt(sum(v * v for v in args.view))
+        distance = radius / math.sin(math.radians(15))
+        camera = vtkCamera()
+        camera.SetFocalPoint(*centre)
+        camera.SetPosition(*[centre[k] + distance * args.view[k] / norm for k in range(3)])
+        camera.SetViewUp(0, 1, 0)
+        caster.SetCamera(camera)
     errors = []
     caster.AddObserver(vtkCommand.ErrorEvent, lambda obj, event: errors.append(event))
     caster.Update()
