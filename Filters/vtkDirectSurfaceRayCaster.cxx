@@ -255,6 +255,7 @@ int vtkDirectSurfaceRayCaster::RequestData(
   const tetdsr::PreprocessSummary& summary = prepared.Scene->summary();
   this->NumberOfRenderedCells = summary.validCells;
   this->NumberOfInvertedCells = summary.invertedCells;
+  this->NumberOfCurvedCells = summary.curvedCells;
   this->NumberOfDegenerateCells = summary.degenerateCells;
   this->NumberOfNonFiniteCells = summary.nonFiniteCells;
   this->NumberOfInvalidIdCells = summary.invalidIdCells;
@@ -263,6 +264,12 @@ int vtkDirectSurfaceRayCaster::RequestData(
   {
     vtkWarningMacro("Skipped " << prepared.UnsupportedCells
                                << " cells whose type is neither VTK_QUADRATIC_TETRA nor VTK_TETRA.");
+  }
+  if (summary.curvedCells > 0)
+  {
+    vtkWarningMacro(<< summary.curvedCells
+                    << " cells are curved (a mid-edge node off its edge's midpoint): they are "
+                       "rendered as straight-sided tetrahedra, so only approximately.");
   }
   if (summary.degenerateCells > 0)
   {
@@ -510,6 +517,7 @@ void vtkDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "NumberOfRenderedCells: " << this->NumberOfRenderedCells << "\n";
   os << indent << "NumberOfInvertedCells: " << this->NumberOfInvertedCells << "\n";
+  os << indent << "NumberOfCurvedCells: " << this->NumberOfCurvedCells << "\n";
   os << indent << "NumberOfDegenerateCells: " << this->NumberOfDegenerateCells << "\n";
   os << indent << "NumberOfNonFiniteCells: " << this->NumberOfNonFiniteCells << "\n";
   os << indent << "NumberOfInvalidIdCells: " << this->NumberOfInvalidIdCells << "\n";

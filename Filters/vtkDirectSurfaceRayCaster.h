@@ -28,7 +28,8 @@
  * input's and the scalar array's modification times, so changing only the iso-values, the
  * camera or the shading re-renders without rebuilding.
  *
- * @warning Cells are treated as straight-sided: mid-edge node positions are not used.
+ * @warning Cells are treated as straight-sided: mid-edge node positions are not used; cells
+ * whose mid-edge nodes lie off their edges' midpoints are counted and reported in a warning.
  * The whole input is rendered on one process (no distributed compositing).
  *
  * @sa vtkContourFilter vtkCamera
@@ -133,12 +134,14 @@ public:
 
   ///@{
   /**
-   * What the last preprocessing found: cells rendered, inverted (rendered), and skipped for
+   * What the last preprocessing found: cells rendered, inverted (rendered), curved (rendered
+   * as straight-sided, so approximately), and skipped for
    * zero volume or repeated node ids, NaN/Inf values or coordinates, node ids out of range,
    * or an unsupported cell type.
    */
   vtkGetMacro(NumberOfRenderedCells, vtkIdType);
   vtkGetMacro(NumberOfInvertedCells, vtkIdType);
+  vtkGetMacro(NumberOfCurvedCells, vtkIdType);
   vtkGetMacro(NumberOfDegenerateCells, vtkIdType);
   vtkGetMacro(NumberOfNonFiniteCells, vtkIdType);
   vtkGetMacro(NumberOfInvalidIdCells, vtkIdType);
@@ -175,6 +178,7 @@ protected:
 
   vtkIdType NumberOfRenderedCells = 0;
   vtkIdType NumberOfInvertedCells = 0;
+  vtkIdType NumberOfCurvedCells = 0;
   vtkIdType NumberOfDegenerateCells = 0;
   vtkIdType NumberOfNonFiniteCells = 0;
   vtkIdType NumberOfInvalidIdCells = 0;

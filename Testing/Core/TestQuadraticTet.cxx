@@ -436,6 +436,24 @@ TEST(Scene, BadCellsAreSkippedAndCounted)
   EXPECT_GE(nonFinite, 1);
 }
 
+TEST(Scene, CurvedCellsAreCounted)
+{
+  LatticeMesh mesh = makeLattice(2, glm::dvec3(0.0), 1.0);
+  mesh.sample([](const glm::dvec3& x) { return x.x; });
+  EXPECT_EQ(tetdsr::Scene(mesh.view()).summary().curvedCells, 0);
+  // Push one mid-edge node off its edge by 1e-3 of the cell size: every cell using it is curved.
+  const tetdsr::NodeId node = mesh.cellNodes[10 * 7 + 5];
+  mesh.points[3 * node + 2] += 1e-3 * 0.5;
+  const auto cells = static_cast<int>(mesh.cellNodes.size() / 10);
+  int users = 0;
+  for (int c = 0; c < cells; ++c)
+    users += std::count(mesh.cellNodes.begin() + 10 * c, mesh.cellNodes.begin() + 10 * c + 10, node) > 0;
+  const tetdsr::Scene scene(mesh.view());
+  EXPECT_EQ(scene.summary().curvedCells, users);
+  EXPECT_EQ(scene.summary().validCells, cells) << "curved cells are still rendered";
+  EXPECT_GE(users, 1);
+}
+
 TEST(Scene, LinearTetEqualsQuadraticTetWithMidpointValues)
 {
   LatticeMesh quadratic = makeLattice(2, glm::dvec3(0.0), 1.0);

@@ -20,6 +20,10 @@ constexpr int kMaxSahDepth = 48; // below this, split at the median: depth stays
 constexpr int kStackSize = kMaxSahDepth + 64;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
+// A mid-edge node farther than this fraction of the longest edge from its edge's midpoint makes
+// the cell curved (isoparametric); we render it straight-sided and count it.
+constexpr double kCurvedTolerance = 1e-6;
+
 // Below this fraction of max-edge^3, 6*volume is treated as zero: the barycentric frame would
 // amplify rounding by more than 1e13. Slivers and needles of aspect ratio 1e4 stay far above it.
 constexpr double kDegenerateVolumeRatio = 1e-13;
@@ -150,6 +154,21 @@ Scene::Scene(const MeshView& mesh)
     if (frame.orientedVolume6 < 0.0)
     {
       ++Summary_.invertedCells;
+    }
+    for (int e = 0; e < 6; ++e)
+    {
+      if (ids[4 + e] < 0)
+      {
+        continue;
+      }
+      const double* p = mesh.points + 3 * ids[4 + e];
+      const glm::dvec3 midpoint =
+        0.5 * (vertices[kEdgeVertices[e][0]] + vertices[kEdgeVertices[e][1]]);
+      if (glm::length(glm::dvec3(p[0], p[1], p[2]) - midpoint) > kCurvedTolerance * maxEdge)
+      {
+        ++Summary_.curvedCells;
+        break;
+      }
     }
     ++Summary_.validCells;
 

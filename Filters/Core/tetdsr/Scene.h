@@ -35,6 +35,7 @@ struct PreprocessSummary
 {
   NodeId validCells = 0;
   NodeId invertedCells = 0;   ///< valid, negative orientation (rendered the same way)
+  NodeId curvedCells = 0;     ///< valid, a mid-edge node off its edge's midpoint (rendered straight)
   NodeId degenerateCells = 0; ///< zero volume, or a node id repeated within the cell
   NodeId nonFiniteCells = 0;  ///< a NaN or Inf nodal value or coordinate
   NodeId invalidIdCells = 0;  ///< a node id outside [0, numberOfPoints)
