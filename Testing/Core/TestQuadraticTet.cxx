@@ -65,13 +65,27 @@ void randomTet(std::mt19937_64& rng, glm::dvec3 v[4])
   } while (std::abs(glm::dot(v[1] - v[0], glm::cross(v[2] - v[0], v[3] - v[0]))) < 0.5);
 }
 
-void nodeValues(const Quadric& f, const glm::dvec3 v[4], double values[10])
+/// A random well-shaped tet carrying a random quadric sampled at its 10 nodes.
+struct RandomCell
 {
-  for (int k = 0; k < 4; ++k)
-    values[k] = f(v[k]);
-  for (int e = 0; e < 6; ++e)
-    values[4 + e] = f(0.5 * (v[tetdsr::kEdgeVertices[e][0]] + v[tetdsr::kEdgeVertices[e][1]]));
-}
+  glm::dvec3 v[4];
+  Quadric f;
+  double values[10];
+  tetdsr::BernsteinForm form;
+  tetdsr::TetFrame frame;
+
+  explicit RandomCell(std::mt19937_64& rng)
+  {
+    randomTet(rng, v);
+    f = randomQuadric(rng);
+    for (int k = 0; k < 4; ++k)
+      values[k] = f(v[k]);
+    for (int e = 0; e < 6; ++e)
+      values[4 + e] = f(0.5 * (v[tetdsr::kEdgeVertices[e][0]] + v[tetdsr::kEdgeVertices[e][1]]));
+    form = tetdsr::BernsteinForm::fromNodeValues(values);
+    EXPECT_TRUE(tetdsr::TetFrame::fromVertices(v, frame));
+  }
+};
 
 double angleBetween(const glm::dvec3& a, const glm::dvec3& b)
 {
@@ -86,14 +100,8 @@ TEST(QuadraticTet, BernsteinFormReproducesQuadraticsExactly)
   double worst = 0.0;
   for (int trial = 0; trial < 200; ++trial)
   {
-    glm::dvec3 v[4];
-    randomTet(rng, v);
-    const Quadric f = randomQuadric(rng);
-    double values[10];
-    nodeValues(f, v, values);
-    const auto form = tetdsr::BernsteinForm::fromNodeValues(values);
-    tetdsr::TetFrame frame;
-    ASSERT_TRUE(tetdsr::TetFrame::fromVertices(v, frame));
+    const RandomCell cell(rng);
+    const auto& [v, f, values, form, frame] = cell;
     for (int s = 0; s < 20; ++s)
     {
       double weights[4], L[4];
@@ -116,13 +124,10 @@ TEST(QuadraticTet, BernsteinRangeBoundsTheField)
   std::mt19937_64 rng(2);
   for (int trial = 0; trial < 200; ++trial)
   {
-    glm::dvec3 v[4];
-    randomTet(rng, v);
-    const Quadric f = randomQuadric(rng);
-    double values[10];
-    nodeValues(f, v, values);
+    const RandomCell cell(rng);
+    const auto& [v, f, values, form, frame] = cell;
     double lo, hi;
-    tetdsr::BernsteinForm::fromNodeValues(values).range(lo, hi);
+    form.range(lo, hi);
     double nodalLo = values[0], nodalHi = values[0];
     for (double x : values)
     {
@@ -147,14 +152,8 @@ TEST(QuadraticTet, RayQuadraticMatchesDirectEvaluation)
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int trial = 0; trial < 200; ++trial)
   {
-    glm::dvec3 v[4];
-    randomTet(rng, v);
-    const Quadric f = randomQuadric(rng);
-    double values[10];
-    nodeValues(f, v, values);
-    const auto form = tetdsr::BernsteinForm::fromNodeValues(values);
-    tetdsr::TetFrame frame;
-    ASSERT_TRUE(tetdsr::TetFrame::fromVertices(v, frame));
+    const RandomCell cell(rng);
+    const auto& [v, f, values, form, frame] = cell;
     const glm::dvec3 origin(u(rng), u(rng), u(rng));
     const glm::dvec3 direction = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
     double L[4], dL[4];

@@ -46,14 +46,7 @@ int TestDirectSurfaceRayCasterCube(int argc, char* argv[])
       caster->GetOutput(), camera, truth, iso, contourHits, mesh->GetLength());
     tetdsr_truth::Print(parallel ? "Cube, parallel" : "Cube, perspective", c);
 
-    bool ok = true;
-    auto check = [&ok](bool condition, const char* what) {
-      if (!condition)
-      {
-        std::cerr << "FAILED: " << what << "\n";
-        ok = false;
-      }
-    };
+    tetdsr_truth::Checks check;
     check(c.truthPixels > 5000, "the exact surface should cover more than 5000 pixels");
     check(c.oursMisses == 0 && c.oursFalseHits == 0, "TetDSR coverage should equal the exact one");
     check(c.excluded < 0.01 * c.truthPixels, "the tangency band should stay under 1% of pixels");
@@ -67,7 +60,7 @@ int TestDirectSurfaceRayCasterCube(int argc, char* argv[])
     {
       check(tetdsr_truth::MatchesBaseline(argc, argv, caster), "image should match the baseline");
     }
-    if (!ok)
+    if (!check.ok)
     {
       return EXIT_FAILURE;
     }

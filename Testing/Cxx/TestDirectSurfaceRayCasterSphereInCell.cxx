@@ -50,14 +50,7 @@ int TestDirectSurfaceRayCasterSphereInCell(int argc, char* argv[])
     tetdsr_truth::Compare(caster->GetOutput(), camera, truth, 0.0, contourHits, diagonal);
   tetdsr_truth::Print(("Sphere inside one cell (radius " + std::to_string(radius) + ")").c_str(), c);
 
-  bool ok = true;
-  auto check = [&ok](bool condition, const char* what) {
-    if (!condition)
-    {
-      std::cerr << "FAILED: " << what << "\n";
-      ok = false;
-    }
-  };
+  tetdsr_truth::Checks check;
   check(contour->GetOutput()->GetNumberOfCells() == 0,
     "vtkContourFilter should produce no triangles (no cell straddles the iso-value)");
   check(c.contourPixels == 0, "vtkContourFilter's surface should cover no pixel");
@@ -69,5 +62,5 @@ int TestDirectSurfaceRayCasterSphereInCell(int argc, char* argv[])
   check(c.wrongCellIds == 0, "every hit should report the cell the truth hits");
   check(caster->GetNumberOfRenderedCells() == 6, "all 6 cells should be rendered");
   check(tetdsr_truth::MatchesBaseline(argc, argv, caster), "image should match the baseline");
-  return ok ? EXIT_SUCCESS : EXIT_FAILURE;
+  return check.ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }

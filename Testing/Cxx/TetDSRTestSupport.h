@@ -395,6 +395,20 @@ inline void Print(const char* name, const Comparison& c)
             << c.contourMaxDepthError << " of the diagonal\n";
 }
 
+/// Records failed expectations with their message; `ok` tells whether all held.
+struct Checks
+{
+  bool ok = true;
+  void operator()(bool condition, const char* what)
+  {
+    if (!condition)
+    {
+      std::cerr << "FAILED: " << what << "\n";
+      ok = false;
+    }
+  }
+};
+
 /// Compares the RGB of the filter's Colors with the test's baseline PNG (-V); a missing
 /// baseline fails and writes the image to the -T directory.
 inline bool MatchesBaseline(int argc, char* argv[], vtkAlgorithm* caster)
