@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <functional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -69,8 +70,27 @@ struct vtkDirectSurfaceRayCaster::Cache
 
 namespace
 {
-// Rows rendered between two progress reports / abort checks.
-constexpr int kProgressSteps = 32;
+// Progress reports / abort checks per render.
+constexpr vtkIdType kProgressSteps = 32;
+
+/// tetdsr::ParallelFor on vtkSMPTools.
+void SMPFor(tetdsr::NodeId count, const std::function<void(tetdsr::NodeId, tetdsr::NodeId)>& body)
+{
+  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) { body(begin, end); });
+}
+
+/// Runs `work` with all cores by default: ParaView's VTK defaults to the Sequential backend,
+/// so STDThread is used unless the user chose a backend with VTK_SMP_BACKEND_IN_USE.
+template <typename Work>
+void WithThreads(int numberOfThreads, Work&& work)
+{
+  std::string backend = vtkSMPTools::GetBackend();
+  if (backend == "Sequential" && !std::getenv("VTK_SMP_BACKEND_IN_USE"))
+  {
+    backend = "STDThread";
+  }
+  vtkSMPTools::LocalScope(vtkSMPTools::Config{ numberOfThreads, backend, false }, work);
+}
 }
 
 //------------------------------------------------------------------------------
@@ -122,6 +142,19 @@ void vtkDirectSurfaceRayCaster::GenerateValues(int numContours, double range[2])
 void vtkDirectSurfaceRayCaster::GenerateValues(int numContours, double rangeStart, double rangeEnd)
 {
   this->ContourValues->GenerateValues(numContours, rangeStart, rangeEnd);
+}
+
+//------------------------------------------------------------------------------
+vtkIdType vtkDirectSurfaceRayCaster::GetPreprocessedBytes()
+{
+  if (!this->Prepared || !this->Prepared->Scene)
+  {
+    return 0;
+  }
+  const Cache& cache = *this->Prepared;
+  return static_cast<vtkIdType>(cache.Scene->memoryBytes() +
+    sizeof(double) * (cache.PointsCopy.capacity() + cache.ValuesCopy.capacity()) +
+    sizeof(vtkIdType) * (cache.CellNodesCopy.capacity() + cache.InputCellIds.capacity()));
 }
 
 //------------------------------------------------------------------------------
@@ -249,7 +282,8 @@ int vtkDirectSurfaceRayCaster::RequestData(
   {
     this->Prepared.reset(new Cache);
     const tetdsr::MeshView mesh = this->Prepared->View(input, scalars, component);
-    this->Prepared->Scene.reset(new tetdsr::Scene(mesh));
+    WithThreads(this->NumberOfThreads,
+      [&]() { this->Prepared->Scene.reset(new tetdsr::Scene(mesh, SMPFor)); });
   }
   const Cache& prepared = *this->Prepared;
   const tetdsr::PreprocessSummary& summary = prepared.Scene->summary();
@@ -363,32 +397,23 @@ int vtkDirectSurfaceRayCaster::RequestData(
   const tetdsr::IsoValues isoValues(values);
   const tetdsr::Renderer renderer(*prepared.Scene, camera, isoValues, material, light, image);
 
-  // All cores by default: ParaView's VTK defaults to the Sequential backend.
-  std::string backend = vtkSMPTools::GetBackend();
-  if (backend == "Sequential" && !std::getenv("VTK_SMP_BACKEND_IN_USE"))
-  {
-    backend = "STDThread";
-  }
-  int rowsDone = 0;
-  vtkSMPTools::LocalScope(vtkSMPTools::Config{ this->NumberOfThreads, backend, false }, [&]() {
-    const int step = std::max(1, height / kProgressSteps);
-    for (; rowsDone < height; rowsDone = std::min(height, rowsDone + step))
+  const vtkIdType tiles = renderer.numberOfTiles();
+  vtkIdType tilesDone = 0;
+  WithThreads(this->NumberOfThreads, [&]() {
+    const vtkIdType step = std::max<vtkIdType>(1, tiles / kProgressSteps);
+    while (tilesDone < tiles && !this->CheckAbort())
     {
-      if (this->CheckAbort())
-      {
-        break;
-      }
-      vtkSMPTools::For(rowsDone, std::min(height, rowsDone + step), 1,
-        [&](vtkIdType begin, vtkIdType end) {
-          renderer.renderRows(static_cast<int>(begin), static_cast<int>(end));
-        });
-      this->UpdateProgress(static_cast<double>(std::min(height, rowsDone + step)) / height);
+      const vtkIdType end = std::min(tiles, tilesDone + step);
+      vtkSMPTools::For(tilesDone, end, 1,
+        [&](vtkIdType begin, vtkIdType last) { renderer.renderTiles(begin, last); });
+      tilesDone = end;
+      this->UpdateProgress(static_cast<double>(tilesDone) / tiles);
     }
   });
-  if (rowsDone < height)
+  if (tilesDone < tiles)
   {
     // CheckAbort set AbortOutput: the executive empties the output and marks it aborted.
-    vtkWarningMacro("Aborted after " << rowsDone << " of " << height << " rows.");
+    vtkWarningMacro("Aborted after " << tilesDone << " of " << tiles << " image tiles.");
     return 1;
   }
 
@@ -522,4 +547,5 @@ void vtkDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfNonFiniteCells: " << this->NumberOfNonFiniteCells << "\n";
   os << indent << "NumberOfInvalidIdCells: " << this->NumberOfInvalidIdCells << "\n";
   os << indent << "NumberOfUnsupportedCells: " << this->NumberOfUnsupportedCells << "\n";
+  os << indent << "PreprocessedBytes: " << this->GetPreprocessedBytes() << "\n";
 }

@@ -149,6 +149,13 @@ public:
   ///@}
 
   /**
+   * Bytes the filter keeps between executions for the current mesh and array (validation
+   * results, the acceleration structure, and copies of input arrays VTK stores in another
+   * layout). 0 before the first execution.
+   */
+  vtkIdType GetPreprocessedBytes();
+
+  /**
    * Modification time including the iso-values and the camera.
    */
   vtkMTimeType GetMTime() override;

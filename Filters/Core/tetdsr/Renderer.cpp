@@ -37,39 +37,55 @@ Renderer::Renderer(const Scene& scene, const Camera& camera, const IsoValues& is
   , Material_(material)
   , LightPosition_(lightPosition)
   , Image_(image)
+  , TilesPerRow_((image.width + kTileSize - 1) / kTileSize)
 {
 }
 
-void Renderer::renderRows(int rowBegin, int rowEnd) const
+NodeId Renderer::numberOfTiles() const
 {
-  for (int j = rowBegin; j < rowEnd; ++j)
+  return static_cast<NodeId>(TilesPerRow_) * ((Image_.height + kTileSize - 1) / kTileSize);
+}
+
+void Renderer::renderTiles(NodeId tileBegin, NodeId tileEnd) const
+{
+  for (NodeId tile = tileBegin; tile < tileEnd; ++tile)
   {
-    for (int i = 0; i < Image_.width; ++i)
+    const int i0 = static_cast<int>(tile % TilesPerRow_) * kTileSize;
+    const int j0 = static_cast<int>(tile / TilesPerRow_) * kTileSize;
+    for (int j = j0; j < std::min(j0 + kTileSize, Image_.height); ++j)
     {
-      const std::size_t pixel = static_cast<std::size_t>(j) * Image_.width + i;
-      const Ray ray = Rays_.pixelRay(i, j);
-      SurfaceHit hit;
-      if (!Scene_.firstHit(ray, IsoValues_, hit))
+      for (int i = i0; i < std::min(i0 + kTileSize, Image_.width); ++i)
       {
-        writeMiss(pixel);
-        continue;
+        renderPixel(i, j);
       }
-      std::uint8_t* rgba = Image_.colors + 4 * pixel;
-      double* normal = Image_.normals + 3 * pixel;
-      const double length = glm::length(hit.gradient);
-      const glm::dvec3 unitNormal = length > 0.0 ? hit.gradient / length : glm::dvec3(0.0);
-      const glm::dvec3 point = ray.origin + hit.t * ray.direction;
-      const glm::dvec3 color = shade(Material_, point, unitNormal, ray.direction, LightPosition_);
-      for (int c = 0; c < 3; ++c)
-      {
-        rgba[c] = static_cast<std::uint8_t>(std::clamp(color[c], 0.0, 1.0) * 255.0 + 0.5);
-        normal[c] = unitNormal[c];
-      }
-      rgba[3] = 255;
-      Image_.depth[pixel] = hit.t;
-      Image_.cellIds[pixel] = hit.cellId;
     }
   }
+}
+
+void Renderer::renderPixel(int i, int j) const
+{
+  const std::size_t pixel = static_cast<std::size_t>(j) * Image_.width + i;
+  const Ray ray = Rays_.pixelRay(i, j);
+  SurfaceHit hit;
+  if (!Scene_.firstHit(ray, IsoValues_, hit))
+  {
+    writeMiss(pixel);
+    return;
+  }
+  std::uint8_t* rgba = Image_.colors + 4 * pixel;
+  double* normal = Image_.normals + 3 * pixel;
+  const double length = glm::length(hit.gradient);
+  const glm::dvec3 unitNormal = length > 0.0 ? hit.gradient / length : glm::dvec3(0.0);
+  const glm::dvec3 point = ray.origin + hit.t * ray.direction;
+  const glm::dvec3 color = shade(Material_, point, unitNormal, ray.direction, LightPosition_);
+  for (int c = 0; c < 3; ++c)
+  {
+    rgba[c] = static_cast<std::uint8_t>(std::clamp(color[c], 0.0, 1.0) * 255.0 + 0.5);
+    normal[c] = unitNormal[c];
+  }
+  rgba[3] = 255;
+  Image_.depth[pixel] = hit.t;
+  Image_.cellIds[pixel] = hit.cellId;
 }
 
 void Renderer::writeMiss(std::size_t pixel) const

@@ -42,11 +42,17 @@ public:
   Renderer(const Scene& scene, const Camera& camera, const IsoValues& isoValues,
     const Material& material, const glm::dvec3& lightPosition, const ImageView& image);
 
-  /// Renders rows [rowBegin, rowEnd). Pixels are independent, so any partition of the rows over
-  /// threads gives the same image bit for bit.
-  void renderRows(int rowBegin, int rowEnd) const;
+  /// Square tiles of kTileSize pixels a side (clipped at the image's edges), row-major from the
+  /// bottom left. Neighbouring rays visit the same cells, so a tile keeps them in cache.
+  static constexpr int kTileSize = 16;
+  NodeId numberOfTiles() const;
+
+  /// Renders tiles [tileBegin, tileEnd). Pixels are independent, so any partition of the tiles
+  /// over threads gives the same image bit for bit.
+  void renderTiles(NodeId tileBegin, NodeId tileEnd) const;
 
 private:
+  void renderPixel(int i, int j) const;
   void writeMiss(std::size_t pixel) const;
 
   const Scene& Scene_;
@@ -55,6 +61,7 @@ private:
   Material Material_;
   glm::dvec3 LightPosition_;
   ImageView Image_;
+  int TilesPerRow_;
 };
 
 } // namespace tetdsr

@@ -19,6 +19,7 @@ constexpr int kMaxSahDepth = 48; // below this, split at the median: depth stays
 // kMaxSahDepth + 64, so this stack cannot overflow.
 constexpr int kStackSize = kMaxSahDepth + 64;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr float kFloatInfinity = std::numeric_limits<float>::infinity();
 
 // A mid-edge node farther than this fraction of the longest edge from its edge's midpoint makes
 // the cell curved (isoparametric); we render it straight-sided and count it.
@@ -43,35 +44,33 @@ bool distinctIds(const NodeId ids[10])
   return true;
 }
 
-// Slab test of the ray against an axis-aligned box, clipped to [tLo, tHi].
-bool rayBox(const Ray& ray, const glm::dvec3& inverseDirection, const double lo[3],
-  const double hi[3], double tLo, double tHi, double& tEnter)
+// Slab test of the ray against an axis-aligned box, clipped to [tLo, tHi]. `inverse` holds
+// 1/direction with zero components replaced by +-1e300 (see rayInverse): a ray parallel to a slab
+// then gets t = +-huge outside it and an unbounded interval inside it, without a branch, and
+// never 0 * inf = NaN.
+inline bool rayBox(const glm::dvec3& origin, const glm::dvec3& inverse, const float lo[3],
+  const float hi[3], double tLo, double tHi, double& tEnter)
 {
   for (int axis = 0; axis < 3; ++axis)
   {
-    if (ray.direction[axis] == 0.0)
-    {
-      if (ray.origin[axis] < lo[axis] || ray.origin[axis] > hi[axis])
-      {
-        return false;
-      }
-      continue;
-    }
-    double t0 = (lo[axis] - ray.origin[axis]) * inverseDirection[axis];
-    double t1 = (hi[axis] - ray.origin[axis]) * inverseDirection[axis];
-    if (t0 > t1)
-    {
-      std::swap(t0, t1);
-    }
-    tLo = std::max(tLo, t0);
-    tHi = std::min(tHi, t1);
-    if (tLo > tHi)
-    {
-      return false;
-    }
+    const double t0 = (static_cast<double>(lo[axis]) - origin[axis]) * inverse[axis];
+    const double t1 = (static_cast<double>(hi[axis]) - origin[axis]) * inverse[axis];
+    tLo = std::max(tLo, std::min(t0, t1));
+    tHi = std::min(tHi, std::max(t0, t1));
   }
   tEnter = tLo;
-  return true;
+  return tLo <= tHi;
+}
+
+glm::dvec3 rayInverse(const glm::dvec3& direction)
+{
+  glm::dvec3 inverse;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    inverse[axis] = direction[axis] != 0.0 ? 1.0 / direction[axis]
+                                           : std::copysign(1e300, direction[axis]);
+  }
+  return inverse;
 }
 } // namespace
 
@@ -81,161 +80,218 @@ IsoValues::IsoValues(std::vector<double> values)
   std::sort(Sorted_.begin(), Sorted_.end());
 }
 
-bool IsoValues::anyWithin(double lo, double hi) const
-{
-  const auto it = std::lower_bound(Sorted_.begin(), Sorted_.end(), lo);
-  return it != Sorted_.end() && *it <= hi;
-}
-
 struct Scene::BuildItem
 {
-  double boxLo[3];
-  double boxHi[3];
-  double centroid[3];
-  double valueLo;
-  double valueHi;
-  NodeId cellId;
+  float boxLo[3]; ///< relative to Origin_, rounded outward
+  float boxHi[3];
+  float valueLo; ///< Bernstein range, rounded outward
+  float valueHi;
+  std::uint32_t cellId;
+
+  float centroid(int axis) const { return 0.5f * (boxLo[axis] + boxHi[axis]); }
 };
 
-Scene::Scene(const MeshView& mesh)
+namespace
+{
+// Cell validation outcome, as bits.
+enum : std::uint8_t
+{
+  kValid = 1,
+  kInverted = 2,
+  kCurved = 4,
+  kDegenerate = 8,
+  kNonFinite = 16,
+  kInvalidId = 32
+};
+
+float roundDown(double x)
+{
+  float f = static_cast<float>(x);
+  return static_cast<double>(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+
+float roundUp(double x)
+{
+  float f = static_cast<float>(x);
+  return static_cast<double>(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+} // namespace
+
+Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor)
   : Mesh_(mesh)
 {
-  std::vector<BuildItem> items;
-  items.reserve(static_cast<std::size_t>(mesh.numberOfCells));
+  // Any finite vertex of the mesh will do as the origin of the float boxes.
   for (NodeId cell = 0; cell < mesh.numberOfCells; ++cell)
   {
-    const NodeId* ids = mesh.cellNodes + 10 * cell;
-    bool idsInRange = true;
-    for (int n = 0; n < 10; ++n)
+    const NodeId id = mesh.cellNodes[10 * cell];
+    if (id >= 0 && id < mesh.numberOfPoints)
     {
-      const bool optional = n >= 4 && ids[n] == -1;
-      idsInRange = idsInRange && (optional || (ids[n] >= 0 && ids[n] < mesh.numberOfPoints));
-    }
-    if (!idsInRange)
-    {
-      ++Summary_.invalidIdCells;
-      continue;
-    }
-    if (!distinctIds(ids))
-    {
-      ++Summary_.degenerateCells;
-      continue;
-    }
-    glm::dvec3 vertices[4];
-    double values[10];
-    loadCell(cell, vertices, values);
-    bool finite = true;
-    for (int n = 0; n < 10; ++n)
-    {
-      finite = finite && std::isfinite(values[n]);
-    }
-    for (int k = 0; k < 4; ++k)
-    {
-      finite = finite && std::isfinite(vertices[k].x) && std::isfinite(vertices[k].y) &&
-        std::isfinite(vertices[k].z);
-    }
-    if (!finite)
-    {
-      ++Summary_.nonFiniteCells;
-      continue;
-    }
-    TetFrame frame;
-    double maxEdge = 0.0;
-    for (const auto& edge : kEdgeVertices)
-    {
-      maxEdge = std::max(maxEdge, glm::length(vertices[edge[0]] - vertices[edge[1]]));
-    }
-    if (!TetFrame::fromVertices(vertices, frame) ||
-      std::abs(frame.orientedVolume6) <= kDegenerateVolumeRatio * maxEdge * maxEdge * maxEdge)
-    {
-      ++Summary_.degenerateCells;
-      continue;
-    }
-    if (frame.orientedVolume6 < 0.0)
-    {
-      ++Summary_.invertedCells;
-    }
-    for (int e = 0; e < 6; ++e)
-    {
-      if (ids[4 + e] < 0)
+      const glm::dvec3 p(mesh.points[3 * id], mesh.points[3 * id + 1], mesh.points[3 * id + 2]);
+      if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
       {
-        continue;
-      }
-      const double* p = mesh.points + 3 * ids[4 + e];
-      const glm::dvec3 midpoint =
-        0.5 * (vertices[kEdgeVertices[e][0]] + vertices[kEdgeVertices[e][1]]);
-      if (glm::length(glm::dvec3(p[0], p[1], p[2]) - midpoint) > kCurvedTolerance * maxEdge)
-      {
-        ++Summary_.curvedCells;
+        Origin_ = p;
         break;
       }
     }
-    ++Summary_.validCells;
-
-    BuildItem item;
-    item.cellId = cell;
-    BernsteinForm::fromNodeValues(values).range(item.valueLo, item.valueHi);
-    // Pad boxes so that rounding in the slab test never drops a ray that the (widened) cell
-    // clip accepts: relative to the cell size and to the coordinates' own magnitude.
-    double magnitude = 0.0;
-    for (int axis = 0; axis < 3; ++axis)
-    {
-      item.boxLo[axis] = item.boxHi[axis] = vertices[0][axis];
-      for (int k = 1; k < 4; ++k)
-      {
-        item.boxLo[axis] = std::min(item.boxLo[axis], vertices[k][axis]);
-        item.boxHi[axis] = std::max(item.boxHi[axis], vertices[k][axis]);
-      }
-      magnitude = std::max({ magnitude, std::abs(item.boxLo[axis]), std::abs(item.boxHi[axis]) });
-    }
-    const double pad = 1e-8 * maxEdge + 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
-    for (int axis = 0; axis < 3; ++axis)
-    {
-      item.boxLo[axis] -= pad;
-      item.boxHi[axis] += pad;
-      item.centroid[axis] = 0.5 * (item.boxLo[axis] + item.boxHi[axis]);
-    }
-    items.push_back(item);
   }
 
-  SlotCell_.resize(items.size());
-  SlotRange_.resize(2 * items.size());
+  // Validate every cell in parallel, each writing only its own slot...
+  std::vector<BuildItem> items(static_cast<std::size_t>(mesh.numberOfCells));
+  std::vector<std::uint8_t> status(static_cast<std::size_t>(mesh.numberOfCells));
+  parallelFor(mesh.numberOfCells, [&](NodeId begin, NodeId end) {
+    for (NodeId cell = begin; cell < end; ++cell)
+    {
+      status[static_cast<std::size_t>(cell)] = validate(cell, items[static_cast<std::size_t>(cell)]);
+    }
+  });
+  // ...then count and keep the valid ones, in cell order.
+  std::size_t valid = 0;
+  for (std::size_t cell = 0; cell < status.size(); ++cell)
+  {
+    const std::uint8_t flags = status[cell];
+    Summary_.invertedCells += (flags & kInverted) != 0;
+    Summary_.curvedCells += (flags & kCurved) != 0;
+    Summary_.degenerateCells += (flags & kDegenerate) != 0;
+    Summary_.nonFiniteCells += (flags & kNonFinite) != 0;
+    Summary_.invalidIdCells += (flags & kInvalidId) != 0;
+    if (flags & kValid)
+    {
+      items[valid++] = items[cell];
+    }
+  }
+  Summary_.validCells = static_cast<NodeId>(valid);
+  items.resize(valid);
+  std::vector<std::uint8_t>().swap(status);
+
   if (!items.empty())
   {
     Nodes_.reserve(2 * items.size() / kLeafSize + 1);
     build(items, 0, items.size(), 0);
+    Nodes_.shrink_to_fit();
   }
+  SlotCell_.resize(items.size());
+  SlotRange_.resize(2 * items.size());
   for (std::size_t slot = 0; slot < items.size(); ++slot)
   {
     SlotCell_[slot] = items[slot].cellId;
     SlotRange_[2 * slot] = items[slot].valueLo;
     SlotRange_[2 * slot + 1] = items[slot].valueHi;
   }
-  Nodes_.shrink_to_fit();
 }
 
-NodeId Scene::build(
-  std::vector<BuildItem>& items, std::size_t begin, std::size_t end, int depth)
+std::uint8_t Scene::validate(NodeId cell, BuildItem& item) const
 {
-  const NodeId index = static_cast<NodeId>(Nodes_.size());
-  Nodes_.emplace_back();
-  Node node{};
-  double centroidLo[3], centroidHi[3];
+  const NodeId* ids = Mesh_.cellNodes + 10 * cell;
+  for (int n = 0; n < 10; ++n)
+  {
+    const bool optional = n >= 4 && ids[n] == -1;
+    if (!optional && (ids[n] < 0 || ids[n] >= Mesh_.numberOfPoints))
+    {
+      return kInvalidId;
+    }
+  }
+  if (!distinctIds(ids))
+  {
+    return kDegenerate;
+  }
+  glm::dvec3 vertices[4];
+  double values[10];
+  loadCell(cell, vertices, values);
+  for (int n = 0; n < 10; ++n)
+  {
+    if (!std::isfinite(values[n]))
+    {
+      return kNonFinite;
+    }
+  }
+  for (int k = 0; k < 4; ++k)
+  {
+    if (!std::isfinite(vertices[k].x) || !std::isfinite(vertices[k].y) ||
+      !std::isfinite(vertices[k].z))
+    {
+      return kNonFinite;
+    }
+  }
+  TetFrame frame;
+  double maxEdge = 0.0;
+  for (const auto& edge : kEdgeVertices)
+  {
+    maxEdge = std::max(maxEdge, glm::length(vertices[edge[0]] - vertices[edge[1]]));
+  }
+  if (!TetFrame::fromVertices(vertices, frame) ||
+    std::abs(frame.orientedVolume6) <= kDegenerateVolumeRatio * maxEdge * maxEdge * maxEdge)
+  {
+    return kDegenerate;
+  }
+  std::uint8_t flags = kValid;
+  if (frame.orientedVolume6 < 0.0)
+  {
+    flags |= kInverted;
+  }
+  for (int e = 0; e < 6; ++e)
+  {
+    if (ids[4 + e] >= 0)
+    {
+      const double* p = Mesh_.points + 3 * ids[4 + e];
+      const glm::dvec3 midpoint =
+        0.5 * (vertices[kEdgeVertices[e][0]] + vertices[kEdgeVertices[e][1]]);
+      if (glm::length(glm::dvec3(p[0], p[1], p[2]) - midpoint) > kCurvedTolerance * maxEdge)
+      {
+        flags |= kCurved;
+        break;
+      }
+    }
+  }
+
+  item.cellId = static_cast<std::uint32_t>(cell);
+  double lo, hi;
+  BernsteinForm::fromNodeValues(values).range(lo, hi);
+  item.valueLo = roundDown(lo);
+  item.valueHi = roundUp(hi);
+  // Pad boxes so that rounding in the slab test never drops a ray that the (widened) cell
+  // clip accepts: relative to the cell size and to the coordinates' own magnitude.
+  double boxLo[3], boxHi[3], magnitude = 0.0;
   for (int axis = 0; axis < 3; ++axis)
   {
-    node.boxLo[axis] = centroidLo[axis] = kInfinity;
-    node.boxHi[axis] = centroidHi[axis] = -kInfinity;
+    boxLo[axis] = boxHi[axis] = vertices[0][axis];
+    for (int k = 1; k < 4; ++k)
+    {
+      boxLo[axis] = std::min(boxLo[axis], vertices[k][axis]);
+      boxHi[axis] = std::max(boxHi[axis], vertices[k][axis]);
+    }
+    magnitude = std::max({ magnitude, std::abs(boxLo[axis]), std::abs(boxHi[axis]) });
   }
-  node.valueLo = kInfinity;
-  node.valueHi = -kInfinity;
+  const double pad = 1e-8 * maxEdge + 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    item.boxLo[axis] = roundDown(boxLo[axis] - pad - Origin_[axis]);
+    item.boxHi[axis] = roundUp(boxHi[axis] + pad - Origin_[axis]);
+  }
+  return flags;
+}
+
+std::uint32_t Scene::build(
+  std::vector<BuildItem>& items, std::size_t begin, std::size_t end, int depth)
+{
+  const auto index = static_cast<std::uint32_t>(Nodes_.size());
+  Nodes_.emplace_back();
+  Node node{};
+  float centroidLo[3], centroidHi[3];
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    node.boxLo[axis] = centroidLo[axis] = kFloatInfinity;
+    node.boxHi[axis] = centroidHi[axis] = -kFloatInfinity;
+  }
+  node.valueLo = kFloatInfinity;
+  node.valueHi = -kFloatInfinity;
   for (std::size_t i = begin; i < end; ++i)
   {
     for (int axis = 0; axis < 3; ++axis)
     {
       node.boxLo[axis] = std::min(node.boxLo[axis], items[i].boxLo[axis]);
       node.boxHi[axis] = std::max(node.boxHi[axis], items[i].boxHi[axis]);
-      centroidLo[axis] = std::min(centroidLo[axis], items[i].centroid[axis]);
-      centroidHi[axis] = std::max(centroidHi[axis], items[i].centroid[axis]);
+      centroidLo[axis] = std::min(centroidLo[axis], items[i].centroid(axis));
+      centroidHi[axis] = std::max(centroidHi[axis], items[i].centroid(axis));
     }
     node.valueLo = std::min(node.valueLo, items[i].valueLo);
     node.valueHi = std::max(node.valueHi, items[i].valueHi);
@@ -249,13 +305,13 @@ NodeId Scene::build(
       axis = a;
     }
   }
-  const double extent = centroidHi[axis] - centroidLo[axis];
-  if (count <= static_cast<std::size_t>(kLeafSize) || extent <= 0.0)
+  const float extent = centroidHi[axis] - centroidLo[axis];
+  if (count <= static_cast<std::size_t>(kLeafSize) || !(extent > 0.0f))
   {
-    node.firstOrSecondChild = static_cast<NodeId>(begin);
-    node.count = static_cast<std::int32_t>(count);
-    node.axis = axis;
-    Nodes_[static_cast<std::size_t>(index)] = node;
+    node.firstOrSecondChild = static_cast<std::uint32_t>(begin);
+    node.count = static_cast<std::uint16_t>(count);
+    node.axis = static_cast<std::uint16_t>(axis);
+    Nodes_[index] = node;
     return index;
   }
 
@@ -266,58 +322,54 @@ NodeId Scene::build(
     // Binned surface area heuristic over centroids: cost of a split = area * count per side.
     struct Bin
     {
-      double lo[3] = { kInfinity, kInfinity, kInfinity };
-      double hi[3] = { -kInfinity, -kInfinity, -kInfinity };
+      float lo[3] = { kFloatInfinity, kFloatInfinity, kFloatInfinity };
+      float hi[3] = { -kFloatInfinity, -kFloatInfinity, -kFloatInfinity };
       std::size_t count = 0;
+      void grow(const float boxLo[3], const float boxHi[3])
+      {
+        for (int a = 0; a < 3; ++a)
+        {
+          lo[a] = std::min(lo[a], boxLo[a]);
+          hi[a] = std::max(hi[a], boxHi[a]);
+        }
+      }
+      double area() const
+      {
+        const double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+        return count ? dx * dy + dy * dz + dz * dx : 0.0;
+      }
     } bins[kBins];
-    const double scale = kBins / extent;
+    const float scale = kBins / extent;
+    const float lo = centroidLo[axis];
     auto binOf = [&](const BuildItem& item) {
-      return std::min(kBins - 1, static_cast<int>((item.centroid[axis] - centroidLo[axis]) * scale));
+      return std::min(kBins - 1, static_cast<int>((item.centroid(axis) - lo) * scale));
     };
     for (std::size_t i = begin; i < end; ++i)
     {
       Bin& bin = bins[binOf(items[i])];
       ++bin.count;
-      for (int a = 0; a < 3; ++a)
-      {
-        bin.lo[a] = std::min(bin.lo[a], items[i].boxLo[a]);
-        bin.hi[a] = std::max(bin.hi[a], items[i].boxHi[a]);
-      }
+      bin.grow(items[i].boxLo, items[i].boxHi);
     }
-    auto area = [](const double lo[3], const double hi[3]) {
-      const double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
-      return dx * dy + dy * dz + dz * dx;
-    };
-    double rightArea[kBins];
-    std::size_t rightCount[kBins];
+    double rightCost[kBins];
     Bin accumulated;
     for (int b = kBins - 1; b > 0; --b)
     {
       accumulated.count += bins[b].count;
-      for (int a = 0; a < 3; ++a)
-      {
-        accumulated.lo[a] = std::min(accumulated.lo[a], bins[b].lo[a]);
-        accumulated.hi[a] = std::max(accumulated.hi[a], bins[b].hi[a]);
-      }
-      rightArea[b] = accumulated.count ? area(accumulated.lo, accumulated.hi) : 0.0;
-      rightCount[b] = accumulated.count;
+      accumulated.grow(bins[b].lo, bins[b].hi);
+      rightCost[b] = accumulated.area() * accumulated.count;
     }
     Bin left;
-    double bestCost = kInfinity;
+    double bestCost = std::numeric_limits<double>::infinity();
     int bestBin = -1;
     for (int b = 1; b < kBins; ++b)
     {
       left.count += bins[b - 1].count;
-      for (int a = 0; a < 3; ++a)
-      {
-        left.lo[a] = std::min(left.lo[a], bins[b - 1].lo[a]);
-        left.hi[a] = std::max(left.hi[a], bins[b - 1].hi[a]);
-      }
-      if (left.count == 0 || rightCount[b] == 0)
+      left.grow(bins[b - 1].lo, bins[b - 1].hi);
+      if (left.count == 0 || left.count == count)
       {
         continue;
       }
-      const double cost = area(left.lo, left.hi) * left.count + rightArea[b] * rightCount[b];
+      const double cost = left.area() * left.count + rightCost[b];
       if (cost < bestCost)
       {
         bestCost = cost;
@@ -336,13 +388,13 @@ NodeId Scene::build(
   {
     middle = begin + count / 2;
     std::nth_element(items.begin() + begin, items.begin() + middle, items.begin() + end,
-      [axis](const BuildItem& x, const BuildItem& y) { return x.centroid[axis] < y.centroid[axis]; });
+      [axis](const BuildItem& x, const BuildItem& y) { return x.centroid(axis) < y.centroid(axis); });
   }
   node.count = 0;
-  node.axis = axis;
+  node.axis = static_cast<std::uint16_t>(axis);
   build(items, begin, middle, depth + 1);
   node.firstOrSecondChild = build(items, middle, end, depth + 1);
-  Nodes_[static_cast<std::size_t>(index)] = node;
+  Nodes_[index] = node;
   return index;
 }
 
@@ -448,20 +500,22 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
 
 bool Scene::firstHit(const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit) const
 {
-  if (Nodes_.empty())
+  if (Nodes_.empty() || !isoValues.anyWithin(Nodes_[0].valueLo, Nodes_[0].valueHi))
   {
     return false;
   }
-  const glm::dvec3 inverseDirection = 1.0 / ray.direction;
+  // Boxes are relative to Origin_; cells are tested in world coordinates.
+  const glm::dvec3 origin = ray.origin - Origin_;
+  const glm::dvec3 inverse = rayInverse(ray.direction);
   struct Entry
   {
-    NodeId node;
+    std::uint32_t node;
     double tEnter;
   } stack[kStackSize];
   int top = 0;
   double best = kInfinity;
   double tEnter;
-  if (rayBox(ray, inverseDirection, Nodes_[0].boxLo, Nodes_[0].boxHi, 0.0, best, tEnter))
+  if (rayBox(origin, inverse, Nodes_[0].boxLo, Nodes_[0].boxHi, 0.0, best, tEnter))
   {
     stack[top++] = { 0, tEnter };
   }
@@ -469,19 +523,18 @@ bool Scene::firstHit(const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit
   while (top > 0)
   {
     const Entry entry = stack[--top];
-    const Node& node = Nodes_[static_cast<std::size_t>(entry.node)];
-    if (entry.tEnter > best || !isoValues.anyWithin(node.valueLo, node.valueHi))
+    if (entry.tEnter > best)
     {
-      continue;
+      continue; // a hit nearer than this subtree's box was found meanwhile
     }
+    const Node& node = Nodes_[entry.node];
     if (node.count > 0)
     {
-      for (NodeId slot = node.firstOrSecondChild; slot < node.firstOrSecondChild + node.count;
+      for (std::uint32_t slot = node.firstOrSecondChild; slot < node.firstOrSecondChild + node.count;
            ++slot)
       {
-        const auto s = static_cast<std::size_t>(slot);
-        if (isoValues.anyWithin(SlotRange_[2 * s], SlotRange_[2 * s + 1]) &&
-          intersectCell(SlotCell_[s], ray, isoValues, best, hit))
+        if (isoValues.anyWithin(SlotRange_[2 * slot], SlotRange_[2 * slot + 1]) &&
+          intersectCell(SlotCell_[slot], ray, isoValues, best, hit))
         {
           best = hit.t;
           found = true;
@@ -489,14 +542,16 @@ bool Scene::firstHit(const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit
       }
       continue;
     }
-    // Visit the nearer child first: push it last.
-    const NodeId children[2] = { entry.node + 1, node.firstOrSecondChild };
+    // Children whose value range misses every iso-value are skipped before their boxes are
+    // tested; the nearer of the others is visited first (pushed last): front to back.
+    const std::uint32_t children[2] = { entry.node + 1, node.firstOrSecondChild };
     double enter[2];
     bool hits[2];
     for (int c = 0; c < 2; ++c)
     {
-      const Node& child = Nodes_[static_cast<std::size_t>(children[c])];
-      hits[c] = rayBox(ray, inverseDirection, child.boxLo, child.boxHi, 0.0, best, enter[c]);
+      const Node& child = Nodes_[children[c]];
+      hits[c] = isoValues.anyWithin(child.valueLo, child.valueHi) &&
+        rayBox(origin, inverse, child.boxLo, child.boxHi, 0.0, best, enter[c]);
     }
     const int nearer = (hits[0] && hits[1] && enter[1] < enter[0]) ? 1 : 0;
     for (int c : { 1 - nearer, nearer })
@@ -512,8 +567,8 @@ bool Scene::firstHit(const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit
 
 std::size_t Scene::memoryBytes() const
 {
-  return Nodes_.capacity() * sizeof(Node) + SlotCell_.capacity() * sizeof(NodeId) +
-    SlotRange_.capacity() * sizeof(double);
+  return Nodes_.capacity() * sizeof(Node) + SlotCell_.capacity() * sizeof(std::uint32_t) +
+    SlotRange_.capacity() * sizeof(float);
 }
 
 } // namespace tetdsr

@@ -7,8 +7,10 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace tetdsr
@@ -46,7 +48,17 @@ class IsoValues
 {
 public:
   explicit IsoValues(std::vector<double> values);
-  bool anyWithin(double lo, double hi) const;
+
+  bool anyWithin(double lo, double hi) const
+  {
+    if (Sorted_.size() == 1)
+    {
+      return lo <= Sorted_[0] && Sorted_[0] <= hi; // the common case, without a search
+    }
+    const auto it = std::lower_bound(Sorted_.begin(), Sorted_.end(), lo);
+    return it != Sorted_.end() && *it <= hi;
+  }
+
   const std::vector<double>& sorted() const { return Sorted_; }
 
 private:
@@ -60,18 +72,31 @@ struct SurfaceHit
   glm::dvec3 gradient{ 0.0 }; ///< exact field gradient at the hit
 };
 
+/// Runs body(begin, end) over a partition of [0, count), possibly concurrently; the parts must
+/// cover every index exactly once. Lets the caller supply its threads (VTK's vtkSMPTools).
+using ParallelFor =
+  std::function<void(NodeId count, const std::function<void(NodeId begin, NodeId end)>& body)>;
+
+/// The serial ParallelFor.
+inline void serialFor(NodeId count, const std::function<void(NodeId, NodeId)>& body)
+{
+  body(0, count);
+}
+
 class Scene
 {
 public:
-  /// Validates every cell and builds the hierarchy. The mesh's arrays must outlive the scene.
-  explicit Scene(const MeshView& mesh);
+  /// Validates every cell (in parallel through `parallelFor`) and builds the hierarchy. The
+  /// mesh's arrays must outlive the scene.
+  explicit Scene(const MeshView& mesh, const ParallelFor& parallelFor = serialFor);
 
   const PreprocessSummary& summary() const { return Summary_; }
 
   /// The first crossing of any iso-value along the ray with t >= 0; false if there is none.
   bool firstHit(const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit) const;
 
-  /// Bytes this scene allocates (the mesh it views is not counted).
+  /// Bytes this scene keeps (the mesh it views is not counted): 12 per valid cell plus the
+  /// hierarchy's nodes (about one per 2 cells, 40 bytes each).
   std::size_t memoryBytes() const;
 
   /// Barycentric tolerance by which a cell is widened when clipping a ray to it. Rounding in
@@ -82,28 +107,33 @@ public:
   static constexpr double kBarycentricTolerance = 1e-10;
 
 private:
+  // Boxes and value ranges are stored in float, rounded outward, so every test on them is
+  // conservative; boxes are relative to Origin_ so their precision follows the scene's size,
+  // not its distance from the world origin. Exact (double) tests happen per cell.
   struct Node
   {
-    double boxLo[3];
-    double boxHi[3];
-    double valueLo;
-    double valueHi;
-    NodeId firstOrSecondChild; ///< leaf: first slot; interior: index of the second child
-    std::int32_t count;        ///< leaf: number of cells; interior: 0 (first child = this + 1)
-    std::int32_t axis;
+    float boxLo[3];
+    float boxHi[3];
+    float valueLo;
+    float valueHi;
+    std::uint32_t firstOrSecondChild; ///< leaf: first slot; interior: index of the second child
+    std::uint16_t count;              ///< leaf: number of cells; interior: 0 (first child: next)
+    std::uint16_t axis;
   };
   struct BuildItem;
 
   void loadCell(NodeId cellId, glm::dvec3 vertices[4], double values[10]) const;
-  NodeId build(std::vector<BuildItem>& items, std::size_t begin, std::size_t end, int depth);
+  std::uint8_t validate(NodeId cellId, BuildItem& item) const;
+  std::uint32_t build(std::vector<BuildItem>& items, std::size_t begin, std::size_t end, int depth);
   bool intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues,
     double tLimit, SurfaceHit& hit) const;
 
   MeshView Mesh_;
+  glm::dvec3 Origin_{ 0.0 };
   PreprocessSummary Summary_;
   std::vector<Node> Nodes_;
-  std::vector<NodeId> SlotCell_; ///< cell id of each leaf slot
-  std::vector<double> SlotRange_;      ///< Bernstein min and max of each leaf slot's cell
+  std::vector<std::uint32_t> SlotCell_; ///< cell id of each leaf slot
+  std::vector<float> SlotRange_;        ///< outward-rounded Bernstein min and max per slot
 };
 
 } // namespace tetdsr

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# The benchmark, in one run: set-up and build (Scripts/setup.sh), a venv with the newest `vtk`
+# wheel from PyPI, then TetDSR and VTK 9.2's contour + render (tetdsr-benchmark) and the wheel's
+# contour + render on the same mesh files, joined into one Markdown table.
+#   bash Testing/Benchmark/run.sh            # lattices n = 12 26 61 (10 k, 105 k, 1.36 M cells)
+#   SIZES="12 26" IMAGE=512 bash Testing/Benchmark/run.sh
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+bash Scripts/setup.sh > /dev/null
+
+SIZES=${SIZES:-"12 26 61"}
+IMAGE=${IMAGE:-1024}
+OUT=build/benchmark
+VENV=build/benchmark-venv
+mkdir -p "$OUT"
+if [ ! -x "$VENV/bin/python" ]; then
+  # Any Python 3 with venv will do for the wheel (Debian's needs python3-venv; a pyenv one has it).
+  python3 -m venv "$VENV"
+  "$VENV/bin/pip" install -q --upgrade pip vtk
+fi
+
+echo "machine: $(nproc) cores, $(awk '/MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo), $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)"
+echo "image: ${IMAGE}x${IMAGE}; lattices: $SIZES"
+xvfb-run -a build/bin/tetdsr-benchmark "$OUT" "$IMAGE" $SIZES > "$OUT/tetdsr.tsv"
+xvfb-run -a "$VENV/bin/python" Testing/Benchmark/vtk_wheel_contour.py "$OUT/tetdsr.tsv" "$OUT" "$IMAGE" \
+  > "$OUT/wheel.tsv"
+/usr/bin/python3 Testing/Benchmark/report.py "$OUT/tetdsr.tsv" "$OUT/wheel.tsv"

@@ -1,0 +1,251 @@
+// Benchmark: TetDSR against vtkContourFilter + OpenGL rendering of its triangles (VTK 9.2), on
+// generated quadratic tet meshes of growing size. Prints one row per mesh and field as
+// tab-separated values (Testing/Benchmark/run.sh joins them with the newest VTK wheel's timings
+// and prints the table). Needs an X display for the OpenGL rendering (xvfb-run -a).
+//
+//   tetdsr-benchmark <output dir for meshes> <image size> <lattice n>...
+//   (a lattice of n^3 cubes has 6 n^3 cells)
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkCellType.h"
+#include "vtkContourFilter.h"
+#include "vtkDirectSurfaceRayCaster.h"
+#include "vtkDoubleArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkCellArray.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+#include "vtkXMLUnstructuredGridWriter.h"
+
+#include <chrono>
+#include <malloc.h>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace
+{
+double Seconds(const std::function<void()>& work)
+{
+  const auto start = std::chrono::steady_clock::now();
+  work();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Resident and peak resident memory of this process, in bytes (Linux /proc).
+double StatusBytes(const char* key)
+{
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+  {
+    if (line.rfind(key, 0) == 0)
+    {
+      return 1024.0 * std::atof(line.c_str() + std::string(key).size());
+    }
+  }
+  return 0.0;
+}
+
+// Resets the peak resident size to the current one ("5" > /proc/self/clear_refs).
+void ResetPeakMemory()
+{
+  std::ofstream("/proc/self/clear_refs") << "5";
+}
+
+/// n^3 cubes over [0,1]^3, 6 positively oriented quadratic tets each, nodes on the half-step
+/// lattice. Fields: "quadric" = |x - c|^2 (exactly quadratic), "wave" (smooth, not polynomial).
+vtkSmartPointer<vtkUnstructuredGrid> MakeMesh(int n)
+{
+  const int m = 2 * n + 1;
+  auto id = [m](int i, int j, int k) { return static_cast<vtkIdType>(i + m * (j + m * k)); };
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(m) * m * m);
+  vtkNew<vtkDoubleArray> quadric, wave;
+  quadric->SetName("quadric");
+  wave->SetName("wave");
+  quadric->SetNumberOfTuples(points->GetNumberOfPoints());
+  wave->SetNumberOfTuples(points->GetNumberOfPoints());
+  for (int k = 0; k < m; ++k)
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i)
+      {
+        const double x = i / (m - 1.0), y = j / (m - 1.0), z = k / (m - 1.0);
+        points->SetPoint(id(i, j, k), x, y, z);
+        quadric->SetValue(id(i, j, k), (x - 0.5) * (x - 0.5) + (y - 0.45) * (y - 0.45) +
+            (z - 0.52) * (z - 0.52));
+        wave->SetValue(id(i, j, k), std::sin(7.0 * x) * std::cos(5.0 * y) + std::sin(6.0 * z + 1.0));
+      }
+  const int permutations[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 },
+    { 2, 1, 0 } };
+  const bool odd[6] = { false, true, true, false, false, true };
+  const int edges[6][2] = { { 0, 1 }, { 1, 2 }, { 0, 2 }, { 0, 3 }, { 1, 3 }, { 2, 3 } };
+  const vtkIdType cells = 6LL * n * n * n;
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfTuples(cells + 1);
+  connectivity->SetNumberOfTuples(10 * cells);
+  vtkIdType cell = 0;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        for (int p = 0; p < 6; ++p)
+        {
+          int v[4][3];
+          v[0][0] = 2 * i, v[0][1] = 2 * j, v[0][2] = 2 * k;
+          for (int s = 0; s < 3; ++s)
+          {
+            for (int a = 0; a < 3; ++a)
+              v[s + 1][a] = v[s][a];
+            v[s + 1][permutations[p][s]] += 2;
+          }
+          if (odd[p])
+            for (int a = 0; a < 3; ++a)
+              std::swap(v[1][a], v[2][a]);
+          vtkIdType* ids = connectivity->GetPointer(10 * cell);
+          for (int c = 0; c < 4; ++c)
+            ids[c] = id(v[c][0], v[c][1], v[c][2]);
+          for (int e = 0; e < 6; ++e)
+          {
+            const int* a = v[edges[e][0]];
+            const int* b = v[edges[e][1]];
+            ids[4 + e] = id((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2);
+          }
+          offsets->SetValue(cell, 10 * cell);
+          ++cell;
+        }
+  offsets->SetValue(cells, 10 * cells);
+  vtkNew<vtkCellArray> cellArray;
+  cellArray->SetData(offsets, connectivity);
+  auto mesh = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  mesh->SetPoints(points);
+  mesh->SetCells(VTK_QUADRATIC_TETRA, cellArray);
+  mesh->GetPointData()->AddArray(quadric);
+  mesh->GetPointData()->AddArray(wave);
+  return mesh;
+}
+
+// The benchmark's camera; vtk_wheel_contour.py uses the same.
+void SetCamera(vtkCamera* camera)
+{
+  camera->SetFocalPoint(0.5, 0.5, 0.5);
+  camera->SetPosition(2.1, 1.6, 3.0);
+  camera->SetViewUp(0.0, 1.0, 0.0);
+  camera->SetViewAngle(30.0);
+}
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  if (argc < 4)
+  {
+    std::cerr << "usage: " << argv[0] << " <mesh output dir> <image size> <lattice n>...\n";
+    return EXIT_FAILURE;
+  }
+  const std::string outputDir = argv[1];
+  const int size = std::atoi(argv[2]);
+  struct Field
+  {
+    const char* name;
+    double iso;
+    double isoChanged;
+  };
+  const Field fields[] = { { "quadric", 0.09, 0.1 }, { "wave", 0.3, 0.5 } };
+
+  std::printf("n\tcells\tfield\tiso\tmesh_MB\tpre_s\tfirst_s\tcamera_s\tiso_s\tMrays_s\textra_MB\t"
+              "filter_MB\tcontour_s\ttriangles\trender_s\tcovered\tthreads\n");
+  for (int a = 3; a < argc; ++a)
+  {
+    const int n = std::atoi(argv[a]);
+    vtkSmartPointer<vtkUnstructuredGrid> mesh = MakeMesh(n);
+    const double meshBytes = 1024.0 * mesh->GetActualMemorySize();
+    const std::string path = outputDir + "/lattice_" + std::to_string(n) + ".vtu";
+    vtkNew<vtkXMLUnstructuredGridWriter> writer;
+    writer->SetFileName(path.c_str());
+    writer->SetInputData(mesh);
+    writer->SetDataModeToBinary();
+    writer->Write();
+
+    for (const Field& field : fields)
+    {
+      vtkNew<vtkCamera> camera;
+      SetCamera(camera);
+      // Preprocessing alone: a 1-pixel image. Its peak resident growth is the filter's extra
+      // memory (the output image is negligible at 1 pixel).
+      double preprocess, extra;
+      {
+        malloc_trim(0); // return freed memory, so reuse does not hide growth
+        const double before = StatusBytes("VmRSS:");
+        ResetPeakMemory();
+        vtkNew<vtkDirectSurfaceRayCaster> caster;
+        caster->SetInputData(mesh);
+        caster->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, field.name);
+        caster->SetValue(0, field.iso);
+        caster->SetCamera(camera);
+        caster->SetImageSize(1, 1);
+        preprocess = Seconds([&] { caster->Update(); });
+        extra = StatusBytes("VmHWM:") - before;
+      }
+      vtkNew<vtkDirectSurfaceRayCaster> caster;
+      caster->SetInputData(mesh);
+      caster->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, field.name);
+      caster->SetValue(0, field.iso);
+      caster->SetCamera(camera);
+      caster->SetImageSize(size, size);
+      const double first = Seconds([&] { caster->Update(); });
+      camera->Azimuth(10.0);
+      const double cameraMove = Seconds([&] { caster->Update(); });
+      caster->SetValue(0, field.isoChanged);
+      const double isoChange = Seconds([&] { caster->Update(); });
+      vtkDataArray* depth = caster->GetOutput()->GetPointData()->GetArray("Depth");
+      long covered = 0;
+      for (vtkIdType p = 0; p < depth->GetNumberOfTuples(); ++p)
+        covered += std::isfinite(depth->GetComponent(p, 0));
+
+      // What a VTK user runs today: contour, then render the triangles at the same size.
+      camera->Azimuth(-10.0);
+      vtkNew<vtkContourFilter> contour;
+      contour->SetInputData(mesh);
+      contour->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, field.name);
+      contour->SetValue(0, field.iso);
+      const double contourTime = Seconds([&] { contour->Update(); });
+      vtkNew<vtkPolyDataMapper> mapper;
+      mapper->SetInputConnection(contour->GetOutputPort());
+      mapper->ScalarVisibilityOff();
+      vtkNew<vtkActor> actor;
+      actor->SetMapper(mapper);
+      vtkNew<vtkRenderer> renderer;
+      renderer->AddActor(actor);
+      renderer->SetActiveCamera(camera);
+      renderer->ResetCameraClippingRange();
+      vtkNew<vtkRenderWindow> window;
+      window->SetOffScreenRendering(1);
+      window->SetSize(size, size);
+      window->AddRenderer(renderer);
+      const double render = Seconds([&] { window->Render(); });
+
+      std::printf("%d\t%lld\t%s\t%g\t%.1f\t%.3f\t%.3f\t%.3f\t%.3f\t%.2f\t%.1f\t%.1f\t%.3f\t%lld\t%.3f\t%ld\t%d\n",
+        n, static_cast<long long>(mesh->GetNumberOfCells()), field.name, field.iso, meshBytes / 1e6, preprocess,
+        first, cameraMove, isoChange, size * double(size) / cameraMove / 1e6, extra / 1e6,
+        caster->GetPreprocessedBytes() / 1e6, contourTime,
+        static_cast<long long>(contour->GetOutput()->GetNumberOfCells()), render, covered,
+        static_cast<int>(std::thread::hardware_concurrency()));
+      std::fflush(stdout);
+    }
+  }
+  return EXIT_SUCCESS;
+}
