@@ -45,6 +45,7 @@ struct vtkDirectSurfaceRayCaster::Cache
   vtkDataArray* Array = nullptr;
   vtkMTimeType ArrayTime = 0;
   int Component = 0;
+  tetdsr::TransverseTest Transverse;
 
   // Keep the viewed VTK arrays alive as long as the scene views them.
   vtkSmartPointer<vtkDataArray> PointArray;
@@ -61,10 +62,13 @@ struct vtkDirectSurfaceRayCaster::Cache
   /// Convert the input to the core's MeshView, copying only what VTK stores differently.
   tetdsr::MeshView View(vtkUnstructuredGrid* input, vtkDataArray* scalars, int component);
 
-  bool Matches(vtkUnstructuredGrid* input, vtkDataArray* array, int component) const
+  bool Matches(vtkUnstructuredGrid* input, vtkDataArray* array, int component,
+    const tetdsr::TransverseTest& transverse) const
   {
     return this->Scene && input == this->Input && input->GetMTime() == this->InputTime &&
-      array == this->Array && array->GetMTime() == this->ArrayTime && component == this->Component;
+      array == this->Array && array->GetMTime() == this->ArrayTime &&
+      component == this->Component && transverse.mode == this->Transverse.mode &&
+      transverse.widening == this->Transverse.widening;
   }
 };
 
@@ -277,13 +281,19 @@ int vtkDirectSurfaceRayCaster::RequestData(
     }
   }
 
-  // Preprocess once per mesh and array.
-  if (!this->Prepared || !this->Prepared->Matches(input, scalars, component))
+  // Preprocess once per mesh, array and transverse test.
+  tetdsr::TransverseTest transverse;
+  transverse.mode = this->TransverseTest == WIDENED_NODAL_RANGE
+    ? tetdsr::TransverseTest::Mode::WidenedNodalRange
+    : tetdsr::TransverseTest::Mode::BernsteinBound;
+  transverse.widening = this->NodalRangeWidening;
+  if (!this->Prepared || !this->Prepared->Matches(input, scalars, component, transverse))
   {
     this->Prepared.reset(new Cache);
+    this->Prepared->Transverse = transverse;
     const tetdsr::MeshView mesh = this->Prepared->View(input, scalars, component);
     WithThreads(this->NumberOfThreads,
-      [&]() { this->Prepared->Scene.reset(new tetdsr::Scene(mesh, SMPFor)); });
+      [&]() { this->Prepared->Scene.reset(new tetdsr::Scene(mesh, SMPFor, transverse)); });
   }
   const Cache& prepared = *this->Prepared;
   const tetdsr::PreprocessSummary& summary = prepared.Scene->summary();
@@ -540,6 +550,9 @@ void vtkDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LightPosition: (" << this->LightPosition[0] << ", " << this->LightPosition[1]
      << ", " << this->LightPosition[2] << ")\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "TransverseTest: "
+     << (this->TransverseTest == BERNSTEIN_BOUND ? "BERNSTEIN_BOUND" : "WIDENED_NODAL_RANGE") << "\n";
+  os << indent << "NodalRangeWidening: " << this->NodalRangeWidening << "\n";
   os << indent << "NumberOfRenderedCells: " << this->NumberOfRenderedCells << "\n";
   os << indent << "NumberOfInvertedCells: " << this->NumberOfInvertedCells << "\n";
   os << indent << "NumberOfCurvedCells: " << this->NumberOfCurvedCells << "\n";

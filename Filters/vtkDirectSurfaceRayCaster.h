@@ -122,6 +122,30 @@ public:
   vtkGetVector3Macro(LightPosition, double);
   ///@}
 
+  /**
+   * Transverse-cell tests: which cells are searched for an iso-value.
+   */
+  enum TransverseTestModes
+  {
+    /// The Bernstein coefficients' range: a guaranteed bound, no cell is ever missed (default).
+    BERNSTEIN_BOUND = 0,
+    /// The paper's heuristic: the nodal range widened by NodalRangeWidening on each side. Not a
+    /// bound: kept to show where it leaves holes.
+    WIDENED_NODAL_RANGE = 1
+  };
+
+  ///@{
+  /**
+   * The transverse-cell test (default BERNSTEIN_BOUND) and, for WIDENED_NODAL_RANGE, the
+   * widening as a fraction of the nodal range (default 0.25, the paper's 25%). Changing either
+   * rebuilds the acceleration structure.
+   */
+  vtkSetClampMacro(TransverseTest, int, BERNSTEIN_BOUND, WIDENED_NODAL_RANGE);
+  vtkGetMacro(TransverseTest, int);
+  vtkSetClampMacro(NodalRangeWidening, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(NodalRangeWidening, double);
+  ///@}
+
   ///@{
   /**
    * Threads for ray casting; 0 (default) uses all cores. The image is identical bit for bit
@@ -182,6 +206,8 @@ protected:
   bool LightAtCamera = true;
   double LightPosition[3] = { 0.0, 0.0, 1.0 };
   int NumberOfThreads = 0;
+  int TransverseTest = BERNSTEIN_BOUND;
+  double NodalRangeWidening = 0.25;
 
   vtkIdType NumberOfRenderedCells = 0;
   vtkIdType NumberOfInvertedCells = 0;

@@ -146,6 +146,38 @@ TEST(QuadraticTet, BernsteinRangeBoundsTheField)
   }
 }
 
+TEST(QuadraticTet, ExactRangeMatchesDenseSampling)
+{
+  std::mt19937_64 rng(4);
+  for (int trial = 0; trial < 100; ++trial)
+  {
+    const RandomCell cell(rng);
+    double lo, hi, bernsteinLo, bernsteinHi;
+    cell.form.exactRange(lo, hi);
+    cell.form.range(bernsteinLo, bernsteinHi);
+    EXPECT_LE(bernsteinLo, lo + 1e-12);
+    EXPECT_GE(bernsteinHi, hi - 1e-12);
+    // Dense barycentric lattice (step 1/40): samples stay inside [lo, hi] and come close to it.
+    double sampledLo = std::numeric_limits<double>::infinity(), sampledHi = -sampledLo;
+    const int steps = 40;
+    for (int a = 0; a <= steps; ++a)
+      for (int b = 0; a + b <= steps; ++b)
+        for (int c = 0; a + b + c <= steps; ++c)
+        {
+          const double L[4] = { double(a) / steps, double(b) / steps, double(c) / steps,
+            double(steps - a - b - c) / steps };
+          const double value = cell.form.bilinear(L, L);
+          sampledLo = std::min(sampledLo, value);
+          sampledHi = std::max(sampledHi, value);
+        }
+    EXPECT_LE(lo, sampledLo + 1e-12);
+    EXPECT_GE(hi, sampledHi - 1e-12);
+    const double scale = hi - lo + 1e-300;
+    EXPECT_LT((sampledLo - lo) / scale, 2e-3) << "exact minimum not approached by sampling";
+    EXPECT_LT((hi - sampledHi) / scale, 2e-3) << "exact maximum not approached by sampling";
+  }
+}
+
 TEST(QuadraticTet, RayQuadraticMatchesDirectEvaluation)
 {
   std::mt19937_64 rng(3);
@@ -433,6 +465,51 @@ TEST(Scene, BadCellsAreSkippedAndCounted)
   EXPECT_EQ(summary.nonFiniteCells, nonFinite);
   EXPECT_EQ(summary.validCells, 6 - summary.invalidIdCells - summary.degenerateCells - nonFinite);
   EXPECT_GE(nonFinite, 1);
+}
+
+TEST(Scene, WidenedNodalRangeHeuristicLeavesHolesTheBernsteinBoundDoesNot)
+{
+  // One cell, vertex values 1 and mid-edge values 0.9: with sum(L) = 1 the field is
+  // f = 0.8 + 0.2 sum(L_i^2), 0.85 at the centroid. Nodal range [0.9, 1], widened by 25%:
+  // [0.875, 1.025], so the iso-value 0.86, reached around the centroid, is never searched.
+  LatticeMesh mesh;
+  const glm::dvec3 v[4] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
+  for (int k = 0; k < 10; ++k)
+  {
+    const glm::dvec3 p = k < 4 ? v[k]
+                               : 0.5 * (v[tetdsr::kEdgeVertices[k - 4][0]] +
+                                          v[tetdsr::kEdgeVertices[k - 4][1]]);
+    mesh.points.insert(mesh.points.end(), { p.x, p.y, p.z });
+    mesh.cellNodes.push_back(k);
+    mesh.values.push_back(k < 4 ? 1.0 : 0.9);
+  }
+  double values[10];
+  std::copy(mesh.values.begin(), mesh.values.end(), values);
+  double lo, hi;
+  tetdsr::BernsteinForm::fromNodeValues(values).exactRange(lo, hi);
+  EXPECT_NEAR(lo, 0.85, 1e-15);
+  EXPECT_NEAR(hi, 1.0, 1e-15);
+  tetdsr::TransverseTest heuristic;
+  heuristic.mode = tetdsr::TransverseTest::Mode::WidenedNodalRange;
+  double heuristicLo, heuristicHi;
+  heuristic.range(values, heuristicLo, heuristicHi);
+  EXPECT_NEAR(heuristicLo, 0.875, 1e-15);
+
+  const tetdsr::IsoValues iso({ 0.86 });
+  const tetdsr::Scene exact(mesh.view());
+  const tetdsr::Scene paper(mesh.view(), tetdsr::serialFor, heuristic);
+  const glm::dvec3 centroid(0.25);
+  const tetdsr::Ray ray{ centroid + glm::dvec3(0.0, 0.0, 3.0), glm::dvec3(0.0, 0.0, -1.0) };
+  tetdsr::SurfaceHit hit;
+  ASSERT_TRUE(exact.firstHit(ray, iso, hit));
+  // Truth along the ray: sum L^2 = 3 * (1/4)^2 + (1/4 + 3 - t)^2... solve f = 0.86 directly.
+  // Along x = y = 1/4, z = 3.25 - t: L = (1/2 - z, 1/4, 1/4, z); f = 0.8 + 0.2 sum L^2.
+  const double target = (0.86 - 0.8) / 0.2 - 2.0 / 16.0; // (1/2 - z)^2 + z^2
+  const double z = 0.25 + std::sqrt(target / 2.0 - 1.0 / 16.0); // the root nearer the camera
+  EXPECT_NEAR(hit.t, 3.25 - z, 1e-12);
+  EXPECT_FALSE(paper.firstHit(ray, iso, hit)) << "the 25% heuristic leaves a hole here";
+  heuristic.widening = 0.5; // [0.85, 1.05]: wide enough again
+  EXPECT_TRUE(tetdsr::Scene(mesh.view(), tetdsr::serialFor, heuristic).firstHit(ray, iso, hit));
 }
 
 TEST(Scene, CurvedCellsAreCounted)

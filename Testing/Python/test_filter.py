@@ -238,6 +238,45 @@ class SeveralIsoValues(unittest.TestCase):
         self.assertEqual([caster.GetValue(i) for i in range(3)], [0.5, 0.75, 1.0])
 
 
+class TransverseTest(unittest.TestCase):
+    def test_paper_heuristic_leaves_a_hole_the_bernstein_bound_does_not(self):
+        # One cell: vertex values 1, mid-edge values 0.9, so f = 0.8 + 0.2 sum(L^2) dips to 0.85
+        # at the centroid; the 25%-widened nodal range [0.875, 1.025] excludes the iso-value 0.86.
+        mesh = vtkUnstructuredGrid()
+        points = vtk.vtkPoints()
+        vertices = np.eye(4, 3, k=-1)  # (0,0,0), (1,0,0), (0,1,0), (0,0,1)
+        edges = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
+        for p in list(vertices) + [(vertices[a] + vertices[b]) / 2 for a, b in edges]:
+            points.InsertNextPoint(*p)
+        mesh.SetPoints(points)
+        mesh.InsertNextCell(vtk.VTK_QUADRATIC_TETRA, 10, list(range(10)))
+        values = vtkDoubleArray()
+        values.SetName("bubble")
+        for v in [1.0] * 4 + [0.9] * 6:
+            values.InsertNextValue(v)
+        mesh.GetPointData().SetScalars(values)
+        camera = vtkCamera()
+        camera.SetFocalPoint(0.25, 0.25, 0.25)
+        camera.SetPosition(1.5, 1.2, 2.0)
+        caster = vtkDirectSurfaceRayCaster()
+        caster.SetInputData(mesh)
+        caster.SetValue(0, 0.86)
+        caster.SetCamera(camera)
+        caster.SetImageSize(64, 64)
+
+        def covered():
+            caster.Update()
+            depth = vtk_to_numpy(caster.GetOutput().GetPointData().GetArray("Depth"))
+            return int(np.isfinite(depth).sum())
+
+        exact = covered()
+        self.assertGreater(exact, 100)
+        caster.SetTransverseTest(vtkDirectSurfaceRayCaster.WIDENED_NODAL_RANGE)
+        self.assertEqual(covered(), 0, "the paper's 25% widening misses the cell")
+        caster.SetNodalRangeWidening(0.5)
+        self.assertEqual(covered(), exact, "widened enough, it finds the same surface")
+
+
 class BadInput(unittest.TestCase):
     def run_filter(self, mesh, configure=None):
         caster = vtkDirectSurfaceRayCaster()

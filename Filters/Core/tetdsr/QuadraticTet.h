@@ -63,6 +63,49 @@ struct BernsteinForm
     }
   }
 
+  /// The exact range of f over the cell. A quadratic's extrema on the simplex lie at critical
+  /// points of its restriction to the relative interior of one of the 15 faces (vertices, edges,
+  /// triangles, the tet). On face S, stationarity of L_S^T B_SS L_S under sum(L_S) = 1 is the
+  /// Lagrange system [2 B_SS, -1; 1^T, 0] [L_S; lambda] = [0; 1]; a singular system means a line
+  /// of critical points, whose extremes lie on the face's boundary (a smaller face).
+  /// Used to measure what range bounds miss; ~15 small solves, not for every frame.
+  void exactRange(double& lo, double& hi) const
+  {
+    lo = hi = b[0][0];
+    for (int subset = 1; subset < 16; ++subset)
+    {
+      int index[4], n = 0;
+      for (int k = 0; k < 4; ++k)
+        if (subset & (1 << k))
+          index[n++] = k;
+      double system[5][6] = {}; // augmented (n + 1) x (n + 2)
+      for (int r = 0; r < n; ++r)
+      {
+        for (int c = 0; c < n; ++c)
+          system[r][c] = 2.0 * b[index[r]][index[c]];
+        system[r][n] = -1.0;
+        system[n][r] = 1.0;
+      }
+      system[n][n + 1] = 1.0;
+      double L[4];
+      if (!solveSmall(system, n + 1, L))
+        continue;
+      bool inside = true;
+      double full[4] = { 0.0, 0.0, 0.0, 0.0 };
+      for (int r = 0; r < n; ++r)
+      {
+        inside = inside && L[r] >= 0.0;
+        full[index[r]] = L[r];
+      }
+      if (inside)
+      {
+        const double value = bilinear(full, full);
+        lo = std::min(lo, value);
+        hi = std::max(hi, value);
+      }
+    }
+  }
+
   /// u^T B v.
   double bilinear(const double u[4], const double v[4]) const
   {
@@ -73,6 +116,45 @@ struct BernsteinForm
       sum += u[i] * bv;
     }
     return sum;
+  }
+
+private:
+  // Gaussian elimination with partial pivoting on an augmented size x (size + 1) system;
+  // returns the first size - 1 unknowns (the last is the Lagrange multiplier).
+  static bool solveSmall(double a[5][6], int size, double x[4])
+  {
+    double scale = 0.0;
+    for (int r = 0; r < size; ++r)
+      for (int c = 0; c < size; ++c)
+        scale = std::max(scale, std::abs(a[r][c]));
+    for (int col = 0; col < size; ++col)
+    {
+      int pivot = col;
+      for (int r = col + 1; r < size; ++r)
+        if (std::abs(a[r][col]) > std::abs(a[pivot][col]))
+          pivot = r;
+      if (!(std::abs(a[pivot][col]) > 1e-13 * scale))
+        return false;
+      for (int c = 0; c <= size; ++c)
+        std::swap(a[col][c], a[pivot][c]);
+      for (int r = col + 1; r < size; ++r)
+      {
+        const double factor = a[r][col] / a[col][col];
+        for (int c = col; c <= size; ++c)
+          a[r][c] -= factor * a[col][c];
+      }
+    }
+    double solution[5];
+    for (int r = size - 1; r >= 0; --r)
+    {
+      double sum = a[r][size];
+      for (int c = r + 1; c < size; ++c)
+        sum -= a[r][c] * solution[c];
+      solution[r] = sum / a[r][r];
+    }
+    for (int r = 0; r < size - 1; ++r)
+      x[r] = solution[r];
+    return true;
   }
 };
 

@@ -117,8 +117,23 @@ float roundUp(double x)
 }
 } // namespace
 
-Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor)
+void TransverseTest::range(const double nodeValues[10], double& lo, double& hi) const
+{
+  if (mode == Mode::BernsteinBound)
+  {
+    BernsteinForm::fromNodeValues(nodeValues).range(lo, hi);
+    return;
+  }
+  lo = *std::min_element(nodeValues, nodeValues + 10);
+  hi = *std::max_element(nodeValues, nodeValues + 10);
+  const double margin = widening * (hi - lo);
+  lo -= margin;
+  hi += margin;
+}
+
+Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const TransverseTest& transverseTest)
   : Mesh_(mesh)
+  , Transverse_(transverseTest)
 {
   // Any finite vertex of the mesh will do as the origin of the float boxes.
   for (NodeId cell = 0; cell < mesh.numberOfCells; ++cell)
@@ -245,7 +260,7 @@ std::uint8_t Scene::validate(NodeId cell, BuildItem& item) const
 
   item.cellId = static_cast<std::uint32_t>(cell);
   double lo, hi;
-  BernsteinForm::fromNodeValues(values).range(lo, hi);
+  Transverse_.range(values, lo, hi);
   item.valueLo = roundDown(lo);
   item.valueHi = roundUp(hi);
   // Pad boxes so that rounding in the slab test never drops a ray that the (widened) cell
@@ -466,7 +481,7 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
   const double b = 2.0 * form.bilinear(L, dL);
   const double c = form.bilinear(L, L);
   double cellLo, cellHi;
-  form.range(cellLo, cellHi);
+  Transverse_.range(values, cellLo, cellHi);
 
   bool found = false;
   double sHit = sExit;
@@ -474,7 +489,7 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
   {
     if (isoValue < cellLo || isoValue > cellHi)
     {
-      continue; // Bernstein bound: this iso-value is not reached inside the cell
+      continue; // not transverse for this iso-value
     }
     double s;
     if (firstRootInInterval(a, b, c - isoValue, sEntry, sHit, s))

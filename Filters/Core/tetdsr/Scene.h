@@ -43,6 +43,23 @@ struct PreprocessSummary
   NodeId invalidIdCells = 0;  ///< a node id outside [0, numberOfPoints)
 };
 
+/// How a cell is judged able to contain an iso-value (a "transverse" cell).
+struct TransverseTest
+{
+  enum class Mode
+  {
+    /// The min and max of the Bernstein coefficients: a guaranteed bound of the field.
+    BernsteinBound,
+    /// The paper's heuristic: the nodal min and max, each moved outward by `widening` times
+    /// their difference. Not a bound: cells whose field dips past it are missed (holes).
+    WidenedNodalRange
+  };
+  Mode mode = Mode::BernsteinBound;
+  double widening = 0.25;
+
+  void range(const double nodeValues[10], double& lo, double& hi) const;
+};
+
 /// Iso-values sorted ascending, with the test "does [lo, hi] contain any of them".
 class IsoValues
 {
@@ -88,7 +105,8 @@ class Scene
 public:
   /// Validates every cell (in parallel through `parallelFor`) and builds the hierarchy. The
   /// mesh's arrays must outlive the scene.
-  explicit Scene(const MeshView& mesh, const ParallelFor& parallelFor = serialFor);
+  explicit Scene(const MeshView& mesh, const ParallelFor& parallelFor = serialFor,
+    const TransverseTest& transverseTest = TransverseTest());
 
   const PreprocessSummary& summary() const { return Summary_; }
 
@@ -129,6 +147,7 @@ private:
     double tLimit, SurfaceHit& hit) const;
 
   MeshView Mesh_;
+  TransverseTest Transverse_;
   glm::dvec3 Origin_{ 0.0 };
   PreprocessSummary Summary_;
   std::vector<Node> Nodes_;
