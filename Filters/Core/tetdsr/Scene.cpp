@@ -18,6 +18,9 @@ constexpr int kMaxSahDepth = 48; // below this, split at the median: depth stays
 // Traversal keeps at most one pending sibling per level; the tree depth is below
 // kMaxSahDepth + 64, so this stack cannot overflow.
 constexpr int kStackSize = kMaxSahDepth + 64;
+// Subtrees below this depth, or smaller than this, are built as one task each.
+constexpr int kParallelBuildDepth = 4;
+constexpr std::size_t kSerialBuildSize = 4096;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr float kFloatInfinity = std::numeric_limits<float>::infinity();
 
@@ -89,6 +92,63 @@ struct Scene::BuildItem
   std::uint32_t cellId;
 
   float centroid(int axis) const { return 0.5f * (boxLo[axis] + boxHi[axis]); }
+};
+
+struct Scene::Bounds
+{
+  float boxLo[3] = { kFloatInfinity, kFloatInfinity, kFloatInfinity };
+  float boxHi[3] = { -kFloatInfinity, -kFloatInfinity, -kFloatInfinity };
+  float centroidLo[3] = { kFloatInfinity, kFloatInfinity, kFloatInfinity };
+  float centroidHi[3] = { -kFloatInfinity, -kFloatInfinity, -kFloatInfinity };
+  float valueLo = kFloatInfinity;
+  float valueHi = -kFloatInfinity;
+
+  void grow(const BuildItem& item)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      boxLo[a] = std::min(boxLo[a], item.boxLo[a]);
+      boxHi[a] = std::max(boxHi[a], item.boxHi[a]);
+      centroidLo[a] = std::min(centroidLo[a], item.centroid(a));
+      centroidHi[a] = std::max(centroidHi[a], item.centroid(a));
+    }
+    valueLo = std::min(valueLo, item.valueLo);
+    valueHi = std::max(valueHi, item.valueHi);
+  }
+
+  void merge(const Bounds& other)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      boxLo[a] = std::min(boxLo[a], other.boxLo[a]);
+      boxHi[a] = std::max(boxHi[a], other.boxHi[a]);
+      centroidLo[a] = std::min(centroidLo[a], other.centroidLo[a]);
+      centroidHi[a] = std::max(centroidHi[a], other.centroidHi[a]);
+    }
+    valueLo = std::min(valueLo, other.valueLo);
+    valueHi = std::max(valueHi, other.valueHi);
+  }
+
+  /// Half the surface area of the box; 0 when empty.
+  double area() const
+  {
+    if (!(boxLo[0] <= boxHi[0]))
+    {
+      return 0.0;
+    }
+    const double dx = boxHi[0] - boxLo[0], dy = boxHi[1] - boxLo[1], dz = boxHi[2] - boxLo[2];
+    return dx * dy + dy * dz + dz * dx;
+  }
+
+  static Bounds of(const std::vector<BuildItem>& items, std::size_t begin, std::size_t end)
+  {
+    Bounds bounds;
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      bounds.grow(items[i]);
+    }
+    return bounds;
+  }
 };
 
 namespace
@@ -180,9 +240,7 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
 
   if (!items.empty())
   {
-    Nodes_.reserve(2 * items.size() / kLeafSize + 1);
-    build(items, 0, items.size(), 0);
-    Nodes_.shrink_to_fit();
+    buildInParallel(items, parallelFor);
   }
   SlotCell_.resize(items.size());
   SlotRange_.resize(2 * items.size());
@@ -285,110 +343,84 @@ std::uint8_t Scene::validate(NodeId cell, BuildItem& item) const
   return flags;
 }
 
-std::uint32_t Scene::build(
-  std::vector<BuildItem>& items, std::size_t begin, std::size_t end, int depth)
+bool Scene::split(std::vector<BuildItem>& items, std::size_t begin, std::size_t end, int depth,
+  const Bounds& bounds, Node& node, std::size_t& middle, Bounds& left, Bounds& right)
 {
-  const auto index = static_cast<std::uint32_t>(Nodes_.size());
-  Nodes_.emplace_back();
-  Node node{};
-  float centroidLo[3], centroidHi[3];
-  for (int axis = 0; axis < 3; ++axis)
+  node = Node{};
+  for (int a = 0; a < 3; ++a)
   {
-    node.boxLo[axis] = centroidLo[axis] = kFloatInfinity;
-    node.boxHi[axis] = centroidHi[axis] = -kFloatInfinity;
+    node.boxLo[a] = bounds.boxLo[a];
+    node.boxHi[a] = bounds.boxHi[a];
   }
-  node.valueLo = kFloatInfinity;
-  node.valueHi = -kFloatInfinity;
-  for (std::size_t i = begin; i < end; ++i)
-  {
-    for (int axis = 0; axis < 3; ++axis)
-    {
-      node.boxLo[axis] = std::min(node.boxLo[axis], items[i].boxLo[axis]);
-      node.boxHi[axis] = std::max(node.boxHi[axis], items[i].boxHi[axis]);
-      centroidLo[axis] = std::min(centroidLo[axis], items[i].centroid(axis));
-      centroidHi[axis] = std::max(centroidHi[axis], items[i].centroid(axis));
-    }
-    node.valueLo = std::min(node.valueLo, items[i].valueLo);
-    node.valueHi = std::max(node.valueHi, items[i].valueHi);
-  }
+  node.valueLo = bounds.valueLo;
+  node.valueHi = bounds.valueHi;
   const std::size_t count = end - begin;
   int axis = 0;
   for (int a = 1; a < 3; ++a)
   {
-    if (centroidHi[a] - centroidLo[a] > centroidHi[axis] - centroidLo[axis])
+    if (bounds.centroidHi[a] - bounds.centroidLo[a] >
+      bounds.centroidHi[axis] - bounds.centroidLo[axis])
     {
       axis = a;
     }
   }
-  const float extent = centroidHi[axis] - centroidLo[axis];
+  const float extent = bounds.centroidHi[axis] - bounds.centroidLo[axis];
+  node.axis = static_cast<std::uint16_t>(axis);
   if (count <= static_cast<std::size_t>(kLeafSize) || !(extent > 0.0f))
   {
     node.firstOrSecondChild = static_cast<std::uint32_t>(begin);
     node.count = static_cast<std::uint16_t>(count);
-    node.axis = static_cast<std::uint16_t>(axis);
-    Nodes_[index] = node;
-    return index;
+    return false;
   }
+  node.count = 0;
 
-  std::size_t middle = begin + count / 2;
-  bool split = false;
   if (depth < kMaxSahDepth)
   {
     // Binned surface area heuristic over centroids: cost of a split = area * count per side.
-    struct Bin
-    {
-      float lo[3] = { kFloatInfinity, kFloatInfinity, kFloatInfinity };
-      float hi[3] = { -kFloatInfinity, -kFloatInfinity, -kFloatInfinity };
-      std::size_t count = 0;
-      void grow(const float boxLo[3], const float boxHi[3])
-      {
-        for (int a = 0; a < 3; ++a)
-        {
-          lo[a] = std::min(lo[a], boxLo[a]);
-          hi[a] = std::max(hi[a], boxHi[a]);
-        }
-      }
-      double area() const
-      {
-        const double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
-        return count ? dx * dy + dy * dz + dz * dx : 0.0;
-      }
-    } bins[kBins];
+    // The bins also collect each side's bounds, so children need no pass of their own.
+    Bounds bins[kBins];
+    std::size_t binCount[kBins] = {};
     const float scale = kBins / extent;
-    const float lo = centroidLo[axis];
+    const float lo = bounds.centroidLo[axis];
     auto binOf = [&](const BuildItem& item) {
       return std::min(kBins - 1, static_cast<int>((item.centroid(axis) - lo) * scale));
     };
     for (std::size_t i = begin; i < end; ++i)
     {
-      Bin& bin = bins[binOf(items[i])];
-      ++bin.count;
-      bin.grow(items[i].boxLo, items[i].boxHi);
+      const int bin = binOf(items[i]);
+      ++binCount[bin];
+      bins[bin].grow(items[i]);
     }
-    double rightCost[kBins];
-    Bin accumulated;
+    Bounds rightOf[kBins];
+    std::size_t rightCount[kBins];
+    Bounds accumulated;
+    std::size_t accumulatedCount = 0;
     for (int b = kBins - 1; b > 0; --b)
     {
-      accumulated.count += bins[b].count;
-      accumulated.grow(bins[b].lo, bins[b].hi);
-      rightCost[b] = accumulated.area() * accumulated.count;
+      accumulated.merge(bins[b]);
+      accumulatedCount += binCount[b];
+      rightOf[b] = accumulated;
+      rightCount[b] = accumulatedCount;
     }
-    Bin left;
+    Bounds leftOf;
+    std::size_t leftCount = 0;
     double bestCost = std::numeric_limits<double>::infinity();
     int bestBin = -1;
+    Bounds bestLeft;
     for (int b = 1; b < kBins; ++b)
     {
-      left.count += bins[b - 1].count;
-      left.grow(bins[b - 1].lo, bins[b - 1].hi);
-      if (left.count == 0 || left.count == count)
+      leftOf.merge(bins[b - 1]);
+      leftCount += binCount[b - 1];
+      if (leftCount == 0 || rightCount[b] == 0)
       {
         continue;
       }
-      const double cost = left.area() * left.count + rightCost[b];
+      const double cost = leftOf.area() * leftCount + rightOf[b].area() * rightCount[b];
       if (cost < bestCost)
       {
         bestCost = cost;
         bestBin = b;
+        bestLeft = leftOf;
       }
     }
     if (bestBin > 0)
@@ -396,21 +428,126 @@ std::uint32_t Scene::build(
       const auto it = std::partition(items.begin() + begin, items.begin() + end,
         [&](const BuildItem& item) { return binOf(item) < bestBin; });
       middle = static_cast<std::size_t>(it - items.begin());
-      split = middle > begin && middle < end;
+      if (middle > begin && middle < end)
+      {
+        left = bestLeft;
+        right = rightOf[bestBin];
+        return true;
+      }
     }
   }
-  if (!split)
+  // Median split (deep trees, or no useful SAH split).
+  middle = begin + count / 2;
+  std::nth_element(items.begin() + begin, items.begin() + middle, items.begin() + end,
+    [axis](const BuildItem& x, const BuildItem& y) { return x.centroid(axis) < y.centroid(axis); });
+  left = Bounds::of(items, begin, middle);
+  right = Bounds::of(items, middle, end);
+  return true;
+}
+
+std::uint32_t Scene::build(std::vector<BuildItem>& items, std::size_t begin, std::size_t end,
+  int depth, const Bounds& bounds, std::vector<Node>& nodes)
+{
+  const auto index = static_cast<std::uint32_t>(nodes.size());
+  nodes.emplace_back();
+  Node node;
+  std::size_t middle;
+  Bounds left, right;
+  if (split(items, begin, end, depth, bounds, node, middle, left, right))
   {
-    middle = begin + count / 2;
-    std::nth_element(items.begin() + begin, items.begin() + middle, items.begin() + end,
-      [axis](const BuildItem& x, const BuildItem& y) { return x.centroid(axis) < y.centroid(axis); });
+    build(items, begin, middle, depth + 1, left, nodes);
+    node.firstOrSecondChild = build(items, middle, end, depth + 1, right, nodes);
   }
-  node.count = 0;
-  node.axis = static_cast<std::uint16_t>(axis);
-  build(items, begin, middle, depth + 1);
-  node.firstOrSecondChild = build(items, middle, end, depth + 1);
-  Nodes_[index] = node;
+  nodes[index] = node;
   return index;
+}
+
+void Scene::buildInParallel(std::vector<BuildItem>& items, const ParallelFor& parallelFor)
+{
+  // The top levels are split serially; the subtrees below them (disjoint ranges of `items`)
+  // are built concurrently, each into its own node list, then laid out in preorder.
+  struct TopNode
+  {
+    Node node;
+    int left = -1;  ///< top-level children, or -1
+    int right = -1;
+    int task = -1;  ///< >= 0: this node is the subtree built by that task
+  };
+  struct Task
+  {
+    std::size_t begin, end;
+    int depth;
+    Bounds bounds;
+  };
+  std::vector<TopNode> top;
+  std::vector<Task> tasks;
+  std::function<int(std::size_t, std::size_t, int, const Bounds&)> splitTop =
+    [&](std::size_t begin, std::size_t end, int depth, const Bounds& bounds) {
+      const int index = static_cast<int>(top.size());
+      top.emplace_back();
+      if (depth == kParallelBuildDepth || end - begin <= kSerialBuildSize)
+      {
+        top[index].task = static_cast<int>(tasks.size());
+        tasks.push_back({ begin, end, depth, bounds });
+        return index;
+      }
+      Node node;
+      std::size_t middle;
+      Bounds leftBounds, rightBounds;
+      const bool interior =
+        split(items, begin, end, depth, bounds, node, middle, leftBounds, rightBounds);
+      top[index].node = node;
+      if (interior)
+      {
+        const int left = splitTop(begin, middle, depth + 1, leftBounds);
+        const int right = splitTop(middle, end, depth + 1, rightBounds);
+        top[index].left = left;
+        top[index].right = right;
+      }
+      return index;
+    };
+  splitTop(0, items.size(), 0, Bounds::of(items, 0, items.size()));
+
+  std::vector<std::vector<Node>> subtrees(tasks.size());
+  parallelFor(static_cast<NodeId>(tasks.size()), [&](NodeId first, NodeId last) {
+    for (NodeId t = first; t < last; ++t)
+    {
+      const Task& task = tasks[static_cast<std::size_t>(t)];
+      build(items, task.begin, task.end, task.depth, task.bounds,
+        subtrees[static_cast<std::size_t>(t)]);
+    }
+  });
+
+  std::size_t total = top.size();
+  for (const auto& subtree : subtrees)
+  {
+    total += subtree.size();
+  }
+  Nodes_.reserve(total);
+  std::function<std::uint32_t(int)> emit = [&](int t) {
+    const auto index = static_cast<std::uint32_t>(Nodes_.size());
+    if (top[t].task >= 0)
+    {
+      for (Node node : subtrees[static_cast<std::size_t>(top[t].task)])
+      {
+        if (node.count == 0)
+        {
+          node.firstOrSecondChild += index; // interior: child indices were subtree-relative
+        }
+        Nodes_.push_back(node);
+      }
+      std::vector<Node>().swap(subtrees[static_cast<std::size_t>(top[t].task)]);
+      return index;
+    }
+    Nodes_.push_back(top[t].node);
+    if (top[t].left >= 0)
+    {
+      emit(top[t].left);
+      Nodes_[index].firstOrSecondChild = emit(top[t].right);
+    }
+    return index;
+  };
+  emit(0);
 }
 
 void Scene::loadCell(NodeId cellId, glm::dvec3 vertices[4], double values[10]) const

@@ -139,10 +139,17 @@ private:
     std::uint16_t axis;
   };
   struct BuildItem;
+  struct Bounds;
 
   void loadCell(NodeId cellId, glm::dvec3 vertices[4], double values[10]) const;
   std::uint8_t validate(NodeId cellId, BuildItem& item) const;
-  std::uint32_t build(std::vector<BuildItem>& items, std::size_t begin, std::size_t end, int depth);
+  /// Makes `node` for items [begin, end), whose bounds are given. Returns false for a leaf, or
+  /// true with the items partitioned at `middle` and the two sides' bounds.
+  bool split(std::vector<BuildItem>& items, std::size_t begin, std::size_t end, int depth,
+    const Bounds& bounds, Node& node, std::size_t& middle, Bounds& left, Bounds& right);
+  std::uint32_t build(std::vector<BuildItem>& items, std::size_t begin, std::size_t end,
+    int depth, const Bounds& bounds, std::vector<Node>& nodes);
+  void buildInParallel(std::vector<BuildItem>& items, const ParallelFor& parallelFor);
   bool intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues,
     double tLimit, SurfaceHit& hit) const;
 
