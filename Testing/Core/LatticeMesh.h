@@ -21,6 +21,8 @@ struct LatticeMesh
   std::vector<double> points; // xyz
   std::vector<tetdsr::NodeId> cellNodes;
   std::vector<double> values;
+  /// Integer half-step lattice key of each point (vertices have even coordinates).
+  std::vector<std::array<int, 3>> keys;
 
   tetdsr::MeshView view() const
   {
@@ -36,6 +38,31 @@ struct LatticeMesh
   glm::dvec3 point(tetdsr::NodeId id) const
   {
     return { points[3 * id], points[3 * id + 1], points[3 * id + 2] };
+  }
+
+  void setPoint(tetdsr::NodeId id, const glm::dvec3& p)
+  {
+    points[3 * id] = p.x;
+    points[3 * id + 1] = p.y;
+    points[3 * id + 2] = p.z;
+  }
+
+  /// Moves every point by `map`, then puts mid-edge nodes back on their edges' midpoints.
+  void mapVertices(const std::function<glm::dvec3(const glm::dvec3&, const std::array<int, 3>&)>& map)
+  {
+    for (std::size_t p = 0; p < keys.size(); ++p)
+    {
+      setPoint(static_cast<tetdsr::NodeId>(p), map(point(static_cast<tetdsr::NodeId>(p)), keys[p]));
+    }
+    static const int edges[6][2] = { { 0, 1 }, { 1, 2 }, { 0, 2 }, { 0, 3 }, { 1, 3 }, { 2, 3 } };
+    for (std::size_t c = 0; c < cellNodes.size() / 10; ++c)
+    {
+      const tetdsr::NodeId* ids = cellNodes.data() + 10 * c;
+      for (int e = 0; e < 6; ++e)
+      {
+        setPoint(ids[4 + e], 0.5 * (point(ids[edges[e][0]]) + point(ids[edges[e][1]])));
+      }
+    }
   }
 
   void sample(const std::function<double(const glm::dvec3&)>& field)
@@ -67,6 +94,7 @@ inline LatticeMesh makeLattice(int n, const glm::dvec3& origin, double size)
     {
       mesh.points.push_back(origin[a] + half * k[a]);
     }
+    mesh.keys.push_back(k);
     index.emplace(k, id);
     return id;
   };

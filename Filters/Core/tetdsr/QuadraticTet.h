@@ -198,10 +198,18 @@ struct TetFrame
   /// so points on a face get L_k close to 0 with an error relative to the cell, not to |p|.
   void barycentric(const glm::dvec3& p, double L[4]) const
   {
-    L[0] = glm::dot(gradient[0], p - vertex[1]);
-    L[1] = glm::dot(gradient[1], p - vertex[0]);
-    L[2] = glm::dot(gradient[2], p - vertex[0]);
-    L[3] = glm::dot(gradient[3], p - vertex[0]);
+    barycentricOfOffsets(p - vertex[0], p - vertex[1], L);
+  }
+
+  /// The same from p - vertex[0] and p - vertex[1], for callers that can form these offsets
+  /// without ever rounding p itself (p far from the origin, e.g. coordinates offset by 1e6).
+  void barycentricOfOffsets(const glm::dvec3& fromVertex0, const glm::dvec3& fromVertex1,
+    double L[4]) const
+  {
+    L[0] = glm::dot(gradient[0], fromVertex1);
+    L[1] = glm::dot(gradient[1], fromVertex0);
+    L[2] = glm::dot(gradient[2], fromVertex0);
+    L[3] = glm::dot(gradient[3], fromVertex0);
   }
 
   /// Barycentric rate of change along direction d (sums to 0).

@@ -38,10 +38,18 @@ inline bool firstRootInInterval(double a, double b, double c, double lo, double 
     }
     return accept(-c / b); // linear: one root
   }
-  const double disc = discriminant(a, b, c);
+  double disc = discriminant(a, b, c);
   if (disc < 0.0)
   {
-    return false; // no real root: the ray passes the surface (a grazing ray lands here too)
+    // a, b, c carry relative errors of a few ulps from their evaluation, so a discriminant that
+    // is negative by less than kDoubleRootBand of its terms' size cannot be told from 0: take it
+    // as a double root (the surface touched, e.g. f = x^2 at iso 0). Otherwise the ray passes.
+    constexpr double kDoubleRootBand = 1e-12;
+    if (disc < -kDoubleRootBand * (b * b + std::abs(4.0 * a * c)))
+    {
+      return false;
+    }
+    disc = 0.0;
   }
   // Stable formula: q has no cancellation; the roots are q/a and c/q (Vieta: product c/a).
   const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));

@@ -581,11 +581,15 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
   }
   // Re-origin the ray at its point nearest the cell centroid: the barycentric coordinates and the
   // quadratic's coefficients are then of the cell's own scale, not of the camera distance.
-  const glm::dvec3 centroid = 0.25 * (vertices[0] + vertices[1] + vertices[2] + vertices[3]);
-  const double tCentre = glm::dot(centroid - ray.origin, ray.direction);
-  const glm::dvec3 local = ray.origin + tCentre * ray.direction;
+  // The point is formed as offsets from the cell's vertices (origin - vertex first, both of the
+  // scene's magnitude, then the small step): never rounded at the coordinates' own magnitude.
+  const glm::dvec3 fromVertex0 = ray.origin - vertices[0];
+  const glm::dvec3 centroidOffset =
+    0.25 * ((vertices[1] - vertices[0]) + (vertices[2] - vertices[0]) + (vertices[3] - vertices[0]));
+  const double tCentre = glm::dot(centroidOffset - fromVertex0, ray.direction);
   double L[4], dL[4];
-  frame.barycentric(local, L);
+  frame.barycentricOfOffsets(fromVertex0 + tCentre * ray.direction,
+    (ray.origin - vertices[1]) + tCentre * ray.direction, L);
   frame.barycentricDirection(ray.direction, dL);
 
   // Entry and exit: the tet is {L_k >= 0}; each L_k(s) = L_k + s dL_k is affine in s.
@@ -619,6 +623,22 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
   const double c = form.bilinear(L, L);
   double cellLo, cellHi;
   Transverse_.range(values, cellLo, cellHi);
+
+  // A field constant over the cell (to rounding) and equal to an iso-value: the whole cell is on
+  // the "surface"; the ray meets it where it enters, with no gradient. Rounding would otherwise
+  // scatter the roots of a quadratic whose coefficients are all noise.
+  const double magnitude = std::max(std::abs(cellLo), std::abs(cellHi));
+  if (cellHi - cellLo <= 8.0 * std::numeric_limits<double>::epsilon() * magnitude)
+  {
+    if (!isoValues.anyWithin(cellLo, cellHi))
+    {
+      return false;
+    }
+    hit.t = tCentre + sEntry;
+    hit.cellId = cellId;
+    hit.gradient = glm::dvec3(0.0);
+    return true;
+  }
 
   bool found = false;
   double sHit = sExit;
