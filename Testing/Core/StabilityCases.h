@@ -258,10 +258,13 @@ struct Case
   int pixels = 40; ///< per side, per camera
 };
 
+/// What is compared: `firstHit(ray, camera, i, j, t, unitNormal)` for pixel (i, j) of camera
+/// number `camera` returns whether it hit, with the depth and unit normal.
+using HitFunction =
+  std::function<bool(const tetdsr::Ray&, std::size_t, int, int, double&, glm::dvec3&)>;
+
 /// Runs `firstHit` (the code under test) over a case's pixels and compares with the truth.
-/// `firstHit(ray, t, unitNormal)` returns whether it hit.
-inline Figures evaluate(const Case& c,
-  const std::function<bool(const tetdsr::Ray&, double&, glm::dvec3&)>& firstHit)
+inline Figures evaluate(const Case& c, const HitFunction& firstHit)
 {
   Figures figures;
   figures.name = c.name;
@@ -280,9 +283,9 @@ inline Figures evaluate(const Case& c,
           k & 4 ? c.domain.hi.z : c.domain.lo.z);
     typicalGradient = std::max(typicalGradient, glm::length(c.field.gradient(corner)));
   }
-  for (const tetdsr::Camera& camera : c.cameras)
+  for (std::size_t k = 0; k < c.cameras.size(); ++k)
   {
-    const tetdsr::RayGenerator rays(camera, c.pixels, c.pixels);
+    const tetdsr::RayGenerator rays(c.cameras[k], c.pixels, c.pixels);
     for (int j = 0; j < c.pixels; ++j)
       for (int i = 0; i < c.pixels; ++i)
       {
@@ -297,7 +300,7 @@ inline Figures evaluate(const Case& c,
         ++figures.compared;
         double t;
         glm::dvec3 normal;
-        const bool hit = firstHit(ray, t, normal);
+        const bool hit = firstHit(ray, k, i, j, t, normal);
         figures.misses += truth.hit && !hit;
         figures.falseHits += hit && !truth.hit;
         if (!(hit && truth.hit))
@@ -314,6 +317,22 @@ inline Figures evaluate(const Case& c,
       }
   }
   return figures;
+}
+
+/// The core's answer for a case (no VTK).
+inline Figures evaluateScene(const Case& c)
+{
+  const tetdsr::Scene scene(c.mesh.view());
+  const tetdsr::IsoValues iso({ c.iso });
+  return evaluate(c, [&](const tetdsr::Ray& ray, std::size_t, int, int, double& t, glm::dvec3& n) {
+    tetdsr::SurfaceHit hit;
+    if (!scene.firstHit(ray, iso, hit))
+      return false;
+    t = hit.t;
+    const double length = glm::length(hit.gradient);
+    n = length > 0.0 ? hit.gradient / length : glm::dvec3(0.0);
+    return true;
+  });
 }
 
 /// Cameras around a box or tet: perspective and parallel, from `count` random directions.

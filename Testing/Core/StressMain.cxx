@@ -16,17 +16,7 @@ int main(int argc, char* argv[])
   for (unsigned seed = 1; seed <= seeds; ++seed)
   {
     const tetdsr_test::Case c = tetdsr_test::randomCase(seed, pixels);
-    const tetdsr::Scene scene(c.mesh.view());
-    const tetdsr::IsoValues iso({ c.iso });
-    const tetdsr_test::Figures f =
-      tetdsr_test::evaluate(c, [&](const tetdsr::Ray& ray, double& t, glm::dvec3& n) {
-        tetdsr::SurfaceHit hit;
-        if (!scene.firstHit(ray, iso, hit))
-          return false;
-        t = hit.t;
-        n = glm::length(hit.gradient) > 0.0 ? glm::normalize(hit.gradient) : glm::dvec3(0.0);
-        return true;
-      });
+    const tetdsr_test::Figures f = tetdsr_test::evaluateScene(c);
     rays += f.rays;
     excluded += f.excluded;
     hits += f.hits;

@@ -16,17 +16,7 @@ namespace
 {
 Figures runScene(const Case& c)
 {
-  const tetdsr::Scene scene(c.mesh.view());
-  const tetdsr::IsoValues iso({ c.iso });
-  return evaluate(c, [&](const tetdsr::Ray& ray, double& t, glm::dvec3& normal) {
-    tetdsr::SurfaceHit hit;
-    if (!scene.firstHit(ray, iso, hit))
-      return false;
-    t = hit.t;
-    const double length = glm::length(hit.gradient);
-    normal = length > 0.0 ? hit.gradient / length : glm::dvec3(0.0);
-    return true;
-  });
+  return evaluateScene(c);
 }
 
 void print(const Figures& f)

@@ -22,6 +22,7 @@
 #include "vtkPolyData.h"
 #include "vtkTesting.h"
 #include "vtkTetra.h"
+#include "vtkTriangle.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <array>
@@ -264,6 +265,7 @@ class TriangleHits
 {
 public:
   explicit TriangleHits(vtkPolyData* surface)
+    : Surface(surface)
   {
     this->Empty = surface->GetNumberOfCells() == 0;
     if (!this->Empty)
@@ -275,6 +277,13 @@ public:
 
   bool FirstHit(const Ray& ray, double farDistance, double& t)
   {
+    double normal[3];
+    return this->FirstHit(ray, farDistance, t, normal);
+  }
+
+  /// Also the unit normal of the triangle hit (its orientation is the triangle's).
+  bool FirstHit(const Ray& ray, double farDistance, double& t, double normal[3])
+  {
     if (this->Empty)
     {
       return false;
@@ -285,22 +294,38 @@ public:
       end[a] = ray.origin[a] + farDistance * ray.direction[a];
     }
     vtkNew<vtkPoints> points;
-    if (this->Tree->IntersectWithLine(ray.origin.data(), end, points, nullptr) == 0 ||
+    vtkNew<vtkIdList> cells;
+    if (this->Tree->IntersectWithLine(ray.origin.data(), end, points, cells) == 0 ||
       points->GetNumberOfPoints() == 0)
     {
       return false;
     }
     t = std::numeric_limits<double>::infinity();
+    vtkIdType nearest = -1;
     for (vtkIdType p = 0; p < points->GetNumberOfPoints(); ++p)
     {
       double x[3];
       points->GetPoint(p, x);
-      t = std::min(t, std::sqrt(vtkMath::Distance2BetweenPoints(x, ray.origin.data())));
+      const double distance = std::sqrt(vtkMath::Distance2BetweenPoints(x, ray.origin.data()));
+      if (distance < t)
+      {
+        t = distance;
+        nearest = cells->GetId(p);
+      }
     }
+    vtkIdType count;
+    const vtkIdType* ids;
+    this->Surface->GetCellPoints(nearest, count, ids);
+    double a[3], b[3], c[3];
+    this->Surface->GetPoint(ids[0], a);
+    this->Surface->GetPoint(ids[1], b);
+    this->Surface->GetPoint(ids[2], c);
+    vtkTriangle::ComputeNormal(a, b, c, normal);
     return true;
   }
 
 private:
+  vtkPolyData* Surface = nullptr;
   bool Empty;
   vtkNew<vtkOBBTree> Tree;
 };

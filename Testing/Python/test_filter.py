@@ -346,6 +346,36 @@ class BadInput(unittest.TestCase):
         self.assertTrue(any("Skipped 1 cells" in w and "VTK_TETRA" in w for w in messages.warnings),
                         messages.warnings)
 
+    def test_float32_points_give_the_same_image(self):
+        # The bundled cube's coordinates (-1, 0, 1) are exact in float32: same image bit for bit.
+        reference = vtkUnstructuredGrid()
+        reference.DeepCopy(read("cube27.vtu").GetOutput())
+        single = vtkUnstructuredGrid()
+        single.DeepCopy(reference)
+        points = vtk.vtkPoints()
+        points.SetDataTypeToFloat()
+        points.DeepCopy(reference.GetPoints())
+        self.assertEqual(points.GetDataType(), vtk.VTK_FLOAT)
+        single.SetPoints(points)
+        images = []
+        for mesh in (reference, single):
+            caster, messages = self.run_filter(mesh, lambda c: c.SetValue(0, 0.8))
+            self.assertEqual(messages.errors, [])
+            images.append(arrays(caster.GetOutput()))
+        self.assertGreater(np.isfinite(images[0]["Depth"]).sum(), 100)
+        for name in images[0]:
+            self.assertTrue(np.array_equal(images[0][name], images[1][name]), name)
+
+    def test_inf_values_skipped_and_counted(self):
+        mesh = self.mesh()
+        users = sum(1 for c in range(mesh.GetNumberOfCells())
+                    if 3 in [mesh.GetCell(c).GetPointId(k) for k in range(10)])
+        mesh.GetPointData().GetArray("sphere").SetValue(3, float("inf"))
+        caster, messages = self.run_filter(mesh)
+        self.assertEqual(caster.GetNumberOfNonFiniteCells(), users)
+        self.assertTrue(any(f"Skipped {users} cells with NaN or Inf" in w for w in messages.warnings),
+                        messages.warnings)
+
     def test_nan_values_skipped_and_counted(self):
         mesh = self.mesh()
         # node 26 belongs to some cells; count them independently
