@@ -1,6 +1,7 @@
 // Core tests against analytic truth: quadratic polynomials are reproduced exactly by the
 // 10-node tet, so every expected value here comes from the polynomial itself, not from the core.
 #include "LatticeMesh.h"
+#include "StabilityCases.h"
 
 #include "tetdsr/Camera.h"
 #include "tetdsr/QuadraticTet.h"
@@ -16,31 +17,10 @@
 
 using tetdsr_test::LatticeMesh;
 using tetdsr_test::makeLattice;
+using tetdsr_test::Quadric;
 
 namespace
 {
-
-/// f(x) = x^T A x + b.x + c with random symmetric A.
-struct Quadric
-{
-  glm::dmat3 A;
-  glm::dvec3 b;
-  double c;
-  double operator()(const glm::dvec3& x) const { return glm::dot(x, A * x) + glm::dot(b, x) + c; }
-  glm::dvec3 gradient(const glm::dvec3& x) const { return 2.0 * (A * x) + b; }
-};
-
-Quadric randomQuadric(std::mt19937_64& rng)
-{
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Quadric q;
-  for (int i = 0; i < 3; ++i)
-    for (int j = i; j < 3; ++j)
-      q.A[i][j] = q.A[j][i] = u(rng);
-  q.b = glm::dvec3(u(rng), u(rng), u(rng));
-  q.c = u(rng);
-  return q;
-}
 
 /// Random point inside the tet with vertices v (uniform barycentric weights, normalised).
 glm::dvec3 randomInside(std::mt19937_64& rng, const glm::dvec3 v[4], double L[4])
@@ -77,7 +57,7 @@ struct RandomCell
   explicit RandomCell(std::mt19937_64& rng)
   {
     randomTet(rng, v);
-    f = randomQuadric(rng);
+    f = tetdsr_test::randomQuadric(rng, glm::dvec3(0.0), 1.0);
     for (int k = 0; k < 4; ++k)
       values[k] = f(v[k]);
     for (int e = 0; e < 6; ++e)

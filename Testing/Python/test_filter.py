@@ -366,27 +366,16 @@ class BadInput(unittest.TestCase):
         for name in images[0]:
             self.assertTrue(np.array_equal(images[0][name], images[1][name]), name)
 
-    def test_inf_values_skipped_and_counted(self):
-        mesh = self.mesh()
-        users = sum(1 for c in range(mesh.GetNumberOfCells())
-                    if 3 in [mesh.GetCell(c).GetPointId(k) for k in range(10)])
-        mesh.GetPointData().GetArray("sphere").SetValue(3, float("inf"))
-        caster, messages = self.run_filter(mesh)
-        self.assertEqual(caster.GetNumberOfNonFiniteCells(), users)
-        self.assertTrue(any(f"Skipped {users} cells with NaN or Inf" in w for w in messages.warnings),
-                        messages.warnings)
-
-    def test_nan_values_skipped_and_counted(self):
-        mesh = self.mesh()
-        # node 26 belongs to some cells; count them independently
-        users = sum(1 for c in range(mesh.GetNumberOfCells())
-                    if 26 in [mesh.GetCell(c).GetPointId(k) for k in range(10)])
-        mesh.GetPointData().GetArray("sphere").SetValue(26, float("nan"))
-        caster, messages = self.run_filter(mesh)
-        self.assertEqual(caster.GetNumberOfNonFiniteCells(), users)
-        self.assertTrue(any(f"Skipped {users} cells with NaN" in w for w in messages.warnings),
-                        messages.warnings)
-
+    def test_nan_and_inf_values_skipped_and_counted(self):
+        for node, value in ((26, float("nan")), (3, float("inf"))):
+            mesh = self.mesh()
+            users = sum(1 for c in range(mesh.GetNumberOfCells())
+                        if node in [mesh.GetCell(c).GetPointId(k) for k in range(10)])
+            mesh.GetPointData().GetArray("sphere").SetValue(node, value)
+            caster, messages = self.run_filter(mesh)
+            self.assertEqual(caster.GetNumberOfNonFiniteCells(), users)
+            self.assertTrue(any(f"Skipped {users} cells with NaN or Inf" in w
+                                for w in messages.warnings), messages.warnings)
 
 if __name__ == "__main__":
     unittest.main(verbosity=2)
