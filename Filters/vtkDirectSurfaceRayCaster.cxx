@@ -206,13 +206,8 @@ int vtkDirectSurfaceRayCaster::RequestData(
 {
   vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0]);
   vtkImageData* output = vtkImageData::GetData(outputVector);
-  const int width = this->ImageSize[0];
+  const int width = this->ImageSize[0]; // positive: RequestInformation checked it
   const int height = this->ImageSize[1];
-  if (width <= 0 || height <= 0)
-  {
-    vtkErrorMacro("ImageSize must be positive, got " << width << " x " << height << ".");
-    return 0;
-  }
   if (!input || input->GetNumberOfCells() == 0 || input->GetNumberOfPoints() == 0)
   {
     vtkErrorMacro("The input mesh is empty: it has no cells or no points.");
