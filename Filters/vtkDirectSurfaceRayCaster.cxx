@@ -290,7 +290,7 @@ int vtkDirectSurfaceRayCaster::RequestData(
     WithThreads(this->NumberOfThreads,
       [&]() { this->Prepared->Scene.reset(new tetdsr::Scene(mesh, SMPFor, transverse)); });
   }
-  const Cache& prepared = *this->Prepared;
+  Cache& prepared = *this->Prepared;
   const tetdsr::PreprocessSummary& summary = prepared.Scene->summary();
   this->NumberOfRenderedCells = summary.validCells;
   this->NumberOfInvertedCells = summary.invertedCells;
@@ -399,8 +399,16 @@ int vtkDirectSurfaceRayCaster::RequestData(
   const glm::dvec3 light = this->LightAtCamera
     ? camera.position
     : glm::dvec3(this->LightPosition[0], this->LightPosition[1], this->LightPosition[2]);
+  tetdsr::NormalSettings normalSettings;
+  normalSettings.mode = static_cast<tetdsr::NormalMode>(this->NormalMode);
+  normalSettings.relativeStep = this->CentralDifferenceStep;
+  if (normalSettings.mode == tetdsr::NormalMode::NodalInterpolation)
+  {
+    prepared.Scene->computeNodalGradients(); // once per mesh and array: kept with the scene
+  }
   const tetdsr::IsoValues isoValues(values);
-  const tetdsr::Renderer renderer(*prepared.Scene, camera, isoValues, material, light, image);
+  const tetdsr::Renderer renderer(
+    *prepared.Scene, camera, isoValues, material, light, image, normalSettings);
 
   const vtkIdType tiles = renderer.numberOfTiles();
   vtkIdType tilesDone = 0;
@@ -413,6 +421,11 @@ int vtkDirectSurfaceRayCaster::RequestData(
         [&](vtkIdType begin, vtkIdType last) { renderer.renderTiles(begin, last); });
       tilesDone = end;
       this->UpdateProgress(static_cast<double>(tilesDone) / tiles);
+    }
+    if (tilesDone == tiles && normalSettings.mode == tetdsr::NormalMode::DepthBuffer)
+    {
+      vtkSMPTools::For(0, tiles, 1,
+        [&](vtkIdType begin, vtkIdType last) { renderer.shadeFromDepth(begin, last); });
     }
   });
   if (tilesDone < tiles)
@@ -545,6 +558,8 @@ void vtkDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LightPosition: (" << this->LightPosition[0] << ", " << this->LightPosition[1]
      << ", " << this->LightPosition[2] << ")\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "NormalMode: " << this->NormalMode << "\n";
+  os << indent << "CentralDifferenceStep: " << this->CentralDifferenceStep << "\n";
   os << indent << "TransverseTest: "
      << (this->TransverseTest == BERNSTEIN_BOUND ? "BERNSTEIN_BOUND" : "WIDENED_NODAL_RANGE") << "\n";
   os << indent << "NodalRangeWidening: " << this->NodalRangeWidening << "\n";

@@ -16,7 +16,8 @@
  * - `Colors` (unsigned char RGBA, active scalars; background (0,0,0,0)),
  * - `Depth` (double; distance from the camera position along the unit ray in perspective,
  *   from the camera plane in parallel projection; +inf on misses),
- * - `Normals` (double x3; unit field gradient, pointing to increasing field; 0 on misses),
+ * - `Normals` (double x3; unit field gradient, pointing to increasing field, or the normal of
+ *   the chosen NormalMode; 0 on misses),
  * - `CellId` (vtkIdType; input cell hit, -1 on misses).
  * Pixel (i, j), point id i + j*width, is the ray through the pixel centre, j = 0 at the bottom.
  *
@@ -123,6 +124,36 @@ public:
   ///@}
 
   /**
+   * How surface normals are obtained (the paper's section 2.5, and the exact one).
+   */
+  enum NormalModes
+  {
+    /// The analytic gradient of the hit cell's quadratic (default).
+    EXACT_GRADIENT = 0,
+    /// Central differences of six samples at +-CentralDifferenceStep, each evaluated in the cell
+    /// that contains it (point location through the acceleration structure).
+    CENTRAL_DIFFERENCES = 1,
+    /// Gradients at the nodes (mean of the exact gradients of the cells around each node,
+    /// computed once per mesh and array) interpolated with the quadratic shape functions.
+    NODAL_INTERPOLATION = 2,
+    /// Normals from the depth image's differences (the paper's "Z-buffer" shading).
+    DEPTH_BUFFER = 3
+  };
+
+  ///@{
+  /**
+   * The normal scheme (default EXACT_GRADIENT) and, for CENTRAL_DIFFERENCES, the step as a
+   * fraction of the hit cell's longest edge (default 1e-3). The `Normals` output holds the
+   * normals used for shading: along the gradient for the first three modes, towards the viewer
+   * for DEPTH_BUFFER.
+   */
+  vtkSetClampMacro(NormalMode, int, EXACT_GRADIENT, DEPTH_BUFFER);
+  vtkGetMacro(NormalMode, int);
+  vtkSetClampMacro(CentralDifferenceStep, double, 1e-12, 1.0);
+  vtkGetMacro(CentralDifferenceStep, double);
+  ///@}
+
+  /**
    * Transverse-cell tests: which cells are searched for an iso-value.
    */
   enum TransverseTestModes
@@ -206,6 +237,8 @@ protected:
   bool LightAtCamera = true;
   double LightPosition[3] = { 0.0, 0.0, 1.0 };
   int NumberOfThreads = 0;
+  int NormalMode = EXACT_GRADIENT;
+  double CentralDifferenceStep = 1e-3;
   int TransverseTest = BERNSTEIN_BOUND;
   double NodalRangeWidening = 0.25;
 

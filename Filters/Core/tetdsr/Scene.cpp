@@ -740,7 +740,164 @@ bool Scene::firstHit(const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit
 std::size_t Scene::memoryBytes() const
 {
   return Nodes_.capacity() * sizeof(Node) + SlotCell_.capacity() * sizeof(std::uint32_t) +
-    SlotRange_.capacity() * sizeof(float);
+    SlotRange_.capacity() * sizeof(float) + NodalGradients_.capacity() * sizeof(glm::dvec3);
+}
+
+double Scene::evaluateInCell(NodeId cellId, const glm::dvec3& point) const
+{
+  glm::dvec3 vertices[4];
+  double values[10];
+  loadCell(cellId, vertices, values);
+  TetFrame frame;
+  TetFrame::fromVertices(vertices, frame); // valid cells only reach here
+  double L[4];
+  frame.barycentricOfOffsets(point - vertices[0], point - vertices[1], L);
+  return BernsteinForm::fromNodeValues(values).bilinear(L, L);
+}
+
+double Scene::cellSize(NodeId cellId) const
+{
+  glm::dvec3 vertices[4];
+  double values[10];
+  loadCell(cellId, vertices, values);
+  double size = 0.0;
+  for (const auto& edge : kEdgeVertices)
+  {
+    size = std::max(size, glm::length(vertices[edge[0]] - vertices[edge[1]]));
+  }
+  return size;
+}
+
+bool Scene::evaluate(const glm::dvec3& point, double& value) const
+{
+  if (Nodes_.empty())
+  {
+    return false;
+  }
+  const glm::dvec3 relative = point - Origin_;
+  auto contains = [&](const Node& node) {
+    for (int a = 0; a < 3; ++a)
+    {
+      if (relative[a] < node.boxLo[a] || relative[a] > node.boxHi[a])
+      {
+        return false;
+      }
+    }
+    return true;
+  };
+  std::uint32_t stack[kStackSize];
+  int top = 0;
+  if (contains(Nodes_[0]))
+  {
+    stack[top++] = 0;
+  }
+  while (top > 0)
+  {
+    const std::uint32_t index = stack[--top];
+    const Node& node = Nodes_[index];
+    if (node.count == 0)
+    {
+      for (const std::uint32_t child : { index + 1, node.firstOrSecondChild })
+      {
+        if (contains(Nodes_[child]))
+        {
+          stack[top++] = child;
+        }
+      }
+      continue;
+    }
+    for (std::uint32_t slot = node.firstOrSecondChild; slot < node.firstOrSecondChild + node.count;
+         ++slot)
+    {
+      glm::dvec3 vertices[4];
+      double values[10];
+      loadCell(SlotCell_[slot], vertices, values);
+      TetFrame frame;
+      TetFrame::fromVertices(vertices, frame);
+      double L[4];
+      frame.barycentricOfOffsets(point - vertices[0], point - vertices[1], L);
+      if (L[0] >= -kBarycentricTolerance && L[1] >= -kBarycentricTolerance &&
+        L[2] >= -kBarycentricTolerance && L[3] >= -kBarycentricTolerance)
+      {
+        value = BernsteinForm::fromNodeValues(values).bilinear(L, L);
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+void Scene::computeNodalGradients()
+{
+  if (hasNodalGradients())
+  {
+    return;
+  }
+  std::vector<glm::dvec3> sum(static_cast<std::size_t>(Mesh_.numberOfPoints), glm::dvec3(0.0));
+  std::vector<std::uint32_t> count(static_cast<std::size_t>(Mesh_.numberOfPoints), 0);
+  for (const std::uint32_t cell : SlotCell_)
+  {
+    glm::dvec3 vertices[4];
+    double values[10];
+    loadCell(cell, vertices, values);
+    TetFrame frame;
+    TetFrame::fromVertices(vertices, frame);
+    const BernsteinForm form = BernsteinForm::fromNodeValues(values);
+    const NodeId* ids = Mesh_.cellNodes + 10 * cell;
+    for (int n = 0; n < 10; ++n)
+    {
+      if (ids[n] < 0)
+      {
+        continue; // a linear edge has no mid-edge node
+      }
+      double L[4] = { 0.0, 0.0, 0.0, 0.0 };
+      if (n < 4)
+      {
+        L[n] = 1.0;
+      }
+      else
+      {
+        L[kEdgeVertices[n - 4][0]] = L[kEdgeVertices[n - 4][1]] = 0.5;
+      }
+      sum[static_cast<std::size_t>(ids[n])] += fieldGradient(form, frame, L);
+      ++count[static_cast<std::size_t>(ids[n])];
+    }
+  }
+  for (std::size_t p = 0; p < sum.size(); ++p)
+  {
+    if (count[p] > 0)
+    {
+      sum[p] /= static_cast<double>(count[p]);
+    }
+  }
+  NodalGradients_ = std::move(sum);
+}
+
+glm::dvec3 Scene::interpolateNodalGradient(NodeId cellId, const glm::dvec3& point) const
+{
+  glm::dvec3 vertices[4];
+  double values[10];
+  loadCell(cellId, vertices, values);
+  TetFrame frame;
+  TetFrame::fromVertices(vertices, frame);
+  double L[4];
+  frame.barycentricOfOffsets(point - vertices[0], point - vertices[1], L);
+  const NodeId* ids = Mesh_.cellNodes + 10 * cellId;
+  glm::dvec3 gradient(0.0);
+  for (int k = 0; k < 4; ++k)
+  {
+    gradient += (L[k] * (2.0 * L[k] - 1.0)) * NodalGradients_[static_cast<std::size_t>(ids[k])];
+  }
+  for (int e = 0; e < 6; ++e)
+  {
+    const int a = kEdgeVertices[e][0], b = kEdgeVertices[e][1];
+    const glm::dvec3 mid = ids[4 + e] >= 0
+      ? NodalGradients_[static_cast<std::size_t>(ids[4 + e])]
+      : 0.5 * (NodalGradients_[static_cast<std::size_t>(ids[a])] +
+                NodalGradients_[static_cast<std::size_t>(ids[b])]);
+    gradient += (4.0 * L[a] * L[b]) * mid;
+  }
+  return gradient;
 }
 
 } // namespace tetdsr

@@ -113,8 +113,29 @@ public:
   /// The first crossing of any iso-value along the ray with t >= 0; false if there is none.
   bool firstHit(const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit) const;
 
+  /// Point location: the field at `point` from the valid cell containing it (the first found
+  /// where cells share a face); false if no valid cell contains it.
+  bool evaluate(const glm::dvec3& point, double& value) const;
+
+  /// The field of one cell's polynomial at `point` (its extension, if the point is outside).
+  double evaluateInCell(NodeId cellId, const glm::dvec3& point) const;
+
+  /// The longest edge of a cell.
+  double cellSize(NodeId cellId) const;
+
+  /// Nodal gradients (the paper's "nodal normals"): at each node, the mean of the exact
+  /// gradients there of the valid cells that use it. Computed once, on the first call; the
+  /// interpolation below needs them.
+  void computeNodalGradients();
+  bool hasNodalGradients() const { return !NodalGradients_.empty(); }
+
+  /// The nodal gradients of a cell interpolated at `point` with the quadratic shape functions
+  /// (paper's eq. 2).
+  glm::dvec3 interpolateNodalGradient(NodeId cellId, const glm::dvec3& point) const;
+
   /// Bytes this scene keeps (the mesh it views is not counted): 12 per valid cell plus the
-  /// hierarchy's nodes (about one per 2 cells, 40 bytes each).
+  /// hierarchy's nodes (about one per 2 cells, 40 bytes each), plus 24 per point once nodal
+  /// gradients are computed.
   std::size_t memoryBytes() const;
 
   /// Barycentric tolerance by which a cell is widened when clipping a ray to it. Rounding in
@@ -160,6 +181,7 @@ private:
   std::vector<Node> Nodes_;
   std::vector<std::uint32_t> SlotCell_; ///< cell id of each leaf slot
   std::vector<float> SlotRange_;        ///< outward-rounded Bernstein min and max per slot
+  std::vector<glm::dvec3> NodalGradients_; ///< per point, once computed
 };
 
 } // namespace tetdsr
