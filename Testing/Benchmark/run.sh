@@ -25,3 +25,6 @@ xvfb-run -a build/bin/tetdsr-benchmark "$OUT" "$IMAGE" $SIZES > "$OUT/tetdsr.tsv
 xvfb-run -a "$VENV/bin/python" Testing/Benchmark/vtk_wheel_contour.py "$OUT/tetdsr.tsv" "$OUT" "$IMAGE" \
   > "$OUT/wheel.tsv"
 /usr/bin/python3 Testing/Benchmark/report.py "$OUT/tetdsr.tsv" "$OUT/wheel.tsv"
+echo
+echo "Normal schemes (the paper's Table 1), lattice n = 26 (105,456 cells), ${IMAGE}x${IMAGE}, re-render times:"
+build/bin/tetdsr-benchmark --normals "$IMAGE" 26
