@@ -3,6 +3,7 @@
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
 #include "vtkCellType.h"
+#include "vtkColorTransferFunction.h"
 #include "vtkContourValues.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -10,7 +11,10 @@
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkMath.h"
 #include "vtkObjectFactory.h"
+#include "vtkPlane.h"
+#include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkSMPTools.h"
@@ -34,6 +38,8 @@ static_assert(std::is_same<vtkIdType, tetdsr::NodeId>::value,
 
 vtkStandardNewMacro(vtkDirectSurfaceRayCaster);
 vtkCxxSetObjectMacro(vtkDirectSurfaceRayCaster, Camera, vtkCamera);
+vtkCxxSetObjectMacro(vtkDirectSurfaceRayCaster, LookupTable, vtkScalarsToColors);
+vtkCxxSetObjectMacro(vtkDirectSurfaceRayCaster, ClippingPlanes, vtkPlaneCollection);
 
 /// The converted mesh and its scene, kept until the mesh or the scalar array changes.
 /// Arrays VTK already stores in the core's layout are viewed, not copied.
@@ -59,6 +65,40 @@ struct vtkDirectSurfaceRayCaster::Cache
   std::unique_ptr<tetdsr::Scene> Scene;
   vtkIdType UnsupportedCells = 0;
 
+  // The colour array, as doubles (all components), kept until it changes.
+  vtkDataArray* ColorArray = nullptr;
+  vtkMTimeType ColorArrayTime = 0;
+  vtkSmartPointer<vtkDataArray> ColorArrayView;
+  std::vector<double> ColorValuesCopy;
+  const double* ColorValues = nullptr;
+
+  /// The colour array's values for the core, copied only when VTK stores them otherwise.
+  const double* ColorArrayValues(vtkDataArray* array)
+  {
+    if (array == this->ColorArray && array->GetMTime() == this->ColorArrayTime)
+    {
+      return this->ColorValues;
+    }
+    this->ColorArray = array;
+    this->ColorArrayTime = array->GetMTime();
+    this->ColorValuesCopy.clear();
+    if (auto* doubles = vtkDoubleArray::FastDownCast(array))
+    {
+      this->ColorArrayView = doubles;
+      this->ColorValues = doubles->GetPointer(0);
+      return this->ColorValues;
+    }
+    this->ColorArrayView = nullptr;
+    const int components = array->GetNumberOfComponents();
+    this->ColorValuesCopy.resize(static_cast<std::size_t>(array->GetNumberOfTuples()) * components);
+    for (vtkIdType p = 0; p < array->GetNumberOfTuples(); ++p)
+    {
+      array->GetTuple(p, this->ColorValuesCopy.data() + static_cast<std::size_t>(p) * components);
+    }
+    this->ColorValues = this->ColorValuesCopy.data();
+    return this->ColorValues;
+  }
+
   /// Convert the input to the core's MeshView, copying only what VTK stores differently.
   tetdsr::MeshView View(vtkUnstructuredGrid* input, vtkDataArray* scalars, int component);
 
@@ -76,6 +116,63 @@ namespace
 {
 // Progress reports / abort checks per render.
 constexpr vtkIdType kProgressSteps = 32;
+
+// Entries of the colour table sampled from the lookup table: 1024 keeps the linear interpolation
+// between entries within 1/255 of the lookup table's colour for any map with a few control points.
+constexpr int kColorTableSize = 1024;
+
+/// One of the built-in colour maps over [0, 1].
+vtkSmartPointer<vtkScalarsToColors> BuiltInColorMap(int which)
+{
+  auto map = vtkSmartPointer<vtkColorTransferFunction>::New();
+  switch (which)
+  {
+    case vtkDirectSurfaceRayCaster::RAINBOW:
+      map->SetColorSpaceToHSV();
+      map->AddRGBPoint(0.0, 0.0, 0.0, 1.0);
+      map->AddRGBPoint(1.0, 1.0, 0.0, 0.0);
+      break;
+    case vtkDirectSurfaceRayCaster::GRAYSCALE:
+      map->AddRGBPoint(0.0, 0.0, 0.0, 0.0);
+      map->AddRGBPoint(1.0, 1.0, 1.0, 1.0);
+      break;
+    case vtkDirectSurfaceRayCaster::BLACK_BODY:
+      map->AddRGBPoint(0.0, 0.0, 0.0, 0.0);
+      map->AddRGBPoint(0.4, 0.9, 0.0, 0.0);
+      map->AddRGBPoint(0.8, 0.9, 0.9, 0.0);
+      map->AddRGBPoint(1.0, 1.0, 1.0, 1.0);
+      break;
+    case vtkDirectSurfaceRayCaster::COOL_TO_WARM:
+    default:
+      // Moreland's diverging map: blue (0.230, 0.299, 0.754) to red (0.706, 0.016, 0.150).
+      map->SetColorSpaceToDiverging();
+      map->AddRGBPoint(0.0, 0.230, 0.299, 0.754);
+      map->AddRGBPoint(1.0, 0.706, 0.016, 0.150);
+      break;
+  }
+  map->SetNanColor(0.5, 0.5, 0.5);
+  return map;
+}
+
+/// Samples `lookupTable`'s own range at kColorTableSize evenly spaced values into a table that
+/// spans [lo, hi]: the lookup table is stretched over the colour range.
+tetdsr::ColorTable SampleColorTable(vtkScalarsToColors* lookupTable, double lo, double hi)
+{
+  tetdsr::ColorTable table;
+  table.lo = lo;
+  table.hi = hi;
+  const double* range = lookupTable->GetRange();
+  double rgb[3];
+  for (int k = 0; k < kColorTableSize; ++k)
+  {
+    const double x = static_cast<double>(k) / (kColorTableSize - 1);
+    lookupTable->GetColor(range[0] + x * (range[1] - range[0]), rgb);
+    table.colors.emplace_back(rgb[0], rgb[1], rgb[2]);
+  }
+  lookupTable->GetColor(vtkMath::Nan(), rgb);
+  table.nanColor = glm::dvec3(rgb[0], rgb[1], rgb[2]);
+  return table;
+}
 
 /// tetdsr::ParallelFor on vtkSMPTools.
 void SMPFor(tetdsr::NodeId count, const std::function<void(tetdsr::NodeId, tetdsr::NodeId)>& body)
@@ -112,6 +209,100 @@ vtkDirectSurfaceRayCaster::~vtkDirectSurfaceRayCaster()
 {
   this->ContourValues->Delete();
   this->SetCamera(nullptr);
+  this->SetLookupTable(nullptr);
+  this->SetClippingPlanes(nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceRayCaster::SetIsoValueColor(int i, double red, double green, double blue)
+{
+  if (i < 0)
+  {
+    vtkErrorMacro("SetIsoValueColor: index " << i << " is negative.");
+    return;
+  }
+  if (this->IsoValueColors.size() < 3 * static_cast<std::size_t>(i + 1))
+  {
+    this->IsoValueColors.resize(3 * static_cast<std::size_t>(i + 1), vtkMath::Nan());
+  }
+  const double color[3] = { red, green, blue };
+  for (int c = 0; c < 3; ++c)
+  {
+    this->IsoValueColors[3 * i + c] = vtkMath::ClampValue(color[c], 0.0, 1.0);
+  }
+  this->Modified();
+}
+
+void vtkDirectSurfaceRayCaster::GetIsoValueColor(int i, double color[3])
+{
+  const bool set = i >= 0 && 3 * static_cast<std::size_t>(i) < this->IsoValueColors.size() &&
+    !std::isnan(this->IsoValueColors[3 * i]);
+  for (int c = 0; c < 3; ++c)
+  {
+    color[c] = set ? this->IsoValueColors[3 * i + c] : this->SurfaceColor[c];
+  }
+}
+
+void vtkDirectSurfaceRayCaster::RemoveAllIsoValueColors()
+{
+  if (!this->IsoValueColors.empty())
+  {
+    this->IsoValueColors.clear();
+    this->Modified();
+  }
+}
+
+void vtkDirectSurfaceRayCaster::SetIsoValueOpacity(int i, double opacity)
+{
+  if (i < 0)
+  {
+    vtkErrorMacro("SetIsoValueOpacity: index " << i << " is negative.");
+    return;
+  }
+  if (this->IsoValueOpacities.size() < static_cast<std::size_t>(i + 1))
+  {
+    this->IsoValueOpacities.resize(static_cast<std::size_t>(i + 1), vtkMath::Nan());
+  }
+  this->IsoValueOpacities[i] = vtkMath::ClampValue(opacity, 0.0, 1.0);
+  this->Modified();
+}
+
+double vtkDirectSurfaceRayCaster::GetIsoValueOpacity(int i)
+{
+  return i >= 0 && static_cast<std::size_t>(i) < this->IsoValueOpacities.size() &&
+      !std::isnan(this->IsoValueOpacities[i])
+    ? this->IsoValueOpacities[i]
+    : 1.0;
+}
+
+void vtkDirectSurfaceRayCaster::RemoveAllIsoValueOpacities()
+{
+  if (!this->IsoValueOpacities.empty())
+  {
+    this->IsoValueOpacities.clear();
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceRayCaster::AddClippingPlane(vtkPlane* plane)
+{
+  if (!this->ClippingPlanes)
+  {
+    vtkNew<vtkPlaneCollection> planes;
+    this->SetClippingPlanes(planes);
+  }
+  this->ClippingPlanes->AddItem(plane);
+  this->Modified();
+}
+
+void vtkDirectSurfaceRayCaster::RemoveAllClippingPlanes()
+{
+  if (this->ClippingPlanes && this->ClippingPlanes->GetNumberOfItems() > 0)
+  {
+    this->ClippingPlanes->RemoveAllItems();
+    this->Modified();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -168,6 +359,18 @@ vtkMTimeType vtkDirectSurfaceRayCaster::GetMTime()
   if (this->Camera)
   {
     time = std::max(time, this->Camera->GetMTime());
+  }
+  if (this->LookupTable)
+  {
+    time = std::max(time, this->LookupTable->GetMTime());
+  }
+  if (this->ClippingPlanes)
+  {
+    time = std::max(time, this->ClippingPlanes->GetMTime());
+    for (int k = 0; k < this->ClippingPlanes->GetNumberOfItems(); ++k)
+    {
+      time = std::max(time, this->ClippingPlanes->GetItem(k)->GetMTime());
+    }
   }
   return time;
 }
@@ -276,6 +479,73 @@ int vtkDirectSurfaceRayCaster::RequestData(
     }
   }
 
+  // The colour array.
+  vtkDataArray* colorArray = nullptr;
+  int colorComponent = this->ColorArrayComponent;
+  if (this->ColorByArray)
+  {
+    int colorAssociation = -1;
+    colorArray = this->GetInputArrayToProcess(1, inputVector, colorAssociation);
+    if (!colorArray)
+    {
+      vtkInformation* arrayInfo = this->GetInputArrayInformation(1);
+      const char* name = arrayInfo->Has(vtkDataObject::FIELD_NAME())
+        ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
+        : nullptr;
+      vtkErrorMacro("ColorByArray is on but "
+        << (name ? "there is no point array named '" + std::string(name) + "'"
+                 : std::string("no colour array is chosen"))
+        << ": choose one with SetInputArrayToProcess(1, 0, 0, FIELD_ASSOCIATION_POINTS, name).");
+      return 0;
+    }
+    const char* colorName = colorArray->GetName() ? colorArray->GetName() : "(unnamed)";
+    if (colorAssociation != vtkDataObject::FIELD_ASSOCIATION_POINTS)
+    {
+      vtkErrorMacro("Colour array '" << colorName << "' is not a point array.");
+      return 0;
+    }
+    if (colorComponent >= colorArray->GetNumberOfComponents())
+    {
+      vtkErrorMacro("ColorArrayComponent " << colorComponent << " is out of range: array '"
+                                           << colorName << "' has "
+                                           << colorArray->GetNumberOfComponents()
+                                           << " components.");
+      return 0;
+    }
+    if (colorArray->GetNumberOfComponents() == 1)
+    {
+      colorComponent = 0;
+    }
+  }
+
+  // Clipping planes.
+  std::vector<tetdsr::ClipPlane> clipPlanes;
+  const int numberOfPlanes = this->ClippingPlanes ? this->ClippingPlanes->GetNumberOfItems() : 0;
+  if (numberOfPlanes > MaximumNumberOfClippingPlanes)
+  {
+    vtkErrorMacro(<< numberOfPlanes << " clipping planes: at most "
+                  << MaximumNumberOfClippingPlanes << " are supported.");
+    return 0;
+  }
+  for (int k = 0; k < numberOfPlanes; ++k)
+  {
+    vtkPlane* plane = this->ClippingPlanes->GetItem(k);
+    tetdsr::ClipPlane clip;
+    double v[3];
+    plane->GetOrigin(v);
+    clip.origin = glm::dvec3(v[0], v[1], v[2]);
+    plane->GetNormal(v);
+    clip.normal = glm::dvec3(v[0], v[1], v[2]);
+    const double length = glm::length(clip.normal);
+    if (!(length > 0.0) || !std::isfinite(length) ||
+      !std::isfinite(glm::dot(clip.origin, clip.origin)))
+    {
+      vtkErrorMacro("Clipping plane " << k << " has a zero or non-finite normal or origin.");
+      return 0;
+    }
+    clipPlanes.push_back(clip);
+  }
+
   // Preprocess once per mesh, array and transverse test.
   tetdsr::TransverseTest transverse;
   transverse.mode = this->TransverseTest == WIDENED_NODAL_RANGE
@@ -382,6 +652,14 @@ int vtkDirectSurfaceRayCaster::RequestData(
   pointData->AddArray(depth);
   pointData->SetNormals(normals);
   pointData->AddArray(cellIds);
+  vtkNew<vtkDoubleArray> colorValues;
+  const bool colorMapped = this->ColorByArray || (this->Capping != NO_CAP && numberOfPlanes > 0);
+  if (colorMapped)
+  {
+    colorValues->SetName("ColorValues");
+    colorValues->SetNumberOfTuples(pixels);
+    pointData->AddArray(colorValues);
+  }
 
   tetdsr::ImageView image;
   image.width = width;
@@ -390,25 +668,65 @@ int vtkDirectSurfaceRayCaster::RequestData(
   image.depth = depth->GetPointer(0);
   image.normals = normals->GetPointer(0);
   image.cellIds = cellIds->GetPointer(0);
-  tetdsr::Material material;
+  image.colorValues = colorMapped ? colorValues->GetPointer(0) : nullptr;
+
+  tetdsr::RenderSettings settings;
+  tetdsr::Material& material = settings.material;
   material.color = glm::dvec3(this->SurfaceColor[0], this->SurfaceColor[1], this->SurfaceColor[2]);
   material.ambient = this->Ambient;
   material.diffuse = this->Diffuse;
   material.specular = this->Specular;
   material.specularPower = this->SpecularPower;
-  const glm::dvec3 light = this->LightAtCamera
+  settings.lightPosition = this->LightAtCamera
     ? camera.position
     : glm::dvec3(this->LightPosition[0], this->LightPosition[1], this->LightPosition[2]);
-  tetdsr::NormalSettings normalSettings;
-  normalSettings.mode = static_cast<tetdsr::NormalMode>(this->NormalMode);
-  normalSettings.relativeStep = this->CentralDifferenceStep;
-  if (normalSettings.mode == tetdsr::NormalMode::NodalInterpolation)
+  settings.normals.mode = static_cast<tetdsr::NormalMode>(this->NormalMode);
+  settings.normals.relativeStep = this->CentralDifferenceStep;
+  if (settings.normals.mode == tetdsr::NormalMode::NodalInterpolation)
   {
     prepared.Scene->computeNodalGradients(); // once per mesh and array: kept with the scene
   }
+  for (int i = 0; i < numberOfValues; ++i)
+  {
+    double color[3];
+    this->GetIsoValueColor(i, color);
+    settings.isoStyles.push_back({ glm::dvec3(color[0], color[1], color[2]),
+      this->GetIsoValueOpacity(i) });
+  }
+  settings.clipPlanes = clipPlanes;
+  settings.cap = this->Capping == CAP_BELOW_ISO_VALUE ? tetdsr::CapRegion::BelowIsoValue
+    : this->Capping == CAP_ABOVE_ISO_VALUE           ? tetdsr::CapRegion::AboveIsoValue
+                                                     : tetdsr::CapRegion::None;
+  if (colorMapped)
+  {
+    double range[2] = { this->ColorRange[0], this->ColorRange[1] };
+    if (range[0] > range[1])
+    {
+      // The colour array's range (-1: the magnitude's), else the field's.
+      if (colorArray)
+      {
+        colorArray->GetRange(range, colorComponent);
+      }
+      else
+      {
+        scalars->GetRange(range, component);
+      }
+    }
+    if (colorArray)
+    {
+      settings.colorBy.values = prepared.ColorArrayValues(colorArray);
+      settings.colorBy.components = colorArray->GetNumberOfComponents();
+      settings.colorBy.component = colorComponent;
+    }
+    vtkSmartPointer<vtkScalarsToColors> lookupTable = this->LookupTable;
+    if (!lookupTable)
+    {
+      lookupTable = BuiltInColorMap(this->ColorMap);
+    }
+    settings.colorTable = SampleColorTable(lookupTable, range[0], range[1]);
+  }
   const tetdsr::IsoValues isoValues(values);
-  const tetdsr::Renderer renderer(
-    *prepared.Scene, camera, isoValues, material, light, image, normalSettings);
+  const tetdsr::Renderer renderer(*prepared.Scene, camera, isoValues, settings, image);
 
   const vtkIdType tiles = renderer.numberOfTiles();
   vtkIdType tilesDone = 0;
@@ -422,7 +740,7 @@ int vtkDirectSurfaceRayCaster::RequestData(
       tilesDone = end;
       this->UpdateProgress(static_cast<double>(tilesDone) / tiles);
     }
-    if (tilesDone == tiles && normalSettings.mode == tetdsr::NormalMode::DepthBuffer)
+    if (tilesDone == tiles && settings.normals.mode == tetdsr::NormalMode::DepthBuffer)
     {
       vtkSMPTools::For(0, tiles, 1,
         [&](vtkIdType begin, vtkIdType last) { renderer.shadeFromDepth(begin, last); });
@@ -563,6 +881,24 @@ void vtkDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TransverseTest: "
      << (this->TransverseTest == BERNSTEIN_BOUND ? "BERNSTEIN_BOUND" : "WIDENED_NODAL_RANGE") << "\n";
   os << indent << "NodalRangeWidening: " << this->NodalRangeWidening << "\n";
+  os << indent << "IsoValueColors (r g b per value, nan: SurfaceColor):";
+  for (double c : this->IsoValueColors)
+  {
+    os << " " << c;
+  }
+  os << "\n" << indent << "IsoValueOpacities (nan: 1):";
+  for (double o : this->IsoValueOpacities)
+  {
+    os << " " << o;
+  }
+  os << "\n";
+  os << indent << "ColorByArray: " << this->ColorByArray << "\n";
+  os << indent << "ColorArrayComponent: " << this->ColorArrayComponent << "\n";
+  os << indent << "ColorRange: (" << this->ColorRange[0] << ", " << this->ColorRange[1] << ")\n";
+  os << indent << "LookupTable: " << this->LookupTable << "\n";
+  os << indent << "ColorMap: " << this->ColorMap << "\n";
+  os << indent << "ClippingPlanes: " << this->ClippingPlanes << "\n";
+  os << indent << "Capping: " << this->Capping << "\n";
   os << indent << "NumberOfRenderedCells: " << this->NumberOfRenderedCells << "\n";
   os << indent << "NumberOfInvertedCells: " << this->NumberOfInvertedCells << "\n";
   os << indent << "NumberOfCurvedCells: " << this->NumberOfCurvedCells << "\n";

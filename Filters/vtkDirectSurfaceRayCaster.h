@@ -18,7 +18,11 @@
  *   from the camera plane in parallel projection; +inf on misses),
  * - `Normals` (double x3; unit field gradient, pointing to increasing field, or the normal of
  *   the chosen NormalMode; 0 on misses),
- * - `CellId` (vtkIdType; input cell hit, -1 on misses).
+ * - `CellId` (vtkIdType; input cell hit, -1 on misses),
+ * - `ColorValues` (double; only when colouring by an array or capping a cut: the value that was
+ *   colour-mapped at the nearest surface or cap, NaN elsewhere).
+ * Depth, Normals, CellId and ColorValues describe the nearest surface (or cap); Colors composites
+ * every translucent surface along the ray (not premultiplied; alpha is the total opacity).
  * Pixel (i, j), point id i + j*width, is the ray through the pixel centre, j = 0 at the bottom.
  *
  * VTK_TETRA cells are rendered as exact (linear) quadratics; other cell types, cells of zero
@@ -42,9 +46,13 @@
 #include "vtkImageAlgorithm.h"
 
 #include <memory> // For std::unique_ptr
+#include <vector> // For std::vector
 
 class vtkCamera;
 class vtkContourValues;
+class vtkPlane;
+class vtkPlaneCollection;
+class vtkScalarsToColors;
 
 class TETDSRFILTERS_EXPORT vtkDirectSurfaceRayCaster : public vtkImageAlgorithm
 {
@@ -153,6 +161,105 @@ public:
   vtkGetMacro(CentralDifferenceStep, double);
   ///@}
 
+  ///@{
+  /**
+   * Colour and opacity of the surface of the i-th iso-value (in SetValue's numbering). A value
+   * without a colour uses SurfaceColor; without an opacity it is opaque (1). With any opacity
+   * below 1 every crossing along a ray is composited front to back (nested translucent
+   * surfaces), up to 64 crossings per ray. Colouring by an array replaces the colours, not the
+   * opacities.
+   */
+  void SetIsoValueColor(int i, double red, double green, double blue);
+  void GetIsoValueColor(int i, double color[3]);
+  void RemoveAllIsoValueColors();
+  void SetIsoValueOpacity(int i, double opacity);
+  double GetIsoValueOpacity(int i);
+  void RemoveAllIsoValueOpacities();
+  ///@}
+
+  ///@{
+  /**
+   * Colour the surfaces by a second point array (default off), interpolated at each hit with
+   * the hit cell's quadratic shape functions and mapped through LookupTable. The array is input
+   * array 1: SetInputArrayToProcess(1, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, name).
+   * ColorArrayComponent picks a component; -1 (default) is the magnitude of the interpolated
+   * vector (for one component, the value itself). ColorRange is the range of values spread over
+   * the lookup table; when ColorRange[0] > ColorRange[1] (default (0, -1)) the array's range is
+   * used.
+   */
+  vtkSetMacro(ColorByArray, bool);
+  vtkGetMacro(ColorByArray, bool);
+  vtkBooleanMacro(ColorByArray, bool);
+  vtkSetClampMacro(ColorArrayComponent, int, -1, VTK_INT_MAX);
+  vtkGetMacro(ColorArrayComponent, int);
+  vtkSetVector2Macro(ColorRange, double);
+  vtkGetVector2Macro(ColorRange, double);
+  ///@}
+
+  /**
+   * Built-in colour maps, used when no LookupTable is set.
+   */
+  enum ColorMaps
+  {
+    COOL_TO_WARM = 0, ///< diverging blue - white - red (default)
+    RAINBOW = 1,      ///< blue - cyan - green - yellow - red (HSV)
+    GRAYSCALE = 2,    ///< black - white
+    BLACK_BODY = 3    ///< black - red - yellow - white
+  };
+
+  ///@{
+  /**
+   * The colour map for ColorByArray and for caps: LookupTable if set (its own range is
+   * stretched over ColorRange), else the built-in ColorMap (default COOL_TO_WARM).
+   */
+  virtual void SetLookupTable(vtkScalarsToColors* lookupTable);
+  vtkGetObjectMacro(LookupTable, vtkScalarsToColors);
+  vtkSetClampMacro(ColorMap, int, COOL_TO_WARM, BLACK_BODY);
+  vtkGetMacro(ColorMap, int);
+  ///@}
+
+  /**
+   * At most this many clipping planes.
+   */
+  static constexpr int MaximumNumberOfClippingPlanes = 6;
+
+  ///@{
+  /**
+   * Clipping planes (default none): each keeps the side its normal points to, as vtkMapper's
+   * clipping planes do. Rays start and end where the planes allow, so the surfaces inside are
+   * seen through the cut. At most MaximumNumberOfClippingPlanes.
+   */
+  void AddClippingPlane(vtkPlane* plane);
+  void RemoveAllClippingPlanes();
+  virtual void SetClippingPlanes(vtkPlaneCollection* planes);
+  vtkGetObjectMacro(ClippingPlanes, vtkPlaneCollection);
+  ///@}
+
+  /**
+   * Which part of a cut is capped.
+   */
+  enum CappingModes
+  {
+    /// No cap: the cut is open (default).
+    NO_CAP = 0,
+    /// Cap where the field on the clipping plane is below the largest iso-value (inside the
+    /// surfaces of a field that grows outward, such as a distance).
+    CAP_BELOW_ISO_VALUE = 1,
+    /// Cap where the field on the clipping plane is above the smallest iso-value.
+    CAP_ABOVE_ISO_VALUE = 2
+  };
+
+  ///@{
+  /**
+   * Capping of the cut (default NO_CAP): where a ray enters the kept region through a clipping
+   * plane inside the mesh and the field there is on the capped side, the pixel shows the plane,
+   * coloured through the colour map by the colour array when ColorByArray is on, else by the
+   * field (ColorRange, if automatic, is then the field's range).
+   */
+  vtkSetClampMacro(Capping, int, NO_CAP, CAP_ABOVE_ISO_VALUE);
+  vtkGetMacro(Capping, int);
+  ///@}
+
   /**
    * Transverse-cell tests: which cells are searched for an iso-value.
    */
@@ -211,7 +318,8 @@ public:
   vtkIdType GetPreprocessedBytes();
 
   /**
-   * Modification time including the iso-values and the camera.
+   * Modification time including the iso-values, the camera, the lookup table and the clipping
+   * planes.
    */
   vtkMTimeType GetMTime() override;
 
@@ -241,6 +349,15 @@ protected:
   double CentralDifferenceStep = 1e-3;
   int TransverseTest = BERNSTEIN_BOUND;
   double NodalRangeWidening = 0.25;
+  std::vector<double> IsoValueColors;    ///< 3 per iso-value; NaN: not set
+  std::vector<double> IsoValueOpacities; ///< NaN: not set
+  bool ColorByArray = false;
+  int ColorArrayComponent = -1;
+  double ColorRange[2] = { 0.0, -1.0 };
+  vtkScalarsToColors* LookupTable = nullptr;
+  int ColorMap = COOL_TO_WARM;
+  vtkPlaneCollection* ClippingPlanes = nullptr;
+  int Capping = NO_CAP;
 
   vtkIdType NumberOfRenderedCells = 0;
   vtkIdType NumberOfInvertedCells = 0;

@@ -7,8 +7,21 @@
 namespace tetdsr
 {
 
-glm::dvec3 shade(const Material& material, const glm::dvec3& hitPoint, const glm::dvec3& unitNormal,
-  const glm::dvec3& viewDirection, const glm::dvec3& lightPosition)
+glm::dvec3 ColorTable::map(double value) const
+{
+  if (std::isnan(value))
+  {
+    return nanColor;
+  }
+  const double last = static_cast<double>(colors.size() - 1);
+  const double x = hi > lo ? std::clamp((value - lo) / (hi - lo), 0.0, 1.0) * last : 0.0;
+  const std::size_t k = std::min(static_cast<std::size_t>(x), colors.size() - 2);
+  const double w = x - static_cast<double>(k);
+  return (1.0 - w) * colors[k] + w * colors[k + 1];
+}
+
+glm::dvec3 shade(const Material& material, const glm::dvec3& color, const glm::dvec3& hitPoint,
+  const glm::dvec3& unitNormal, const glm::dvec3& viewDirection, const glm::dvec3& lightPosition)
 {
   glm::dvec3 n = unitNormal;
   if (glm::dot(n, n) == 0.0)
@@ -25,22 +38,42 @@ glm::dvec3 shade(const Material& material, const glm::dvec3& hitPoint, const glm
   const double specular = diffuse > 0.0
     ? std::pow(std::max(0.0, glm::dot(reflected, -viewDirection)), material.specularPower)
     : 0.0;
-  return (material.ambient + material.diffuse * diffuse) * material.color +
+  return (material.ambient + material.diffuse * diffuse) * color +
     glm::dvec3(material.specular * specular);
 }
 
 Renderer::Renderer(const Scene& scene, const Camera& camera, const IsoValues& isoValues,
-  const Material& material, const glm::dvec3& lightPosition, const ImageView& image,
-  const NormalSettings& normals)
+  const RenderSettings& settings, const ImageView& image)
   : Scene_(scene)
   , Rays_(camera, image.width, image.height)
   , IsoValues_(isoValues)
-  , Material_(material)
-  , LightPosition_(lightPosition)
+  , Settings_(settings)
   , Image_(image)
-  , Normals_(normals)
   , TilesPerRow_((image.width + kTileSize - 1) / kTileSize)
 {
+  for (std::size_t k = 0; k < isoValues.sorted().size(); ++k)
+  {
+    const std::size_t original = isoValues.originalIndex(k);
+    SurfaceStyle style{ settings.material.color, 1.0 };
+    if (original < settings.isoStyles.size())
+    {
+      style = settings.isoStyles[original];
+    }
+    Translucent_ = Translucent_ || style.opacity < 1.0;
+    SortedStyles_.push_back(style);
+  }
+  for (ClipPlane& plane : Settings_.clipPlanes)
+  {
+    plane.normal = glm::normalize(plane.normal);
+  }
+  // Crossings nearer than this are one: the same surface found again in the neighbouring cell
+  // differs by rounding (~1e-15 of the scene), far below it; surfaces truly this close are
+  // below any pixel's footprint.
+  LayerGap_ = 1e-9 * scene.diagonal();
+  if (settings.normals.mode == NormalMode::DepthBuffer)
+  {
+    Nearest_.resize(static_cast<std::size_t>(image.width) * image.height);
+  }
 }
 
 NodeId Renderer::numberOfTiles() const
@@ -70,35 +103,195 @@ void Renderer::renderTiles(NodeId tileBegin, NodeId tileEnd) const
   forEachPixel(tileBegin, tileEnd, [this](int i, int j) { renderPixel(i, j); });
 }
 
+bool Renderer::clipInterval(const Ray& ray, double& tMin, double& tMax, int& enteringPlane) const
+{
+  tMin = 0.0;
+  tMax = std::numeric_limits<double>::infinity();
+  enteringPlane = -1;
+  for (std::size_t k = 0; k < Settings_.clipPlanes.size(); ++k)
+  {
+    // n . (o + t d - p) >= 0 with s = n . (o - p), slope = n . d.
+    const ClipPlane& plane = Settings_.clipPlanes[k];
+    const double s = glm::dot(plane.normal, ray.origin - plane.origin);
+    const double slope = glm::dot(plane.normal, ray.direction);
+    if (slope > 0.0)
+    {
+      const double t = -s / slope;
+      if (t > tMin)
+      {
+        tMin = t;
+        enteringPlane = static_cast<int>(k);
+      }
+    }
+    else if (slope < 0.0)
+    {
+      tMax = std::min(tMax, -s / slope);
+    }
+    else if (s < 0.0)
+    {
+      return false; // parallel to the plane, on the removed side
+    }
+  }
+  return tMin <= tMax;
+}
+
+double Renderer::colorValue(NodeId cellId, const glm::dvec3& point) const
+{
+  const ColorByArray& by = Settings_.colorBy;
+  if (!by.values)
+  {
+    return Scene_.interpolate(cellId, point, Scene_.mesh().values);
+  }
+  if (by.component >= 0)
+  {
+    return Scene_.interpolate(cellId, point, by.values, by.components, by.component);
+  }
+  double sum = 0.0;
+  for (int c = 0; c < by.components; ++c)
+  {
+    const double v = Scene_.interpolate(cellId, point, by.values, by.components, c);
+    sum += v * v;
+  }
+  return std::sqrt(sum);
+}
+
+bool Renderer::capAt(const Ray& ray, double t, int plane, std::size_t pixel) const
+{
+  const glm::dvec3 point = ray.origin + t * ray.direction;
+  NodeId cellId;
+  if (!Scene_.locate(point, cellId))
+  {
+    return false; // the plane is outside the mesh here
+  }
+  const double field = Scene_.interpolate(cellId, point, Scene_.mesh().values);
+  const std::vector<double>& iso = IsoValues_.sorted();
+  const bool inside = Settings_.cap == CapRegion::BelowIsoValue ? field < iso.back()
+                                                                : field > iso.front();
+  if (!inside)
+  {
+    return false;
+  }
+  const double value = colorValue(cellId, point);
+  const glm::dvec3 color = Settings_.colorTable.map(value);
+  const glm::dvec3& normal = Settings_.clipPlanes[static_cast<std::size_t>(plane)].normal;
+  Image_.depth[pixel] = t;
+  Image_.cellIds[pixel] = cellId;
+  for (int c = 0; c < 3; ++c)
+  {
+    Image_.normals[3 * pixel + c] = normal[c];
+  }
+  if (Image_.colorValues)
+  {
+    Image_.colorValues[pixel] = value;
+  }
+  if (!Nearest_.empty())
+  {
+    Nearest_[pixel] = { color, 1.0, glm::dvec3(0.0), 0.0 };
+  }
+  writePixel(pixel,
+    shade(Settings_.material, color, point, normal, ray.direction, Settings_.lightPosition), 1.0);
+  return true;
+}
+
 void Renderer::renderPixel(int i, int j) const
 {
   const std::size_t pixel = static_cast<std::size_t>(j) * Image_.width + i;
   const Ray ray = Rays_.pixelRay(i, j);
-  SurfaceHit hit;
-  if (!Scene_.firstHit(ray, IsoValues_, hit))
+  double tMin, tMax;
+  int enteringPlane;
+  if (!clipInterval(ray, tMin, tMax, enteringPlane))
   {
     writeMiss(pixel);
     return;
   }
-  const glm::dvec3 point = ray.origin + hit.t * ray.direction;
-  const glm::dvec3 normal = normalAt(hit, point);
-  const double length = glm::length(normal);
-  writeHit(pixel, ray, hit.t, length > 0.0 ? normal / length : glm::dvec3(0.0));
-  Image_.cellIds[pixel] = hit.cellId;
+  // A cap lies where the ray enters the kept region, in front of every surface.
+  if (Settings_.cap != CapRegion::None && enteringPlane >= 0 &&
+    capAt(ray, tMin, enteringPlane, pixel))
+  {
+    return;
+  }
+
+  // Crossings front to back: colour += (1 - opacity) * alpha * shaded, opacity += (1 - opacity)
+  // * alpha, until the rest could not change an 8-bit colour (opaque surfaces: one crossing).
+  constexpr double kOpaque = 1.0 - 1.0 / 512.0;
+  glm::dvec3 color(0.0);
+  double opacity = 0.0;
+  double tFrom = tMin;
+  for (int layer = 0; layer < kMaxLayers && opacity < kOpaque; ++layer)
+  {
+    SurfaceHit hit;
+    if (!Scene_.firstHit(ray, IsoValues_, hit, tFrom, tMax))
+    {
+      break;
+    }
+    const glm::dvec3 point = ray.origin + hit.t * ray.direction;
+    const glm::dvec3 normal = normalAt(hit, point);
+    const double length = glm::length(normal);
+    const glm::dvec3 unitNormal = length > 0.0 ? normal / length : glm::dvec3(0.0);
+    const SurfaceStyle& style = SortedStyles_[hit.isoIndex];
+    double value = std::numeric_limits<double>::quiet_NaN();
+    glm::dvec3 base = style.color;
+    if (Settings_.colorBy.values)
+    {
+      value = colorValue(hit.cellId, point);
+      base = Settings_.colorTable.map(value);
+    }
+    if (layer == 0)
+    {
+      Image_.depth[pixel] = hit.t;
+      Image_.cellIds[pixel] = hit.cellId;
+      for (int c = 0; c < 3; ++c)
+      {
+        Image_.normals[3 * pixel + c] = unitNormal[c];
+      }
+      if (Image_.colorValues)
+      {
+        Image_.colorValues[pixel] = value;
+      }
+      if (!Nearest_.empty())
+      {
+        Nearest_[pixel] = { base, style.opacity, glm::dvec3(0.0), 0.0 };
+      }
+    }
+    else if (!Nearest_.empty())
+    {
+      NearestLayer& nearest = Nearest_[pixel];
+      const double weight = (1.0 - nearest.behindOpacity) * style.opacity;
+      nearest.behindColor += weight *
+        shade(Settings_.material, base, point, unitNormal, ray.direction, Settings_.lightPosition);
+      nearest.behindOpacity += weight;
+    }
+    const glm::dvec3 shaded =
+      shade(Settings_.material, base, point, unitNormal, ray.direction, Settings_.lightPosition);
+    color += ((1.0 - opacity) * style.opacity) * shaded;
+    opacity += (1.0 - opacity) * style.opacity;
+    if (!Translucent_)
+    {
+      break;
+    }
+    tFrom = hit.t + std::max(LayerGap_, 1e-12 * hit.t);
+  }
+  if (opacity == 0.0)
+  {
+    writeMiss(pixel);
+    return;
+  }
+  writePixel(pixel, color, opacity);
 }
 
 glm::dvec3 Renderer::normalAt(const SurfaceHit& hit, const glm::dvec3& point) const
 {
-  switch (Normals_.mode)
+  switch (Settings_.normals.mode)
   {
     case NormalMode::CentralDifferences:
     {
       // Paper's eq. 11: each sample is evaluated in the cell that contains it; a sample outside
       // the mesh takes the hit cell's polynomial.
-      const double step = Normals_.relativeStep * Scene_.cellSize(hit.cellId);
+      const double step = Settings_.normals.relativeStep * Scene_.cellSize(hit.cellId);
+      const double* field = Scene_.mesh().values;
       auto sample = [&](const glm::dvec3& q) {
-        double value;
-        return Scene_.evaluate(q, value) ? value : Scene_.evaluateInCell(hit.cellId, q);
+        NodeId cellId;
+        return Scene_.interpolate(Scene_.locate(q, cellId) ? cellId : hit.cellId, q, field);
       };
       glm::dvec3 gradient;
       for (int axis = 0; axis < 3; ++axis)
@@ -170,24 +363,28 @@ void Renderer::shadeFromDepth(NodeId tileBegin, NodeId tileEnd) const
     {
       normal = -normal; // towards the viewer
     }
-    writeHit(pixel, ray, Image_.depth[pixel], normal);
+    for (int c = 0; c < 3; ++c)
+    {
+      Image_.normals[3 * pixel + c] = normal[c];
+    }
+    const NearestLayer& nearest = Nearest_[pixel];
+    const glm::dvec3 shaded = shade(Settings_.material, nearest.color,
+      ray.origin + Image_.depth[pixel] * ray.direction, normal, ray.direction,
+      Settings_.lightPosition);
+    writePixel(pixel, nearest.opacity * shaded + (1.0 - nearest.opacity) * nearest.behindColor,
+      nearest.opacity + (1.0 - nearest.opacity) * nearest.behindOpacity);
   });
 }
 
-void Renderer::writeHit(
-  std::size_t pixel, const Ray& ray, double t, const glm::dvec3& unitNormal) const
+void Renderer::writePixel(std::size_t pixel, const glm::dvec3& premultiplied, double opacity) const
 {
   std::uint8_t* rgba = Image_.colors + 4 * pixel;
-  double* normal = Image_.normals + 3 * pixel;
-  const glm::dvec3 point = ray.origin + t * ray.direction;
-  const glm::dvec3 color = shade(Material_, point, unitNormal, ray.direction, LightPosition_);
   for (int c = 0; c < 3; ++c)
   {
-    rgba[c] = static_cast<std::uint8_t>(std::clamp(color[c], 0.0, 1.0) * 255.0 + 0.5);
-    normal[c] = unitNormal[c];
+    rgba[c] =
+      static_cast<std::uint8_t>(std::clamp(premultiplied[c] / opacity, 0.0, 1.0) * 255.0 + 0.5);
   }
-  rgba[3] = 255;
-  Image_.depth[pixel] = t;
+  rgba[3] = static_cast<std::uint8_t>(std::clamp(opacity, 0.0, 1.0) * 255.0 + 0.5);
 }
 
 void Renderer::writeMiss(std::size_t pixel) const
@@ -198,6 +395,10 @@ void Renderer::writeMiss(std::size_t pixel) const
   Image_.depth[pixel] = std::numeric_limits<double>::infinity();
   normal[0] = normal[1] = normal[2] = 0.0;
   Image_.cellIds[pixel] = -1;
+  if (Image_.colorValues)
+  {
+    Image_.colorValues[pixel] = std::numeric_limits<double>::quiet_NaN();
+  }
 }
 
 } // namespace tetdsr

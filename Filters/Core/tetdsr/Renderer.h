@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <vector>
 
 namespace tetdsr
 {
@@ -38,31 +39,96 @@ struct NormalSettings
   double relativeStep = 1e-3;
 };
 
+/// A colour map sampled at evenly spaced values from `lo` to `hi` (the VTK adapter samples the
+/// user's lookup table); values between samples are interpolated linearly, values outside are
+/// clamped to the ends, NaN takes `nanColor`.
+struct ColorTable
+{
+  double lo = 0.0;
+  double hi = 1.0;
+  std::vector<glm::dvec3> colors; ///< at least 2 entries
+  glm::dvec3 nanColor{ 0.5, 0.5, 0.5 };
+
+  glm::dvec3 map(double value) const;
+};
+
+/// A second point array that colours the surface, interpolated at the hit with the quadratic
+/// shape functions of the hit cell.
+struct ColorByArray
+{
+  const double* values = nullptr; ///< `components` values per point; null: no such colouring
+  int components = 1;
+  int component = 0; ///< -1: the magnitude of the interpolated vector
+};
+
+/// Keeps the half-space n . (x - origin) >= 0: the normal points to the side that stays, as for
+/// VTK's mapper clipping planes. The normal need not be unit; it must not be zero.
+struct ClipPlane
+{
+  glm::dvec3 origin{ 0.0 };
+  glm::dvec3 normal{ 0.0, 0.0, 1.0 };
+};
+
+/// Which points of a clip plane inside the mesh are drawn as the cut's cap, coloured by the
+/// field (or the colour array) through the colour table: those below the largest iso-value
+/// (inside the surfaces of a field that grows outward, e.g. a distance) or above the smallest.
+enum class CapRegion
+{
+  None,
+  BelowIsoValue,
+  AboveIsoValue
+};
+
+/// Colour and opacity of one iso-value's surface.
+struct SurfaceStyle
+{
+  glm::dvec3 color{ 1.0, 1.0, 1.0 };
+  double opacity = 1.0;
+};
+
+struct RenderSettings
+{
+  Material material;
+  glm::dvec3 lightPosition{ 0.0, 0.0, 1.0 };
+  NormalSettings normals;
+  /// Per iso-value, in the order the values were given to IsoValues; a value without an entry
+  /// gets material.color, opaque. With any opacity below 1 the crossings along each ray are
+  /// composited front to back (nested translucent surfaces).
+  std::vector<SurfaceStyle> isoStyles;
+  ColorByArray colorBy;  ///< when set, replaces the surfaces' colours
+  ColorTable colorTable; ///< for colorBy, and for the caps
+  std::vector<ClipPlane> clipPlanes;
+  CapRegion cap = CapRegion::None;
+};
+
 /// Output image, row-major with row 0 at the bottom; the buffers are owned by the caller.
 /// `normals` holds the normal used for shading: along the field's gradient (towards increasing
-/// field) for the first three modes, towards the viewer for DepthBuffer.
+/// field) for the first three modes, towards the viewer for DepthBuffer, the plane's normal on a
+/// cap. Depth, normal, cell id and colour value are those of the nearest surface (or cap).
 struct ImageView
 {
   int width = 0;
   int height = 0;
-  std::uint8_t* colors = nullptr; ///< RGBA; background (0, 0, 0, 0)
+  std::uint8_t* colors = nullptr; ///< RGBA, not premultiplied; background (0, 0, 0, 0)
   double* depth = nullptr;        ///< +inf on misses
   double* normals = nullptr;      ///< unit normal (x, y, z); 0 on misses
-  NodeId* cellIds = nullptr; ///< -1 on misses
+  NodeId* cellIds = nullptr;      ///< -1 on misses
+  /// Optional: the value that was colour-mapped (colour array, or the field on a cap); NaN where
+  /// none was.
+  double* colorValues = nullptr;
 };
 
 /// Phong shading of a hit seen along `viewDirection` (unit, camera to hit). The normal is flipped
 /// towards the viewer, so the visible side of the surface is the lit one whatever the field's sign.
-glm::dvec3 shade(const Material& material, const glm::dvec3& hitPoint, const glm::dvec3& unitNormal,
-  const glm::dvec3& viewDirection, const glm::dvec3& lightPosition);
+glm::dvec3 shade(const Material& material, const glm::dvec3& color, const glm::dvec3& hitPoint,
+  const glm::dvec3& unitNormal, const glm::dvec3& viewDirection, const glm::dvec3& lightPosition);
 
 class Renderer
 {
 public:
   /// NodalInterpolation needs scene.computeNodalGradients() to have run.
   Renderer(const Scene& scene, const Camera& camera, const IsoValues& isoValues,
-    const Material& material, const glm::dvec3& lightPosition, const ImageView& image,
-    const NormalSettings& normals = NormalSettings());
+    const RenderSettings& settings, const ImageView& image);
 
   /// Square tiles of kTileSize pixels a side (clipped at the image's edges), row-major from the
   /// bottom left. Neighbouring rays visit the same cells, so a tile keeps them in cache.
@@ -74,25 +140,44 @@ public:
   void renderTiles(NodeId tileBegin, NodeId tileEnd) const;
 
   /// DepthBuffer only, after every tile is rendered: replaces the normals (and shading) of the
-  /// hits in tiles [tileBegin, tileEnd) by ones from the depth image's differences.
+  /// nearest surface in tiles [tileBegin, tileEnd) by ones from the depth image's differences.
   void shadeFromDepth(NodeId tileBegin, NodeId tileEnd) const;
 
+  /// Crossings composited per ray at most (translucent surfaces). Bounds the work where a ray
+  /// runs through a region where the field equals an iso-value (every point a crossing).
+  static constexpr int kMaxLayers = 64;
+
 private:
+  /// A pixel's nearest surface, kept for DepthBuffer's second pass: its unshaded colour and
+  /// opacity, and what lies behind it, composited (premultiplied).
+  struct NearestLayer
+  {
+    glm::dvec3 color{ 0.0 };
+    double opacity = 0.0;
+    glm::dvec3 behindColor{ 0.0 };
+    double behindOpacity = 0.0;
+  };
+
   template <typename PixelFunction>
   void forEachPixel(NodeId tileBegin, NodeId tileEnd, PixelFunction&& function) const;
   void renderPixel(int i, int j) const;
+  bool clipInterval(const Ray& ray, double& tMin, double& tMax, int& enteringPlane) const;
+  bool capAt(const Ray& ray, double t, int plane, std::size_t pixel) const;
   glm::dvec3 normalAt(const SurfaceHit& hit, const glm::dvec3& point) const;
-  void writeHit(std::size_t pixel, const Ray& ray, double t, const glm::dvec3& unitNormal) const;
+  double colorValue(NodeId cellId, const glm::dvec3& point) const;
+  void writePixel(std::size_t pixel, const glm::dvec3& premultiplied, double opacity) const;
   void writeMiss(std::size_t pixel) const;
 
   const Scene& Scene_;
   RayGenerator Rays_;
   const IsoValues& IsoValues_;
-  Material Material_;
-  glm::dvec3 LightPosition_;
+  RenderSettings Settings_;
+  std::vector<SurfaceStyle> SortedStyles_; ///< per IsoValues::sorted() entry
+  bool Translucent_ = false;
+  double LayerGap_ = 0.0;
   ImageView Image_;
-  NormalSettings Normals_;
   int TilesPerRow_;
+  mutable std::vector<NearestLayer> Nearest_; ///< DepthBuffer only; one per pixel
 };
 
 } // namespace tetdsr

@@ -21,7 +21,6 @@ constexpr int kStackSize = kMaxSahDepth + 64;
 // Subtrees below this depth, or smaller than this, are built as one task each.
 constexpr int kParallelBuildDepth = 4;
 constexpr std::size_t kSerialBuildSize = 4096;
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr float kFloatInfinity = std::numeric_limits<float>::infinity();
 
 // A mid-edge node farther than this fraction of the longest edge from its edge's midpoint makes
@@ -77,10 +76,19 @@ glm::dvec3 rayInverse(const glm::dvec3& direction)
 }
 } // namespace
 
-IsoValues::IsoValues(std::vector<double> values)
-  : Sorted_(std::move(values))
+IsoValues::IsoValues(const std::vector<double>& values)
+  : OriginalIndex_(values.size())
 {
-  std::sort(Sorted_.begin(), Sorted_.end());
+  for (std::size_t k = 0; k < values.size(); ++k)
+  {
+    OriginalIndex_[k] = k;
+  }
+  std::stable_sort(OriginalIndex_.begin(), OriginalIndex_.end(),
+    [&](std::size_t a, std::size_t b) { return values[a] < values[b]; });
+  for (const std::size_t k : OriginalIndex_)
+  {
+    Sorted_.push_back(values[k]);
+  }
 }
 
 struct Scene::BuildItem
@@ -550,25 +558,26 @@ void Scene::buildInParallel(std::vector<BuildItem>& items, const ParallelFor& pa
   emit(0);
 }
 
-void Scene::loadCell(NodeId cellId, glm::dvec3 vertices[4], double values[10]) const
+void Scene::loadCell(NodeId cellId, glm::dvec3 vertices[4], double values[10],
+  const double* pointValues, int components, int component) const
 {
   const NodeId* ids = Mesh_.cellNodes + 10 * cellId;
   for (int k = 0; k < 4; ++k)
   {
     const double* p = Mesh_.points + 3 * ids[k];
     vertices[k] = glm::dvec3(p[0], p[1], p[2]);
-    values[k] = Mesh_.values[ids[k]];
+    values[k] = pointValues[components * ids[k] + component];
   }
   for (int e = 0; e < 6; ++e)
   {
     const NodeId id = ids[4 + e];
     values[4 + e] = id >= 0
-      ? Mesh_.values[id]
+      ? pointValues[components * id + component]
       : 0.5 * (values[kEdgeVertices[e][0]] + values[kEdgeVertices[e][1]]);
   }
 }
 
-bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues,
+bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues, double tMin,
   double tLimit, SurfaceHit& hit) const
 {
   glm::dvec3 vertices[4];
@@ -593,7 +602,7 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
   frame.barycentricDirection(ray.direction, dL);
 
   // Entry and exit: the tet is {L_k >= 0}; each L_k(s) = L_k + s dL_k is affine in s.
-  double sEntry = -tCentre; // t >= 0
+  double sEntry = tMin - tCentre;
   double sExit = tLimit - tCentre;
   for (int k = 0; k < 4; ++k)
   {
@@ -630,10 +639,13 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
   const double magnitude = std::max(std::abs(cellLo), std::abs(cellHi));
   if (cellHi - cellLo <= 8.0 * std::numeric_limits<double>::epsilon() * magnitude)
   {
-    if (!isoValues.anyWithin(cellLo, cellHi))
+    const std::vector<double>& sorted = isoValues.sorted();
+    const auto it = std::lower_bound(sorted.begin(), sorted.end(), cellLo);
+    if (it == sorted.end() || *it > cellHi)
     {
       return false;
     }
+    hit.isoIndex = static_cast<std::size_t>(it - sorted.begin());
     hit.t = tCentre + sEntry;
     hit.cellId = cellId;
     hit.gradient = glm::dvec3(0.0);
@@ -642,17 +654,19 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
 
   bool found = false;
   double sHit = sExit;
-  for (double isoValue : isoValues.sorted())
+  const std::vector<double>& sorted = isoValues.sorted();
+  for (std::size_t k = 0; k < sorted.size(); ++k)
   {
-    if (isoValue < cellLo || isoValue > cellHi)
+    if (sorted[k] < cellLo || sorted[k] > cellHi)
     {
       continue; // not transverse for this iso-value
     }
     double s;
-    if (firstRootInInterval(a, b, c - isoValue, sEntry, sHit, s))
+    if (firstRootInInterval(a, b, c - sorted[k], sEntry, sHit, s))
     {
       found = true;
       sHit = s;
+      hit.isoIndex = k;
     }
   }
   if (!found)
@@ -670,7 +684,8 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
   return true;
 }
 
-bool Scene::firstHit(const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit) const
+bool Scene::firstHit(
+  const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit, double tMin, double tMax) const
 {
   if (Nodes_.empty() || !isoValues.anyWithin(Nodes_[0].valueLo, Nodes_[0].valueHi))
   {
@@ -685,9 +700,9 @@ bool Scene::firstHit(const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit
     double tEnter;
   } stack[kStackSize];
   int top = 0;
-  double best = kInfinity;
+  double best = tMax;
   double tEnter;
-  if (rayBox(origin, inverse, Nodes_[0].boxLo, Nodes_[0].boxHi, 0.0, best, tEnter))
+  if (rayBox(origin, inverse, Nodes_[0].boxLo, Nodes_[0].boxHi, tMin, best, tEnter))
   {
     stack[top++] = { 0, tEnter };
   }
@@ -706,7 +721,7 @@ bool Scene::firstHit(const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit
            ++slot)
       {
         if (isoValues.anyWithin(SlotRange_[2 * slot], SlotRange_[2 * slot + 1]) &&
-          intersectCell(SlotCell_[slot], ray, isoValues, best, hit))
+          intersectCell(SlotCell_[slot], ray, isoValues, tMin, best, hit))
         {
           best = hit.t;
           found = true;
@@ -723,7 +738,7 @@ bool Scene::firstHit(const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit
     {
       const Node& child = Nodes_[children[c]];
       hits[c] = isoValues.anyWithin(child.valueLo, child.valueHi) &&
-        rayBox(origin, inverse, child.boxLo, child.boxHi, 0.0, best, enter[c]);
+        rayBox(origin, inverse, child.boxLo, child.boxHi, tMin, best, enter[c]);
     }
     const int nearer = (hits[0] && hits[1] && enter[1] < enter[0]) ? 1 : 0;
     for (int c : { 1 - nearer, nearer })
@@ -743,11 +758,12 @@ std::size_t Scene::memoryBytes() const
     SlotRange_.capacity() * sizeof(float) + NodalGradients_.capacity() * sizeof(glm::dvec3);
 }
 
-double Scene::evaluateInCell(NodeId cellId, const glm::dvec3& point) const
+double Scene::interpolate(NodeId cellId, const glm::dvec3& point, const double* pointValues,
+  int components, int component) const
 {
   glm::dvec3 vertices[4];
   double values[10];
-  loadCell(cellId, vertices, values);
+  loadCell(cellId, vertices, values, pointValues, components, component);
   TetFrame frame;
   TetFrame::fromVertices(vertices, frame); // valid cells only reach here
   double L[4];
@@ -768,7 +784,7 @@ double Scene::cellSize(NodeId cellId) const
   return size;
 }
 
-bool Scene::evaluate(const glm::dvec3& point, double& value) const
+bool Scene::locate(const glm::dvec3& point, NodeId& cellId) const
 {
   if (Nodes_.empty())
   {
@@ -819,12 +835,23 @@ bool Scene::evaluate(const glm::dvec3& point, double& value) const
       if (L[0] >= -kBarycentricTolerance && L[1] >= -kBarycentricTolerance &&
         L[2] >= -kBarycentricTolerance && L[3] >= -kBarycentricTolerance)
       {
-        value = BernsteinForm::fromNodeValues(values).bilinear(L, L);
+        cellId = SlotCell_[slot];
         return true;
       }
     }
   }
   return false;
+}
+
+double Scene::diagonal() const
+{
+  if (Nodes_.empty())
+  {
+    return 0.0;
+  }
+  const Node& root = Nodes_[0];
+  return glm::length(glm::dvec3(root.boxHi[0] - root.boxLo[0], root.boxHi[1] - root.boxLo[1],
+    root.boxHi[2] - root.boxLo[2]));
 }
 
 void Scene::computeNodalGradients()

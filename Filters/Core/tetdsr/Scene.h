@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <vector>
 
 namespace tetdsr
@@ -64,7 +65,7 @@ struct TransverseTest
 class IsoValues
 {
 public:
-  explicit IsoValues(std::vector<double> values);
+  explicit IsoValues(const std::vector<double>& values);
 
   bool anyWithin(double lo, double hi) const
   {
@@ -78,8 +79,12 @@ public:
 
   const std::vector<double>& sorted() const { return Sorted_; }
 
+  /// The position, in the list given to the constructor, of the k-th smallest value.
+  std::size_t originalIndex(std::size_t k) const { return OriginalIndex_[k]; }
+
 private:
   std::vector<double> Sorted_;
+  std::vector<std::size_t> OriginalIndex_;
 };
 
 struct SurfaceHit
@@ -87,6 +92,7 @@ struct SurfaceHit
   double t = 0.0; ///< ray parameter (distance along the unit direction)
   NodeId cellId = -1;
   glm::dvec3 gradient{ 0.0 }; ///< exact field gradient at the hit
+  std::size_t isoIndex = 0;   ///< which iso-value was crossed, in IsoValues::sorted() order
 };
 
 /// Runs body(begin, end) over a partition of [0, count), possibly concurrently; the parts must
@@ -110,15 +116,25 @@ public:
 
   const PreprocessSummary& summary() const { return Summary_; }
 
-  /// The first crossing of any iso-value along the ray with t >= 0; false if there is none.
-  bool firstHit(const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit) const;
+  /// The first crossing of any iso-value along the ray with tMin <= t <= tMax; false if there
+  /// is none.
+  bool firstHit(const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit, double tMin = 0.0,
+    double tMax = std::numeric_limits<double>::infinity()) const;
 
-  /// Point location: the field at `point` from the valid cell containing it (the first found
-  /// where cells share a face); false if no valid cell contains it.
-  bool evaluate(const glm::dvec3& point, double& value) const;
+  /// Point location: the valid cell containing `point` (the first found where cells share a
+  /// face); false if no valid cell contains it.
+  bool locate(const glm::dvec3& point, NodeId& cellId) const;
 
-  /// The field of one cell's polynomial at `point` (its extension, if the point is outside).
-  double evaluateInCell(NodeId cellId, const glm::dvec3& point) const;
+  /// A point array (`components` values per point, this one's `component`) interpolated at
+  /// `point` with the quadratic shape functions of one cell (their extension, if the point is
+  /// outside). The scene's own field is interpolate(cell, point, mesh.values).
+  double interpolate(NodeId cellId, const glm::dvec3& point, const double* pointValues,
+    int components = 1, int component = 0) const;
+
+  const MeshView& mesh() const { return Mesh_; }
+
+  /// The diagonal of the box around the valid cells (0 when there is none).
+  double diagonal() const;
 
   /// The longest edge of a cell.
   double cellSize(NodeId cellId) const;
@@ -162,7 +178,14 @@ private:
   struct BuildItem;
   struct Bounds;
 
-  void loadCell(NodeId cellId, glm::dvec3 vertices[4], double values[10]) const;
+  /// A cell's vertices and the values at its 10 nodes of a point array (a missing mid-edge node
+  /// takes the mean of its edge's ends).
+  void loadCell(NodeId cellId, glm::dvec3 vertices[4], double values[10]) const
+  {
+    loadCell(cellId, vertices, values, Mesh_.values, 1, 0);
+  }
+  void loadCell(NodeId cellId, glm::dvec3 vertices[4], double values[10],
+    const double* pointValues, int components, int component) const;
   std::uint8_t validate(NodeId cellId, BuildItem& item) const;
   /// Makes `node` for items [begin, end), whose bounds are given. Returns false for a leaf, or
   /// true with the items partitioned at `middle` and the two sides' bounds.
@@ -171,7 +194,7 @@ private:
   std::uint32_t build(std::vector<BuildItem>& items, std::size_t begin, std::size_t end,
     int depth, const Bounds& bounds, std::vector<Node>& nodes);
   void buildInParallel(std::vector<BuildItem>& items, const ParallelFor& parallelFor);
-  bool intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues,
+  bool intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues, double tMin,
     double tLimit, SurfaceHit& hit) const;
 
   MeshView Mesh_;
