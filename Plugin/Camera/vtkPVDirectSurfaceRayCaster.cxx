@@ -2,6 +2,7 @@
 
 #include "vtkCamera.h"
 #include "vtkObjectFactory.h"
+#include "vtkPlane.h"
 
 vtkStandardNewMacro(vtkPVDirectSurfaceRayCaster);
 
@@ -45,6 +46,15 @@ void vtkPVDirectSurfaceRayCaster::SetCameraParallelProjection(bool parallel)
 void vtkPVDirectSurfaceRayCaster::SetCameraParallelScale(double scale)
 {
   this->PropertyCamera->SetParallelScale(scale);
+}
+
+void vtkPVDirectSurfaceRayCaster::AddClipPlane(
+  double x, double y, double z, double nx, double ny, double nz)
+{
+  vtkNew<vtkPlane> plane;
+  plane->SetOrigin(x, y, z);
+  plane->SetNormal(nx, ny, nz);
+  this->AddClippingPlane(plane);
 }
 
 void vtkPVDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)

@@ -42,6 +42,12 @@ public:
   void SetCameraParallelScale(double scale);
   ///@}
 
+  /**
+   * Adds a clipping plane through (x, y, z) with normal (nx, ny, nz), for the ClipPlanes
+   * property (RemoveAllClippingPlanes clears them).
+   */
+  void AddClipPlane(double x, double y, double z, double nx, double ny, double nz);
+
 protected:
   vtkPVDirectSurfaceRayCaster() = default;
   ~vtkPVDirectSurfaceRayCaster() override = default;

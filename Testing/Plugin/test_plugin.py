@@ -8,7 +8,7 @@ import math
 import sys
 
 from paraview import servermanager
-from paraview.simple import LoadPlugin, XMLUnstructuredGridReader
+from paraview.simple import Calculator, LoadPlugin, XMLUnstructuredGridReader
 
 plugin_path, data_dir = sys.argv[1], sys.argv[2]
 LoadPlugin(plugin_path, remote=False, ns=globals())
@@ -103,6 +103,62 @@ check(covered > 1000, f"expected more than 1000 covered pixels, got {covered}")
 check(reddish == covered, f"{covered - reddish} covered pixels do not show the red surface colour")
 
 print(f"plugin test: {covered} pixels on the sphere, {mismatches} coverage mismatches")
+
+# Colour by a second array, a clipping plane and a translucent surface, set as properties. The
+# second array is x, which the quadratic shape functions reproduce exactly; the plane keeps
+# x >= centre x; with opacity 0.5, a grey colour map over [lo, hi] and flat shading, the pixel's
+# alpha and colour follow from the sphere's crossings in the kept half-space.
+xcoord = Calculator(Input=reader, ResultArrayName="xcoord", Function="coordsX")
+lo, hi = centre[0] - radius, centre[0] + radius
+dsr.Input = xcoord
+dsr.ColorByArray = 1
+dsr.ColorArray = ["POINTS", "xcoord"]
+dsr.ColorMap = 2  # grayscale
+dsr.ColorRange = [lo, hi]
+dsr.IsoValueOpacities = [0.5]
+dsr.ClipPlanes = centre + [1.0, 0.0, 0.0]
+dsr.Ambient = 1.0
+dsr.Diffuse = 0.0
+dsr.Specular = 0.0
+dsr.UpdatePipeline()
+image = servermanager.Fetch(dsr)
+colors = image.GetPointData().GetArray("Colors")
+values = image.GetPointData().GetArray("ColorValues")
+check(values is not None, "ColorValues array expected when colouring by an array")
+worst_alpha = worst_grey = worst_value = 0.0
+layers_seen = set()
+for j in range(height):
+    for i in range(width):
+        x = (2 * (i + 0.5) / width - 1) * half * width / height
+        y = (2 * (j + 0.5) / height - 1) * half
+        d = unit([forward[k] + x * right[k] + y * up[k] for k in range(3)])
+        oc = sub(position, centre)
+        b = dot(d, oc)
+        disc = b * b - (dot(oc, oc) - radius * radius)
+        if abs(disc) < 1e-6 * radius * radius:
+            continue  # grazing ray: not compared
+        roots = [-b - math.sqrt(disc), -b + math.sqrt(disc)] if disc > 0 else []
+        xs = [position[0] + t * d[0] for t in roots]
+        kept = [xv for xv in xs if xv >= centre[0]]
+        if any(abs(xv - centre[0]) < 1e-6 for xv in xs):
+            continue  # a crossing on the plane itself: not compared
+        pixel = i + j * width
+        alpha = colors.GetComponent(pixel, 3) / 255
+        expected_alpha = 1 - 0.5 ** len(kept)
+        worst_alpha = max(worst_alpha, abs(alpha - expected_alpha))
+        layers_seen.add(len(kept))
+        if kept:
+            greys = [(xv - lo) / (hi - lo) for xv in kept]
+            weights = [0.5 * 0.5 ** n for n in range(len(kept))]
+            grey = sum(w * g for w, g in zip(weights, greys)) / sum(weights)
+            worst_grey = max(worst_grey, abs(colors.GetComponent(pixel, 0) / 255 - grey))
+            worst_value = max(worst_value, abs(values.GetValue(pixel) - kept[0]))
+check(layers_seen == {0, 1, 2}, f"expected pixels with 0, 1 and 2 kept crossings, got {layers_seen}")
+check(worst_alpha <= 1 / 255, f"alpha: expected 1 - 0.5^crossings, off by up to {worst_alpha}")
+check(worst_grey <= 1.5 / 255, f"grey: expected the composited colour map, off by up to {worst_grey}")
+check(worst_value < 1e-9, f"ColorValues: expected x at the nearest kept crossing, off by {worst_value}")
+print(f"colour by array + clip plane + opacity 0.5: alpha within {worst_alpha:.4f}, "
+      f"grey within {worst_grey:.4f}, colour value within {worst_value:.2e}")
 if failures:
     sys.exit(1)
 print("1 passed, 0 failed")
