@@ -2,6 +2,7 @@
 // vtkContourFilter, against the same analytic truth. Prints the table the README shows and
 // asserts TetDSR's targets (no miss, no false hit, depth <= 1e-9 of the diagonal, normals
 // within 1e-6 rad); vtkContourFilter's figures are reported, not asserted.
+#include "LatticeGrid.h"
 #include "StabilityCases.h"
 #include "TetDSRTestSupport.h"
 
@@ -15,30 +16,6 @@
 
 namespace
 {
-vtkSmartPointer<vtkUnstructuredGrid> ToGrid(const tetdsr_test::LatticeMesh& mesh)
-{
-  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  for (std::size_t p = 0; p < mesh.points.size() / 3; ++p)
-  {
-    points->InsertNextPoint(mesh.points.data() + 3 * p);
-  }
-  grid->SetPoints(points);
-  for (std::size_t c = 0; c < mesh.cellNodes.size() / 10; ++c)
-  {
-    grid->InsertNextCell(VTK_QUADRATIC_TETRA, 10, mesh.cellNodes.data() + 10 * c);
-  }
-  vtkNew<vtkDoubleArray> values;
-  values->SetName("f");
-  for (double v : mesh.values)
-  {
-    values->InsertNextValue(v);
-  }
-  grid->GetPointData()->SetScalars(values);
-  return grid;
-}
-
 void ToVTK(const tetdsr::Camera& camera, vtkCamera* vtk)
 {
   vtk->SetPosition(camera.position.x, camera.position.y, camera.position.z);
