@@ -12,9 +12,9 @@ import numpy as np
 from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import VTK_STRING, vtkCommand, vtkDoubleArray
-from vtkmodules.vtkCommonDataModel import (VTK_HEXAHEDRON, VTK_TETRA, vtkUnstructuredGrid)
+from vtkmodules.vtkCommonDataModel import (VTK_HEXAHEDRON, VTK_TETRA, vtkPlane, vtkUnstructuredGrid)
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
-from vtkmodules.vtkRenderingCore import vtkCamera
+from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction
 
 import vtk  # noqa: F401  (the filter must work next to `import vtk`)
 from tetdsr import vtkDirectSurfaceRayCaster
@@ -238,6 +238,73 @@ class SeveralIsoValues(unittest.TestCase):
         self.assertEqual([caster.GetValue(i) for i in range(3)], [0.5, 0.75, 1.0])
 
 
+class Appearance(unittest.TestCase):
+    """Options of issue 5 seen from Python: what must not change, what must re-execute."""
+
+    def caster(self):
+        caster = vtkDirectSurfaceRayCaster()
+        self.reader = read("cube27.vtu")  # the pipeline holds no reference to its producer
+        caster.SetInputConnection(self.reader.GetOutputPort())
+        caster.SetValue(0, 0.8)
+        caster.SetImageSize(64, 48)
+        return caster
+
+    def test_opaque_styles_give_the_default_image(self):
+        plain = self.caster()
+        plain.Update()
+        styled = self.caster()
+        styled.SetIsoValueOpacity(0, 1.0)
+        styled.SetIsoValueColor(0, 1.0, 1.0, 1.0)
+        styled.Update()
+        for name, values in arrays(plain.GetOutput()).items():
+            np.testing.assert_array_equal(values, arrays(styled.GetOutput())[name], err_msg=name)
+        self.assertIsNone(styled.GetOutput().GetPointData().GetArray("ColorValues"))
+
+    def test_lookup_table_and_plane_edits_re_execute(self):
+        caster = self.caster()
+        caster.ColorByArrayOn()
+        caster.SetInputArrayToProcess(1, 0, 0, 0, "distance")
+        table = vtkColorTransferFunction()
+        table.AddRGBPoint(0.0, 0.0, 0.0, 0.0)
+        table.AddRGBPoint(1.0, 1.0, 1.0, 1.0)
+        caster.SetLookupTable(table)
+        plane = vtkPlane()
+        plane.SetNormal(0.0, 0.0, -1.0)
+        plane.SetOrigin(0.0, 0.0, 2.0)  # keeps everything
+        caster.AddClippingPlane(plane)
+        caster.Update()
+        before = arrays(caster.GetOutput())
+        table.AddRGBPoint(1.0, 1.0, 0.0, 0.0)  # white end turns red
+        caster.Update()
+        after = arrays(caster.GetOutput())
+        hit = np.isfinite(before["Depth"])
+        self.assertTrue((after["Colors"][hit, 1] <= before["Colors"][hit, 1]).all())
+        self.assertGreater((after["Colors"][hit, 1] < before["Colors"][hit, 1]).sum(), 100)
+        plane.SetOrigin(0.0, 0.0, 0.0)  # now removes z > 0: the camera (on +z) sees deeper
+        caster.Update()
+        clipped = arrays(caster.GetOutput())["Depth"]
+        both = hit & np.isfinite(clipped)
+        self.assertTrue((clipped[both] >= before["Depth"][both]).all())
+        self.assertGreater((clipped[both] > before["Depth"][both] + 0.1).sum(), 100)
+
+    def test_depth_buffer_normals_with_translucent_surfaces(self):
+        caster = self.caster()
+        caster.SetValue(1, 0.5)
+        caster.SetIsoValueOpacity(0, 0.5)
+        caster.Update()
+        exact = arrays(caster.GetOutput())
+        caster.SetNormalMode(vtkDirectSurfaceRayCaster.DEPTH_BUFFER)
+        caster.Update()
+        depth_buffer = arrays(caster.GetOutput())
+        np.testing.assert_array_equal(exact["Depth"], depth_buffer["Depth"])
+        # Same coverage and opacity; the colours differ only by the nearest surface's shading.
+        np.testing.assert_array_equal(exact["Colors"][:, 3], depth_buffer["Colors"][:, 3])
+        # Rays through the outer surface only (opacity 0.5, crossed twice: 1 - 0.5^2 = 0.75) and
+        # rays that also reach the opaque inner one.
+        alpha = exact["Colors"][:, 3][np.isfinite(exact["Depth"])]
+        self.assertEqual(set(np.unique(alpha)), {191, 255})
+
+
 class TransverseTest(unittest.TestCase):
     def test_paper_heuristic_leaves_a_hole_the_bernstein_bound_does_not(self):
         # One cell: vertex values 1, mid-edge values 0.9, so f = 0.8 + 0.2 sum(L^2) dips to 0.85
@@ -321,6 +388,32 @@ class BadInput(unittest.TestCase):
         self.assertEqual(messages.errors, [])
         covered = np.isfinite(vtk_to_numpy(caster.GetOutput().GetPointData().GetArray("Depth")))
         self.assertGreater(covered.sum(), 0)
+
+    def test_colour_array_errors(self):
+        _, messages = self.run_filter(self.mesh(), lambda c: c.ColorByArrayOn())
+        self.assertTrue(any("no colour array is chosen" in e for e in messages.errors), messages.errors)
+        _, messages = self.run_filter(
+            self.mesh(), lambda c: (c.ColorByArrayOn(), c.SetInputArrayToProcess(1, 0, 0, 0, "speed")))
+        self.assertTrue(any("no point array named 'speed'" in e for e in messages.errors), messages.errors)
+        _, messages = self.run_filter(self.mesh(), lambda c: (
+            c.ColorByArrayOn(), c.SetInputArrayToProcess(1, 0, 0, 0, "sphere"), c.SetColorArrayComponent(2)))
+        self.assertTrue(any("ColorArrayComponent 2 is out of range" in e for e in messages.errors),
+                        messages.errors)
+
+    def test_clipping_plane_errors(self):
+        def planes(count, normal=(1.0, 0.0, 0.0)):
+            def configure(caster):
+                for _ in range(count):
+                    plane = vtkPlane()
+                    plane.SetNormal(*normal)
+                    caster.AddClippingPlane(plane)
+            return configure
+        _, messages = self.run_filter(self.mesh(), planes(7))
+        self.assertTrue(any("7 clipping planes: at most 6" in e for e in messages.errors), messages.errors)
+        _, messages = self.run_filter(self.mesh(), planes(1, (0.0, 0.0, 0.0)))
+        self.assertTrue(any("zero or non-finite normal" in e for e in messages.errors), messages.errors)
+        caster, messages = self.run_filter(self.mesh(), planes(6))
+        self.assertEqual(messages.errors, [])
 
     def test_empty_mesh_and_zero_image_size(self):
         _, messages = self.run_filter(vtkUnstructuredGrid())
