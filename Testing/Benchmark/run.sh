@@ -28,3 +28,6 @@ xvfb-run -a "$VENV/bin/python" Testing/Benchmark/vtk_wheel_contour.py "$OUT/tetd
 echo
 echo "Normal schemes (the paper's Table 1), lattice n = 26 (105,456 cells), ${IMAGE}x${IMAGE}, re-render times:"
 build/bin/tetdsr-benchmark --normals "$IMAGE" 26
+echo
+echo "Appearance options, lattice n = 26 (105,456 cells), ${IMAGE}x${IMAGE}, re-render times (best of 3):"
+build/bin/tetdsr-benchmark --options "$IMAGE" 26
