@@ -564,3 +564,57 @@ TEST(Scene, SeveralIsoValuesGiveTheNearestCrossingAndThinShellsTheFirstRoot)
   ASSERT_TRUE(scene.firstHit(centred, tetdsr::IsoValues({ tiny * tiny }), hit));
   EXPECT_NEAR(hit.t, 5.0 - tiny, 1e-12);
 }
+
+TEST(Scene, RayWindowGivesEveryCrossingInOrderWithItsIsoValue)
+{
+  // The same concentric spheres, values given out of order: stepping the window past each hit
+  // yields the four crossings in depth order, each naming the iso-value it crosses.
+  LatticeMesh mesh = makeLattice(2, glm::dvec3(-1.0), 2.0);
+  mesh.sample([](const glm::dvec3& x) { return glm::dot(x, x); });
+  const tetdsr::Scene scene(mesh.view());
+  const tetdsr::Ray ray{ glm::dvec3(0.05, -0.02, 5.0), glm::dvec3(0.0, 0.0, -1.0) };
+  const double r1 = 0.3, r2 = 0.7, rho2 = 0.05 * 0.05 + 0.02 * 0.02;
+  const tetdsr::IsoValues iso({ r2 * r2, r1 * r1 });
+  EXPECT_EQ(iso.originalIndex(0), 1u) << "the smaller value was given second";
+  EXPECT_EQ(iso.originalIndex(1), 0u);
+  const double h1 = std::sqrt(r1 * r1 - rho2), h2 = std::sqrt(r2 * r2 - rho2);
+  const double expected[4] = { 5.0 - h2, 5.0 - h1, 5.0 + h1, 5.0 + h2 };
+  const std::size_t expectedValue[4] = { 1, 0, 0, 1 }; // sorted order: r1^2 first
+  double from = 0.0;
+  for (int k = 0; k < 4; ++k)
+  {
+    tetdsr::SurfaceHit hit;
+    ASSERT_TRUE(scene.firstHit(ray, iso, hit, from)) << "crossing " << k;
+    EXPECT_NEAR(hit.t, expected[k], 1e-12) << "crossing " << k;
+    EXPECT_EQ(hit.isoIndex, expectedValue[k]) << "crossing " << k;
+    from = hit.t + 1e-9;
+  }
+  tetdsr::SurfaceHit hit;
+  EXPECT_FALSE(scene.firstHit(ray, iso, hit, from)) << "no fifth crossing";
+  EXPECT_FALSE(scene.firstHit(ray, iso, hit, 0.0, expected[0] - 1e-9)) << "window ends before";
+}
+
+TEST(Scene, PointLocationAndInterpolationOfAnotherArray)
+{
+  // A second quadratic array is reproduced exactly wherever the point is located.
+  LatticeMesh mesh = makeLattice(3, glm::dvec3(0.0), 1.0);
+  mesh.sample([](const glm::dvec3& x) { return x.x; });
+  std::vector<double> second;
+  const auto g = [](const glm::dvec3& x) { return x.x * x.y - 2.0 * x.z * x.z + 0.5; };
+  for (std::size_t p = 0; p < mesh.points.size() / 3; ++p)
+  {
+    second.push_back(g(mesh.point(static_cast<tetdsr::NodeId>(p))));
+  }
+  const tetdsr::Scene scene(mesh.view());
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int k = 0; k < 200; ++k)
+  {
+    const glm::dvec3 x(u(rng), u(rng), u(rng));
+    tetdsr::NodeId cell;
+    ASSERT_TRUE(scene.locate(x, cell));
+    EXPECT_NEAR(scene.interpolate(cell, x, second.data()), g(x), 1e-14);
+  }
+  tetdsr::NodeId cell;
+  EXPECT_FALSE(scene.locate(glm::dvec3(1.5, 0.5, 0.5), cell)) << "outside the mesh";
+}
