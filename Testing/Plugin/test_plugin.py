@@ -127,6 +127,7 @@ values = image.GetPointData().GetArray("ColorValues")
 check(values is not None, "ColorValues array expected when colouring by an array")
 worst_alpha = worst_grey = worst_value = 0.0
 layers_seen = set()
+compared = 0
 for j in range(height):
     for i in range(width):
         x = (2 * (i + 0.5) / width - 1) * half * width / height
@@ -147,6 +148,7 @@ for j in range(height):
         expected_alpha = 1 - 0.5 ** len(kept)
         worst_alpha = max(worst_alpha, abs(alpha - expected_alpha))
         layers_seen.add(len(kept))
+        compared += 1
         if kept:
             greys = [(xv - lo) / (hi - lo) for xv in kept]
             weights = [0.5 * 0.5 ** n for n in range(len(kept))]
@@ -157,7 +159,7 @@ check(layers_seen == {0, 1, 2}, f"expected pixels with 0, 1 and 2 kept crossings
 check(worst_alpha <= 1 / 255, f"alpha: expected 1 - 0.5^crossings, off by up to {worst_alpha}")
 check(worst_grey <= 1.5 / 255, f"grey: expected the composited colour map, off by up to {worst_grey}")
 check(worst_value < 1e-9, f"ColorValues: expected x at the nearest kept crossing, off by {worst_value}")
-print(f"colour by array + clip plane + opacity 0.5: alpha within {worst_alpha:.4f}, "
+print(f"colour by array + clip plane + opacity 0.5: {compared} pixels, alpha within {worst_alpha:.4f}, "
       f"grey within {worst_grey:.4f}, colour value within {worst_value:.2e}")
 if failures:
     sys.exit(1)
