@@ -199,7 +199,12 @@ int TestDirectSurfaceRayCasterAppearance(int argc, char* argv[])
   camera->SetViewAngle(20.0);
   const long double iso = 0.35L * 0.35L;
   const double diagonal = std::sqrt(3.0);
-  auto rayOf = [&](int i, int j) { return tetdsr_truth::PixelRay(camera, kWidth, kHeight, i, j); };
+  auto forEachPixel = [&](const std::function<void(vtkIdType, const tetdsr_truth::Ray&)>& body) {
+    for (int j = 0; j < kHeight; ++j)
+      for (int i = 0; i < kWidth; ++i)
+        body(i + static_cast<vtkIdType>(j) * kWidth,
+          tetdsr_truth::PixelRay(camera, kWidth, kHeight, i, j));
+  };
   auto newCaster = [&]() {
     auto caster = vtkSmartPointer<vtkDirectSurfaceRayCaster>::New();
     caster->SetInputData(grid);
@@ -231,34 +236,30 @@ int TestDirectSurfaceRayCasterAppearance(int argc, char* argv[])
       vtkDataArray* depth = image->GetPointData()->GetArray("Depth");
       int compared = 0, coverage = 0, colorErrors = 0;
       double valueError = 0.0;
-      for (int j = 0; j < kHeight; ++j)
-        for (int i = 0; i < kWidth; ++i)
+      forEachPixel([&](vtkIdType pixel, const tetdsr_truth::Ray& ray) {
+        long double t0, t1, margin;
+        int entering;
+        bool grazing = false;
+        std::vector<long double> roots;
+        if (KeptInterval(ray, {}, t0, t1, entering, margin))
+          roots = Crossings(ray, iso, t0, t1, grazing);
+        if (grazing)
+          return;
+        coverage += roots.empty() == std::isfinite(depth->GetComponent(pixel, 0));
+        if (roots.empty())
+          return;
+        const Vec x = At(ray, roots[0]);
+        double expected = Second(x);
+        if (component < 0)
         {
-          const tetdsr_truth::Ray ray = rayOf(i, j);
-          long double t0, t1, margin;
-          int entering;
-          bool grazing = false;
-          std::vector<long double> roots;
-          if (KeptInterval(ray, {}, t0, t1, entering, margin))
-            roots = Crossings(ray, iso, t0, t1, grazing);
-          if (grazing)
-            continue;
-          const vtkIdType pixel = i + static_cast<vtkIdType>(j) * kWidth;
-          coverage += roots.empty() == std::isfinite(depth->GetComponent(pixel, 0));
-          if (roots.empty())
-            continue;
-          const Vec x = At(ray, roots[0]);
-          double expected = Second(x);
-          if (component < 0)
-          {
-            const Vec v = Vector(x);
-            expected = static_cast<double>(std::sqrt(Dot(v, v)));
-          }
-          valueError = std::max(valueError, std::abs(values->GetComponent(pixel, 0) - expected));
-          const int grey = Byte((expected - lo) / (hi - lo));
-          colorErrors += std::abs(static_cast<int>(colors->GetComponent(pixel, 0)) - grey) > 1;
-          ++compared;
+          const Vec v = Vector(x);
+          expected = static_cast<double>(std::sqrt(Dot(v, v)));
         }
+        valueError = std::max(valueError, std::abs(values->GetComponent(pixel, 0) - expected));
+        const int grey = Byte((expected - lo) / (hi - lo));
+        colorErrors += std::abs(static_cast<int>(colors->GetComponent(pixel, 0)) - grey) > 1;
+        ++compared;
+      });
       std::printf("colour by %s: %d pixels, max value error %.2e, %d colours off by > 1/255, %d "
                   "coverage mismatches\n",
         component == 0 ? "g = xy - z^2/2 + 0.3x" : "|v|, v = (x, y^2, z - 1/2)", compared,
@@ -308,52 +309,48 @@ int TestDirectSurfaceRayCasterAppearance(int argc, char* argv[])
     int compared = 0, coverage = 0, capPixels = 0, capTruth = 0, colorErrors = 0, excluded = 0,
         surfacePixels = 0;
     double depthError = 0.0, capValueError = 0.0, capNormalError = 0.0;
-    for (int j = 0; j < kHeight; ++j)
-      for (int i = 0; i < kWidth; ++i)
+    forEachPixel([&](vtkIdType pixel, const tetdsr_truth::Ray& ray) {
+      long double t0, t1, margin;
+      int entering;
+      bool grazing = false;
+      bool capped = false;
+      long double tTrue = -1.0L;
+      if (KeptInterval(ray, planes, t0, t1, entering, margin))
       {
-        const tetdsr_truth::Ray ray = rayOf(i, j);
-        long double t0, t1, margin;
-        int entering;
-        bool grazing = false;
-        bool capped = false;
-        long double tTrue = -1.0L;
-        if (KeptInterval(ray, planes, t0, t1, entering, margin))
-        {
-          const long double f = Field(At(ray, t0));
-          grazing = margin < 1e-7L || (cap && entering >= 0 && std::abs(f - iso) < 1e-7L);
-          capped = cap && entering >= 0 && f < iso;
-          std::vector<long double> roots = Crossings(ray, iso, t0, t1, grazing);
-          tTrue = capped ? t0 : roots.empty() ? -1.0L : roots[0];
-        }
-        if (grazing)
-        {
-          ++excluded;
-          continue;
-        }
-        const vtkIdType pixel = i + static_cast<vtkIdType>(j) * kWidth;
-        const double ours = depth->GetComponent(pixel, 0);
-        coverage += (tTrue >= 0) != std::isfinite(ours);
-        capTruth += capped;
-        if (tTrue < 0 || !std::isfinite(ours))
-          continue;
-        ++compared;
-        depthError = std::max(depthError, std::abs(ours - static_cast<double>(tTrue)) / diagonal);
-        if (!capped)
-        {
-          ++surfacePixels;
-          continue;
-        }
-        ++capPixels;
-        const double f = static_cast<double>(Field(At(ray, tTrue)));
-        capValueError = std::max(capValueError, std::abs(values->GetComponent(pixel, 0) - f));
-        double n[3], expected[3];
-        normals->GetTuple(pixel, n);
-        for (int a = 0; a < 3; ++a)
-          expected[a] = static_cast<double>(planes[entering].normal[a]);
-        capNormalError = std::max(capNormalError, vtkMath::AngleBetweenVectors(n, expected));
-        const int grey = Byte(f / static_cast<double>(iso));
-        colorErrors += std::abs(static_cast<int>(colors->GetComponent(pixel, 0)) - grey) > 1;
+        const long double f = Field(At(ray, t0));
+        grazing = margin < 1e-7L || (cap && entering >= 0 && std::abs(f - iso) < 1e-7L);
+        capped = cap && entering >= 0 && f < iso;
+        std::vector<long double> roots = Crossings(ray, iso, t0, t1, grazing);
+        tTrue = capped ? t0 : roots.empty() ? -1.0L : roots[0];
       }
+      if (grazing)
+      {
+        ++excluded;
+        return;
+      }
+      const double ours = depth->GetComponent(pixel, 0);
+      coverage += (tTrue >= 0) != std::isfinite(ours);
+      capTruth += capped;
+      if (tTrue < 0 || !std::isfinite(ours))
+        return;
+      ++compared;
+      depthError = std::max(depthError, std::abs(ours - static_cast<double>(tTrue)) / diagonal);
+      if (!capped)
+      {
+        ++surfacePixels;
+        return;
+      }
+      ++capPixels;
+      const double f = static_cast<double>(Field(At(ray, tTrue)));
+      capValueError = std::max(capValueError, std::abs(values->GetComponent(pixel, 0) - f));
+      double n[3], expected[3];
+      normals->GetTuple(pixel, n);
+      for (int a = 0; a < 3; ++a)
+        expected[a] = static_cast<double>(planes[entering].normal[a]);
+      capNormalError = std::max(capNormalError, vtkMath::AngleBetweenVectors(n, expected));
+      const int grey = Byte(f / static_cast<double>(iso));
+      colorErrors += std::abs(static_cast<int>(colors->GetComponent(pixel, 0)) - grey) > 1;
+    });
     std::printf("clipped by 2 planes%s: %d pixels (%d excluded at region corners or tangencies), "
                 "%d coverage mismatches, max depth error %.2e of the diagonal; surface %d pixels, cap %d "
                 "pixels (truth %d), value error %.2e, normal error %.2e rad, %d colours off by > "
@@ -392,42 +389,38 @@ int TestDirectSurfaceRayCasterAppearance(int argc, char* argv[])
     vtkSmartPointer<vtkImageData> image = Run(caster);
     vtkDataArray* colors = image->GetPointData()->GetArray("Colors");
     int compared = 0, wrong = 0, layers[5] = { 0, 0, 0, 0, 0 };
-    for (int j = 0; j < kHeight; ++j)
-      for (int i = 0; i < kWidth; ++i)
+    forEachPixel([&](vtkIdType pixel, const tetdsr_truth::Ray& ray) {
+      long double t0, t1, margin;
+      int entering;
+      bool grazing = false;
+      std::vector<std::pair<long double, int>> crossings;
+      if (KeptInterval(ray, {}, t0, t1, entering, margin))
       {
-        const tetdsr_truth::Ray ray = rayOf(i, j);
-        long double t0, t1, margin;
-        int entering;
-        bool grazing = false;
-        std::vector<std::pair<long double, int>> crossings;
-        if (KeptInterval(ray, {}, t0, t1, entering, margin))
-        {
-          for (int k = 0; k < 2; ++k)
-            for (long double t : Crossings(ray, k == 0 ? outer : inner, t0, t1, grazing))
-              crossings.emplace_back(t, k);
-        }
-        if (grazing)
-          continue;
-        std::sort(crossings.begin(), crossings.end());
-        double color[3] = { 0.0, 0.0, 0.0 }, alpha = 0.0;
-        for (const auto& crossing : crossings)
-        {
-          const double weight = (1.0 - alpha) * opacity[crossing.second];
-          for (int c = 0; c < 3; ++c)
-            color[c] += weight * rgb[crossing.second][c];
-          alpha += weight;
-        }
-        ++layers[crossings.size()];
-        const vtkIdType pixel = i + static_cast<vtkIdType>(j) * kWidth;
-        int expected[4] = { 0, 0, 0, Byte(alpha) };
-        for (int c = 0; c < 3 && alpha > 0.0; ++c)
-          expected[c] = Byte(color[c] / alpha);
-        bool same = true;
-        for (int c = 0; c < 4; ++c)
-          same = same && std::abs(static_cast<int>(colors->GetComponent(pixel, c)) - expected[c]) <= 1;
-        wrong += !same;
-        ++compared;
+        for (int k = 0; k < 2; ++k)
+          for (long double t : Crossings(ray, k == 0 ? outer : inner, t0, t1, grazing))
+            crossings.emplace_back(t, k);
       }
+      if (grazing)
+        return;
+      std::sort(crossings.begin(), crossings.end());
+      double color[3] = { 0.0, 0.0, 0.0 }, alpha = 0.0;
+      for (const auto& crossing : crossings)
+      {
+        const double weight = (1.0 - alpha) * opacity[crossing.second];
+        for (int c = 0; c < 3; ++c)
+          color[c] += weight * rgb[crossing.second][c];
+        alpha += weight;
+      }
+      ++layers[crossings.size()];
+      int expected[4] = { 0, 0, 0, Byte(alpha) };
+      for (int c = 0; c < 3 && alpha > 0.0; ++c)
+        expected[c] = Byte(color[c] / alpha);
+      bool same = true;
+      for (int c = 0; c < 4; ++c)
+        same = same && std::abs(static_cast<int>(colors->GetComponent(pixel, c)) - expected[c]) <= 1;
+      wrong += !same;
+      ++compared;
+    });
     std::printf("nested translucent spheres: %d pixels (0/1/2/3/4 crossings: %d/%d/%d/%d/%d), %d "
                 "with an RGBA byte off by more than 1\n",
       compared, layers[0], layers[1], layers[2], layers[3], layers[4], wrong);

@@ -76,27 +76,33 @@ forward = unit(sub(centre, position))
 right = unit(cross(forward, [0.0, 1.0, 0.0]))
 up = cross(right, forward)
 half = math.tan(math.radians(20.0) / 2)
+oc = sub(position, centre)
+
+
+def pixel_rays():
+    """(pixel id, unit direction, b = d.(position - centre)) of every pixel's ray."""
+    for j in range(height):
+        for i in range(width):
+            x = (2 * (i + 0.5) / width - 1) * half * width / height
+            y = (2 * (j + 0.5) / height - 1) * half
+            d = unit([forward[k] + x * right[k] + y * up[k] for k in range(3)])
+            yield i + j * width, d, dot(d, oc)
+
+
 mismatches = covered = reddish = 0
-for j in range(height):
-    for i in range(width):
-        x = (2 * (i + 0.5) / width - 1) * half * width / height
-        y = (2 * (j + 0.5) / height - 1) * half
-        d = unit([forward[k] + x * right[k] + y * up[k] for k in range(3)])
-        oc = sub(position, centre)
-        b = dot(d, oc)
-        closest = math.sqrt(max(dot(oc, oc) - b * b, 0.0))
-        if abs(closest - radius) < 1e-6 * radius:
-            continue  # grazing ray: not compared
-        truth = closest < radius
-        pixel = i + j * width
-        ours = math.isfinite(depth.GetValue(pixel))
-        mismatches += truth != ours
-        if ours:
-            covered += 1
-            r, g, bl, a = (colors.GetComponent(pixel, k) for k in range(4))
-            # Red surface, white highlights: G == B (specular only), R above them by the
-            # ambient + diffuse part (>= 0.2 * 255).
-            reddish += g == bl and r - g >= 50 and a == 255
+for pixel, d, b in pixel_rays():
+    closest = math.sqrt(max(dot(oc, oc) - b * b, 0.0))
+    if abs(closest - radius) < 1e-6 * radius:
+        continue  # grazing ray: not compared
+    truth = closest < radius
+    ours = math.isfinite(depth.GetValue(pixel))
+    mismatches += truth != ours
+    if ours:
+        covered += 1
+        r, g, bl, a = (colors.GetComponent(pixel, k) for k in range(4))
+        # Red surface, white highlights: G == B (specular only), R above them by the
+        # ambient + diffuse part (>= 0.2 * 255).
+        reddish += g == bl and r - g >= 50 and a == 255
 
 check(mismatches == 0, f"coverage differs from the analytic sphere at {mismatches} pixels")
 check(covered > 1000, f"expected more than 1000 covered pixels, got {covered}")
@@ -128,33 +134,26 @@ check(values is not None, "ColorValues array expected when colouring by an array
 worst_alpha = worst_grey = worst_value = 0.0
 layers_seen = set()
 compared = 0
-for j in range(height):
-    for i in range(width):
-        x = (2 * (i + 0.5) / width - 1) * half * width / height
-        y = (2 * (j + 0.5) / height - 1) * half
-        d = unit([forward[k] + x * right[k] + y * up[k] for k in range(3)])
-        oc = sub(position, centre)
-        b = dot(d, oc)
-        disc = b * b - (dot(oc, oc) - radius * radius)
-        if abs(disc) < 1e-6 * radius * radius:
-            continue  # grazing ray: not compared
-        roots = [-b - math.sqrt(disc), -b + math.sqrt(disc)] if disc > 0 else []
-        xs = [position[0] + t * d[0] for t in roots]
-        kept = [xv for xv in xs if xv >= centre[0]]
-        if any(abs(xv - centre[0]) < 1e-6 for xv in xs):
-            continue  # a crossing on the plane itself: not compared
-        pixel = i + j * width
-        alpha = colors.GetComponent(pixel, 3) / 255
-        expected_alpha = 1 - 0.5 ** len(kept)
-        worst_alpha = max(worst_alpha, abs(alpha - expected_alpha))
-        layers_seen.add(len(kept))
-        compared += 1
-        if kept:
-            greys = [(xv - lo) / (hi - lo) for xv in kept]
-            weights = [0.5 * 0.5 ** n for n in range(len(kept))]
-            grey = sum(w * g for w, g in zip(weights, greys)) / sum(weights)
-            worst_grey = max(worst_grey, abs(colors.GetComponent(pixel, 0) / 255 - grey))
-            worst_value = max(worst_value, abs(values.GetValue(pixel) - kept[0]))
+for pixel, d, b in pixel_rays():
+    disc = b * b - (dot(oc, oc) - radius * radius)
+    if abs(disc) < 1e-6 * radius * radius:
+        continue  # grazing ray: not compared
+    roots = [-b - math.sqrt(disc), -b + math.sqrt(disc)] if disc > 0 else []
+    xs = [position[0] + t * d[0] for t in roots]
+    kept = [xv for xv in xs if xv >= centre[0]]
+    if any(abs(xv - centre[0]) < 1e-6 for xv in xs):
+        continue  # a crossing on the plane itself: not compared
+    alpha = colors.GetComponent(pixel, 3) / 255
+    expected_alpha = 1 - 0.5 ** len(kept)
+    worst_alpha = max(worst_alpha, abs(alpha - expected_alpha))
+    layers_seen.add(len(kept))
+    compared += 1
+    if kept:
+        greys = [(xv - lo) / (hi - lo) for xv in kept]
+        weights = [0.5 * 0.5 ** n for n in range(len(kept))]
+        grey = sum(w * g for w, g in zip(weights, greys)) / sum(weights)
+        worst_grey = max(worst_grey, abs(colors.GetComponent(pixel, 0) / 255 - grey))
+        worst_value = max(worst_value, abs(values.GetValue(pixel) - kept[0]))
 check(layers_seen == {0, 1, 2}, f"expected pixels with 0, 1 and 2 kept crossings, got {layers_seen}")
 check(worst_alpha <= 1 / 255, f"alpha: expected 1 - 0.5^crossings, off by up to {worst_alpha}")
 check(worst_grey <= 1.5 / 255, f"grey: expected the composited colour map, off by up to {worst_grey}")
