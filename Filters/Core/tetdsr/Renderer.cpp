@@ -236,6 +236,8 @@ void Renderer::renderPixel(int i, int j) const
       value = colorValue(hit.cellId, point);
       base = Settings_.colorTable.map(value);
     }
+    const glm::dvec3 shaded =
+      shade(Settings_.material, base, point, unitNormal, ray.direction, Settings_.lightPosition);
     if (layer == 0)
     {
       Image_.depth[pixel] = hit.t;
@@ -257,12 +259,9 @@ void Renderer::renderPixel(int i, int j) const
     {
       NearestLayer& nearest = Nearest_[pixel];
       const double weight = (1.0 - nearest.behindOpacity) * style.opacity;
-      nearest.behindColor += weight *
-        shade(Settings_.material, base, point, unitNormal, ray.direction, Settings_.lightPosition);
+      nearest.behindColor += weight * shaded;
       nearest.behindOpacity += weight;
     }
-    const glm::dvec3 shaded =
-      shade(Settings_.material, base, point, unitNormal, ray.direction, Settings_.lightPosition);
     color += ((1.0 - opacity) * style.opacity) * shaded;
     opacity += (1.0 - opacity) * style.opacity;
     if (!Translucent_)
