@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Creates build/flow-venv (gmsh, scikit-fem, pyamg at pinned versions) and runs
+# Scripts/make_expansion_flow.py in it with the given arguments, e.g.
+#   bash Scripts/make-expansion-flow.sh --size 0.15 --out build/expansion_flow_0.15.vtu --check
+# The venv sees Debian's site packages for ParaView's VTK 9.2 (python3-paraview, installed by
+# Scripts/setup.sh), which writes and checks the .vtu; its own numpy stays below 2 for that VTK.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+VENV=build/flow-venv
+if [ ! -x "$VENV/bin/python" ]; then
+  /usr/bin/python3 -m venv --system-site-packages "$VENV"
+fi
+"$VENV/bin/pip" install -q --disable-pip-version-check \
+  numpy==1.26.4 scipy==1.15.3 pyamg==5.4.1 scikit-fem==12.0.2 gmsh==4.15.2
+"$VENV/bin/python" Scripts/make_expansion_flow.py "$@"
