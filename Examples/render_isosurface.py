@@ -29,6 +29,8 @@ def main():
     parser.add_argument("--size", type=int, nargs=2, default=[512, 512], metavar=("W", "H"))
     parser.add_argument("--view", type=float, nargs=3, metavar=("X", "Y", "Z"),
                         help="look at the mesh from this direction (the whole mesh in view)")
+    parser.add_argument("--zoom", type=float, default=1.0,
+                        help="with --view: magnify by this factor (narrower view angle)")
     parser.add_argument("--out", default="isosurface.png", help="output PNG")
     parser.add_argument("--color-by", metavar="ARRAY", help="colour by this point array (magnitude)")
     parser.add_argument("--color-range", type=float, nargs=2, metavar=("LO", "HI"),
@@ -80,6 +82,7 @@ def main():
         camera.SetFocalPoint(*centre)
         camera.SetPosition(*[centre[k] + distance * args.view[k] / norm for k in range(3)])
         camera.SetViewUp(0, 1, 0)
+        camera.SetViewAngle(2 * math.degrees(math.atan(math.tan(math.radians(15)) / args.zoom)))
         caster.SetCamera(camera)
     errors = []
     caster.AddObserver(vtkCommand.ErrorEvent, lambda obj, event: errors.append(event))
