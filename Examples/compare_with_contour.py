@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""vtkContourFilter (rendered by VTK's OpenGL renderer) beside TetDSR, same camera, on the two
+"""vtkContourFilter (rendered by VTK's OpenGL renderer) beside TetDSR, same camera, on the three
 bundled meshes; writes one PNG. Needs an X display (run under xvfb-run -a).
 
   PYTHONPATH=build/lib/python3/dist-packages xvfb-run -a /usr/bin/python3 \
@@ -22,15 +22,17 @@ from tetdsr import vtkDirectSurfaceRayCaster
 PANEL = 360
 
 
-def scene(data_dir, name, iso, offset):
-    """Camera at focal point + offset; the focal point is the sphere's centre where the mesh
-    records one, else the mesh's centre."""
+def scene(data_dir, name, array, iso, offset):
+    """Camera at focal point + offset; the focal point is the jet in the flow, the sphere's
+    centre where the mesh records one, else the mesh's centre."""
     reader = vtkXMLUnstructuredGridReader()
     reader.SetFileName(os.path.join(data_dir, name))
     reader.Update()
     mesh = reader.GetOutput()
     sphere_centre = mesh.GetFieldData().GetArray("SphereCentre")
-    if sphere_centre:
+    if name == "expansion_flow.vtu":
+        focal = [5.6, 0.0, 0.0]  # the jet, from the inlet duct into the expansion
+    elif sphere_centre:
         focal = [sphere_centre.GetValue(k) for k in range(3)]
     else:
         bounds = mesh.GetBounds()
@@ -42,10 +44,12 @@ def scene(data_dir, name, iso, offset):
     camera.SetViewAngle(30)
     contour = vtkContourFilter()
     contour.SetInputConnection(reader.GetOutputPort())
+    contour.SetInputArrayToProcess(0, 0, 0, 0, array)  # 0 = FIELD_ASSOCIATION_POINTS
     contour.SetValue(0, iso)
     contour.Update()
     caster = vtkDirectSurfaceRayCaster()
     caster.SetInputConnection(reader.GetOutputPort())
+    caster.SetInputArrayToProcess(0, 0, 0, 0, array)
     caster.SetValue(0, iso)
     caster.SetCamera(camera)
     caster.SetImageSize(PANEL, PANEL)
@@ -64,12 +68,13 @@ def label(renderer, text):
 def main(data_dir, out):
     window = vtkRenderWindow()
     window.SetOffScreenRendering(1)
-    window.SetSize(2 * PANEL, 2 * PANEL)
-    rows = [("cube27.vtu", 0.8, (2.4, 1.7, 3.4), "27-node cube, |x| = 0.8"),
-            ("sphere_in_cell.vtu", 0.0, (0.9, 0.6, 1.2), "sphere inside one cell")]
-    for row, (name, iso, offset, title) in enumerate(rows):
-        camera, contour, caster = scene(data_dir, name, iso, offset)
-        y0, y1 = (0.5, 1.0) if row == 0 else (0.0, 0.5)
+    rows = [("expansion_flow.vtu", "speed", 0.25, (2.2, 3.5, 4.4), "expansion flow, speed = 0.25"),
+            ("cube27.vtu", "distance", 0.8, (2.4, 1.7, 3.4), "27-node cube, |x| = 0.8"),
+            ("sphere_in_cell.vtu", "sphere", 0.0, (0.9, 0.6, 1.2), "sphere inside one cell")]
+    window.SetSize(2 * PANEL, len(rows) * PANEL)
+    for row, (name, array, iso, offset, title) in enumerate(rows):
+        camera, contour, caster = scene(data_dir, name, array, iso, offset)
+        y0, y1 = 1.0 - (row + 1) / len(rows), 1.0 - row / len(rows)
         # Left: the linear contour, rendered by VTK with the same camera.
         left = vtkRenderer()
         left.SetViewport(0.0, y0, 0.5, y1)
