@@ -7,6 +7,16 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# ParaView's VTK (Scripts/setup.sh), venv support, and the X and GL libraries gmsh's wheel loads.
+bash Scripts/setup.sh > /dev/null
+EXTRA=(python3-venv libglu1-mesa libxcursor1 libxft2 libxinerama1 libxrender1 libfontconfig1)
+if ! dpkg -s "${EXTRA[@]}" > /dev/null 2>&1; then
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+  $SUDO apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${EXTRA[@]}"
+fi
+
 VENV=build/flow-venv
 if [ ! -x "$VENV/bin/python" ]; then
   /usr/bin/python3 -m venv --system-site-packages "$VENV"
