@@ -181,6 +181,7 @@ def score(scene, truth, method, family, first, again, covered, depth=None, norma
         # atan2 of |a x b| and a . b keeps tiny angles accurate (acos would not).
         angle = np.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.abs(dot) if lines else dot)
         normal_error = (angle.mean(), angle.max()) if angle.size else (0.0, 0.0)
+    log(f"  {method}: {first:.3f} s, {again:.3f} s")
     return Row(scene.name, scene.mesh.GetNumberOfCells(), method, family, first, again,
                int(truth_hit.sum()), int(excluded.sum()), int((truth_hit & ~hit).sum()),
                int((hit & ~truth_hit).sum()), depth_error, normal_error, **extra)
@@ -388,15 +389,19 @@ def run_scene(scene, viewer, size, budgets, tetrahedralisation):
 
     rows.append(polygonal(scene, truth, viewer, rays, "vtkContourFilter", "vtkContourFilter",
                           lambda: contour(scene.mesh, scene.array, scene.iso)))
+    skipped = []
     for level in range(1, 5):
         linear_tets = cells * 8 ** (level + 1)
         if linear_tets > budgets.tessellation:
-            notes.append(f"{scene.name}: tessellation level {level} skipped ({linear_tets:,} linear "
-                         f"tets > budget {budgets.tessellation:,})")
+            skipped.append((level, linear_tets))
             continue
         rows.append(polygonal(
             scene, truth, viewer, rays, f"tessellate level {level} + contour", "vtkTessellatorFilter + contour",
             lambda: tessellate_and_contour(scene.mesh, scene.array, scene.iso, level), level=level))
+    if skipped:
+        notes.append(f"{scene.name}: tessellation level(s) {', '.join(str(level) for level, _ in skipped)} "
+                     f"not run: {', '.join(f'{tets / 1e6:,.1f} M' for _, tets in skipped)} linear tets, "
+                     f"over the budget of {budgets.tessellation / 1e6:g} M")
 
     if cells * 8 > budgets.volume:
         notes.append(f"{scene.name}: volume ray casting skipped ({cells * 8:,} linear tets > budget "
