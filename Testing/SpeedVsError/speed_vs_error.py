@@ -71,10 +71,11 @@ def log(*message):
     print(*message, file=sys.stderr, flush=True)
 
 
-def seconds(work):
+def timed(work):
+    """Wall-clock seconds of work(), and its result."""
     start = time.perf_counter()
-    work()
-    return time.perf_counter() - start
+    result = work()
+    return time.perf_counter() - start, result
 
 
 def make_grid(points, connectivity, cell_type, arrays):
@@ -198,14 +199,20 @@ class Viewer:
         self.window.SetSize(size, size)
         self.renderer = None
         self.show(vtkRenderer(), None)  # creates the context
+        self.release()
 
     def render(self):
         self.window.Render()
         self.window.WaitForCompletion()
 
-    def show(self, renderer, camera):
+    def release(self):
+        """Drops the last scene (outside any timing: freeing a volume mapper's structures can take
+        seconds)."""
         if self.renderer is not None:
             self.window.RemoveRenderer(self.renderer)
+            self.renderer = None
+
+    def show(self, renderer, camera):
         self.renderer = renderer
         self.window.AddRenderer(renderer)
         if camera is not None:
@@ -216,7 +223,8 @@ class Viewer:
     def first_and_again(self, renderer, camera):
         """Time of the first render of a new scene, and of a render after the camera moved; also
         the first image (RGB, pixel id i + j * width, j = 0 the bottom row)."""
-        first = seconds(lambda: self.show(renderer, camera))
+        self.release()
+        first, _ = timed(lambda: self.show(renderer, camera))
         grab = vtkWindowToImageFilter()
         grab.SetInput(self.window)
         grab.ReadFrontBufferOff()
@@ -224,7 +232,7 @@ class Viewer:
         rgb = vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars()).reshape(self.size * self.size, -1).copy()
         camera.Azimuth(CAMERA_MOVE_DEGREES)
         renderer.ResetCameraClippingRange()
-        again = seconds(self.render)
+        again, _ = timed(self.render)
         return first, again, rgb
 
 
@@ -237,12 +245,12 @@ def run_tetdsr(scene, size, mode):
     caster.SetNormalMode(mode)
     caster.SetCamera(camera)
     caster.SetImageSize(size, size)
-    first = seconds(caster.Update)
+    first, _ = timed(caster.Update)
     image = caster.GetOutput().GetPointData()
     depth = vtk_to_numpy(image.GetArray("Depth")).astype(np.float64)
     normal = vtk_to_numpy(image.GetArray("Normals")).astype(np.float64)
     camera.Azimuth(CAMERA_MOVE_DEGREES)
-    again = seconds(caster.Update)
+    again, _ = timed(caster.Update)
     return first, again, depth, normal
 
 
@@ -260,7 +268,7 @@ def polygonal(scene, truth, viewer, rays, method, family, make_surface, **extra)
     render_first, again, _ = viewer.first_and_again(renderer, scene.camera())
     triangles = surface.GetNumberOfPolys()
     if triangles == 0:
-        depth, normal = np.full(size_of(rays), np.inf), np.zeros((size_of(rays), 3))
+        depth, normal = np.full(rays.width * rays.height, np.inf), np.zeros((rays.width * rays.height, 3))
     else:
         corners = vtk_to_numpy(surface.GetPolys().GetConnectivityArray())
         if corners.size != 3 * triangles or surface.GetNumberOfCells() != triangles:
@@ -272,16 +280,6 @@ def polygonal(scene, truth, viewer, rays, method, family, make_surface, **extra)
     return score(scene, truth, method, family, surface_seconds + render_first, again,
                 np.isfinite(depth), depth, normal, lines=True,
                 triangles=triangles, **extra)
-
-
-def size_of(rays):
-    return rays.width * rays.height
-
-
-def timed(work):
-    start = time.perf_counter()
-    result = work()
-    return time.perf_counter() - start, result
 
 
 def contour(mesh, array, iso):
@@ -358,7 +356,7 @@ class Tetrahedralisation:
             log("  tetrahedralising")
             split = vtkDataSetTriangleFilter()
             split.SetInputData(mesh)
-            self.seconds = seconds(split.Update)
+            self.seconds, _ = timed(split.Update)
             self.mesh, self.tets = mesh, split.GetOutput()
         return self.seconds, self.tets
 
@@ -366,6 +364,12 @@ class Tetrahedralisation:
 def analytic_truth(scene, rays):
     depth, normal, excluded = scene.quadric.first_hit(rays, scene.iso, scene.lo, scene.hi, AMBIGUITY)
     return Truth(depth, normal, excluded)
+
+
+@dataclass
+class Budgets:
+    tessellation: int  # most linear tets a tessellation may produce
+    volume: int  # most linear tets the volume ray caster may be given
 
 
 def run_scene(scene, viewer, size, budgets, tetrahedralisation):
@@ -602,12 +606,6 @@ def plot(path, rows, table2):
     figure.suptitle("Time against error: each point one method on one scene, the same pixel rays, "
                     "errors against exact truth")
     figure.savefig(path, dpi=110, bbox_inches="tight")
-
-
-@dataclass
-class Budgets:
-    tessellation: int  # most linear tets a tessellation may produce
-    volume: int  # most linear tets the volume ray caster may be given
 
 
 def check(rows, sizes):
