@@ -198,7 +198,7 @@ def cast_triangles(points, triangles, point_normals, rays, pairs_per_batch=4_000
         np.minimum.at(depth, pixel, t)
         nearest = t == depth[pixel]
         best_triangle[pixel[nearest]] = tri[nearest]
-        best_uv[pixel[nearest]] = np.stack([u[nearest], v[nearest]], axis=1)[:]
+        best_uv[pixel[nearest]] = np.stack([u[nearest], v[nearest]], axis=1)
     hit = best_triangle >= 0
     corners = triangles[best_triangle[hit]]
     if point_normals is None:
