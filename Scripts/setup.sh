@@ -11,7 +11,7 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 # third-party development packages below even for a server-side plugin.
 PACKAGES=(
   cmake ninja-build g++ libgtest-dev libglm-dev
-  paraview-dev python3-paraview python3-numpy
+  paraview-dev python3-paraview python3-numpy python3-matplotlib
   qtbase5-dev libqt5svg5-dev qttools5-dev libqt5opengl5-dev qtxmlpatterns5-dev-tools
   openmpi-bin libopenmpi-dev
   libdouble-conversion-dev liblz4-dev libutfcpp-dev libexpat1-dev liblzma-dev libxml2-dev

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The speed-vs-error report in one command: set-up and build (Scripts/setup.sh), matplotlib if
-# missing, then every method on every scene under Xvfb. Writes speed-vs-error.md (tables) and
-# speed-vs-error.png (time against error) into the folder given (default build/speed-vs-error).
+# The speed-vs-error report in one command: set-up and build (Scripts/setup.sh), then every
+# method on every scene under Xvfb. Writes speed-vs-error.md (tables) and speed-vs-error.png
+# (time against error) into the folder given (default build/speed-vs-error).
 #   bash Testing/SpeedVsError/run.sh                        # lattices n = 3 26 56, 1024 x 1024
 #   SIZES=3 IMAGE=128 bash Testing/SpeedVsError/run.sh /tmp/quick   # a quick run
 # FLOW lists the real flow's .vtu files (default: Data/expansion_flow.vtu if present; larger
@@ -9,14 +9,7 @@
 # build/expansion_flow_0.15.vtu").
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-bash Scripts/setup.sh > /dev/null
-
-SUDO=""
-if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-if ! /usr/bin/python3 -c "import matplotlib" 2> /dev/null; then
-  $SUDO apt-get update -q
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends python3-matplotlib
-fi
+bash Scripts/setup.sh > /dev/null   # also installs python3-matplotlib for the plot
 
 OUT=${1:-build/speed-vs-error}
 SIZES=${SIZES:-"3 26 56"}
