@@ -558,14 +558,23 @@ void Scene::buildInParallel(std::vector<BuildItem>& items, const ParallelFor& pa
   emit(0);
 }
 
-void Scene::loadCell(NodeId cellId, glm::dvec3 vertices[4], double values[10],
-  const double* pointValues, int components, int component) const
+void Scene::loadVertices(NodeId cellId, glm::dvec3 vertices[4]) const
 {
   const NodeId* ids = Mesh_.cellNodes + 10 * cellId;
   for (int k = 0; k < 4; ++k)
   {
     const double* p = Mesh_.points + 3 * ids[k];
     vertices[k] = glm::dvec3(p[0], p[1], p[2]);
+  }
+}
+
+void Scene::loadCell(NodeId cellId, glm::dvec3 vertices[4], double values[10],
+  const double* pointValues, int components, int component) const
+{
+  loadVertices(cellId, vertices);
+  const NodeId* ids = Mesh_.cellNodes + 10 * cellId;
+  for (int k = 0; k < 4; ++k)
+  {
     values[k] = pointValues[components * ids[k] + component];
   }
   for (int e = 0; e < 6; ++e)
@@ -774,8 +783,7 @@ double Scene::interpolate(NodeId cellId, const glm::dvec3& point, const double* 
 double Scene::cellSize(NodeId cellId) const
 {
   glm::dvec3 vertices[4];
-  double values[10];
-  loadCell(cellId, vertices, values);
+  loadVertices(cellId, vertices);
   double size = 0.0;
   for (const auto& edge : kEdgeVertices)
   {
@@ -826,8 +834,7 @@ bool Scene::locate(const glm::dvec3& point, NodeId& cellId) const
          ++slot)
     {
       glm::dvec3 vertices[4];
-      double values[10];
-      loadCell(SlotCell_[slot], vertices, values);
+      loadVertices(SlotCell_[slot], vertices);
       TetFrame frame;
       TetFrame::fromVertices(vertices, frame);
       double L[4];
@@ -903,8 +910,7 @@ void Scene::computeNodalGradients()
 glm::dvec3 Scene::interpolateNodalGradient(NodeId cellId, const glm::dvec3& point) const
 {
   glm::dvec3 vertices[4];
-  double values[10];
-  loadCell(cellId, vertices, values);
+  loadVertices(cellId, vertices);
   TetFrame frame;
   TetFrame::fromVertices(vertices, frame);
   double L[4];

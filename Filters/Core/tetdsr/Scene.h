@@ -178,6 +178,8 @@ private:
   struct BuildItem;
   struct Bounds;
 
+  /// A cell's 4 vertices.
+  void loadVertices(NodeId cellId, glm::dvec3 vertices[4]) const;
   /// A cell's vertices and the values at its 10 nodes of a point array (a missing mid-edge node
   /// takes the mean of its edge's ends).
   void loadCell(NodeId cellId, glm::dvec3 vertices[4], double values[10]) const
