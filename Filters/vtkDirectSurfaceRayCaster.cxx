@@ -23,8 +23,7 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
-#include "tetdsr/Renderer.h"
-#include "tetdsr/Scene.h"
+#include "vtkDirectSurfaceAdapter.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -41,85 +40,23 @@ vtkCxxSetObjectMacro(vtkDirectSurfaceRayCaster, Camera, vtkCamera);
 vtkCxxSetObjectMacro(vtkDirectSurfaceRayCaster, LookupTable, vtkScalarsToColors);
 vtkCxxSetObjectMacro(vtkDirectSurfaceRayCaster, ClippingPlanes, vtkPlaneCollection);
 
-/// The converted mesh and its scene, kept until the mesh or the scalar array changes.
-/// Arrays VTK already stores in the core's layout are viewed, not copied.
+/// The prepared mesh (see vtkDirectSurfaceAdapter.h), kept across updates.
 struct vtkDirectSurfaceRayCaster::Cache
 {
-  // Identity of what the scene was built from.
-  vtkUnstructuredGrid* Input = nullptr;
-  vtkMTimeType InputTime = 0;
-  vtkDataArray* Array = nullptr;
-  vtkMTimeType ArrayTime = 0;
-  int Component = 0;
-  tetdsr::TransverseTest Transverse;
-
-  // Keep the viewed VTK arrays alive as long as the scene views them.
-  vtkSmartPointer<vtkDataArray> PointArray;
-  vtkSmartPointer<vtkDataArray> ConnectivityArray;
-  vtkSmartPointer<vtkDataArray> ScalarArray;
-  std::vector<double> PointsCopy;
-  std::vector<vtkIdType> CellNodesCopy;
-  std::vector<double> ValuesCopy;
-  std::vector<vtkIdType> InputCellIds; ///< scene cell -> input cell; empty when the identity
-
-  std::unique_ptr<tetdsr::Scene> Scene;
-  vtkIdType UnsupportedCells = 0;
-
-  // The colour array, as doubles (all components), kept until it changes.
-  vtkDataArray* ColorArray = nullptr;
-  vtkMTimeType ColorArrayTime = 0;
-  vtkSmartPointer<vtkDataArray> ColorArrayView;
-  std::vector<double> ColorValuesCopy;
-  const double* ColorValues = nullptr;
-
-  /// The colour array's values for the core, copied only when VTK stores them otherwise.
-  const double* ColorArrayValues(vtkDataArray* array)
-  {
-    if (array == this->ColorArray && array->GetMTime() == this->ColorArrayTime)
-    {
-      return this->ColorValues;
-    }
-    this->ColorArray = array;
-    this->ColorArrayTime = array->GetMTime();
-    this->ColorValuesCopy.clear();
-    if (auto* doubles = vtkDoubleArray::FastDownCast(array))
-    {
-      this->ColorArrayView = doubles;
-      this->ColorValues = doubles->GetPointer(0);
-      return this->ColorValues;
-    }
-    this->ColorArrayView = nullptr;
-    const int components = array->GetNumberOfComponents();
-    this->ColorValuesCopy.resize(static_cast<std::size_t>(array->GetNumberOfTuples()) * components);
-    for (vtkIdType p = 0; p < array->GetNumberOfTuples(); ++p)
-    {
-      array->GetTuple(p, this->ColorValuesCopy.data() + static_cast<std::size_t>(p) * components);
-    }
-    this->ColorValues = this->ColorValuesCopy.data();
-    return this->ColorValues;
-  }
-
-  /// Convert the input to the core's MeshView, copying only what VTK stores differently.
-  tetdsr::MeshView View(vtkUnstructuredGrid* input, vtkDataArray* scalars, int component);
-
-  bool Matches(vtkUnstructuredGrid* input, vtkDataArray* array, int component,
-    const tetdsr::TransverseTest& transverse) const
-  {
-    return this->Scene && input == this->Input && input->GetMTime() == this->InputTime &&
-      array == this->Array && array->GetMTime() == this->ArrayTime &&
-      component == this->Component && transverse.mode == this->Transverse.mode &&
-      transverse.widening == this->Transverse.widening;
-  }
+  tetdsr::vtkadapter::PreparedMesh Mesh;
 };
 
 namespace
 {
-// Progress reports / abort checks per render.
-constexpr vtkIdType kProgressSteps = 32;
+namespace adapter = tetdsr::vtkadapter;
 
-// Entries of the colour table sampled from the lookup table: 1024 keeps the linear interpolation
-// between entries within 1/255 of the lookup table's colour for any map with a few control points.
-constexpr int kColorTableSize = 1024;
+// Bytes per output pixel: Colors (4), Depth (8), Normals (24), CellId (8), ColorValues (8), and
+// the depth-buffer normals' per-pixel record (64).
+constexpr double kBytesPerPixel = 4 + 8 + 24 + 8 + 8 + 64;
+
+// Iso-value colours and opacities are indexed like the iso-values; beyond this index a call is
+// refused (vtkContourValues itself holds any number, but no scene needs a million surfaces).
+constexpr int kMaxIsoValueIndex = 1 << 20;
 
 /// One of the built-in colour maps over [0, 1].
 vtkSmartPointer<vtkScalarsToColors> BuiltInColorMap(int which)
@@ -154,44 +91,20 @@ vtkSmartPointer<vtkScalarsToColors> BuiltInColorMap(int which)
   return map;
 }
 
-/// Samples `lookupTable`'s own range at kColorTableSize evenly spaced values into a table that
-/// spans [lo, hi]: the lookup table is stretched over the colour range.
-tetdsr::ColorTable SampleColorTable(vtkScalarsToColors* lookupTable, double lo, double hi)
-{
-  tetdsr::ColorTable table;
-  table.lo = lo;
-  table.hi = hi;
-  const double* range = lookupTable->GetRange();
-  double rgb[3];
-  for (int k = 0; k < kColorTableSize; ++k)
-  {
-    const double x = static_cast<double>(k) / (kColorTableSize - 1);
-    lookupTable->GetColor(range[0] + x * (range[1] - range[0]), rgb);
-    table.colors.emplace_back(rgb[0], rgb[1], rgb[2]);
-  }
-  lookupTable->GetColor(vtkMath::Nan(), rgb);
-  table.nanColor = glm::dvec3(rgb[0], rgb[1], rgb[2]);
-  return table;
-}
-
-/// tetdsr::ParallelFor on vtkSMPTools.
-void SMPFor(tetdsr::NodeId count, const std::function<void(tetdsr::NodeId, tetdsr::NodeId)>& body)
-{
-  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) { body(begin, end); });
-}
-
-/// Runs `work` with all cores by default: ParaView's VTK defaults to the Sequential backend,
-/// so STDThread is used unless the user chose a backend with VTK_SMP_BACKEND_IN_USE.
-template <typename Work>
-void WithThreads(int numberOfThreads, Work&& work)
-{
-  std::string backend = vtkSMPTools::GetBackend();
-  if (backend == "Sequential" && !std::getenv("VTK_SMP_BACKEND_IN_USE"))
-  {
-    backend = "STDThread";
-  }
-  vtkSMPTools::LocalScope(vtkSMPTools::Config{ numberOfThreads, backend, false }, work);
-}
+/// Reports the adapter's messages through this algorithm's error and warning macros.
+#define REPORT_MESSAGES(messages)                                                                  \
+  do                                                                                               \
+  {                                                                                                \
+    for (const std::string& text : (messages).warnings)                                            \
+    {                                                                                              \
+      vtkWarningMacro(<< text);                                                                    \
+    }                                                                                              \
+    for (const std::string& text : (messages).errors)                                              \
+    {                                                                                              \
+      vtkErrorMacro(<< text);                                                                      \
+    }                                                                                              \
+    (messages) = adapter::Messages();                                                              \
+  } while (false)
 }
 
 //------------------------------------------------------------------------------
@@ -216,9 +129,9 @@ vtkDirectSurfaceRayCaster::~vtkDirectSurfaceRayCaster()
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceRayCaster::SetIsoValueColor(int i, double red, double green, double blue)
 {
-  if (i < 0)
+  if (i < 0 || i >= kMaxIsoValueIndex)
   {
-    vtkErrorMacro("SetIsoValueColor: index " << i << " is negative.");
+    vtkErrorMacro("SetIsoValueColor: index " << i << " is outside [0, " << kMaxIsoValueIndex << ").");
     return;
   }
   if (this->IsoValueColors.size() < 3 * static_cast<std::size_t>(i + 1))
@@ -254,9 +167,9 @@ void vtkDirectSurfaceRayCaster::RemoveAllIsoValueColors()
 
 void vtkDirectSurfaceRayCaster::SetIsoValueOpacity(int i, double opacity)
 {
-  if (i < 0)
+  if (i < 0 || i >= kMaxIsoValueIndex)
   {
-    vtkErrorMacro("SetIsoValueOpacity: index " << i << " is negative.");
+    vtkErrorMacro("SetIsoValueOpacity: index " << i << " is outside [0, " << kMaxIsoValueIndex << ").");
     return;
   }
   if (this->IsoValueOpacities.size() < static_cast<std::size_t>(i + 1))
@@ -342,14 +255,7 @@ void vtkDirectSurfaceRayCaster::GenerateValues(int numContours, double rangeStar
 //------------------------------------------------------------------------------
 vtkIdType vtkDirectSurfaceRayCaster::GetPreprocessedBytes()
 {
-  if (!this->Prepared || !this->Prepared->Scene)
-  {
-    return 0;
-  }
-  const Cache& cache = *this->Prepared;
-  return static_cast<vtkIdType>(cache.Scene->memoryBytes() +
-    sizeof(double) * (cache.PointsCopy.capacity() + cache.ValuesCopy.capacity()) +
-    sizeof(vtkIdType) * (cache.CellNodesCopy.capacity() + cache.InputCellIds.capacity()));
+  return this->Prepared ? static_cast<vtkIdType>(this->Prepared->Mesh.MemoryBytes()) : 0;
 }
 
 //------------------------------------------------------------------------------
@@ -386,10 +292,11 @@ int vtkDirectSurfaceRayCaster::FillInputPortInformation(int, vtkInformation* inf
 int vtkDirectSurfaceRayCaster::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
-  if (this->ImageSize[0] <= 0 || this->ImageSize[1] <= 0)
+  adapter::Messages messages;
+  if (!adapter::CheckImageSize(
+        this->ImageSize[0], this->ImageSize[1], kBytesPerPixel, "ImageSize", messages))
   {
-    vtkErrorMacro("ImageSize must be positive, got " << this->ImageSize[0] << " x "
-                                                     << this->ImageSize[1] << ".");
+    REPORT_MESSAGES(messages);
     return 0;
   }
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
@@ -404,146 +311,84 @@ int vtkDirectSurfaceRayCaster::RequestInformation(
 }
 
 //------------------------------------------------------------------------------
+vtkDataArray* vtkDirectSurfaceRayCaster::GetPointArray(
+  int index, vtkInformationVector** inputVector, int& association)
+{
+  vtkDataArray* array = this->GetInputArrayToProcess(index, inputVector, association);
+  if (array)
+  {
+    return array;
+  }
+  vtkInformation* info = this->GetInputArrayInformation(index);
+  const char* name =
+    info->Has(vtkDataObject::FIELD_NAME()) ? info->Get(vtkDataObject::FIELD_NAME()) : nullptr;
+  if (index == 0 && name)
+  {
+    vtkErrorMacro("No point array named '" << name << "' in the input.");
+  }
+  else if (index == 0)
+  {
+    vtkErrorMacro("No point scalars: the input has no active point scalars; choose an array "
+                  "with SetInputArrayToProcess(0, 0, 0, FIELD_ASSOCIATION_POINTS, name).");
+  }
+  else
+  {
+    vtkErrorMacro("ColorByArray is on but "
+      << (name ? "there is no point array named '" + std::string(name) + "'"
+               : std::string("no colour array is chosen"))
+      << ": choose one with SetInputArrayToProcess(1, 0, 0, FIELD_ASSOCIATION_POINTS, name).");
+  }
+  return nullptr;
+}
+
+//------------------------------------------------------------------------------
 int vtkDirectSurfaceRayCaster::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0]);
   vtkImageData* output = vtkImageData::GetData(outputVector);
-  const int width = this->ImageSize[0]; // positive: RequestInformation checked it
+  const int width = this->ImageSize[0]; // RequestInformation checked the size
   const int height = this->ImageSize[1];
+  adapter::Messages messages;
   if (!input || input->GetNumberOfCells() == 0 || input->GetNumberOfPoints() == 0)
   {
     vtkErrorMacro("The input mesh is empty: it has no cells or no points.");
     return 0;
   }
 
-  // The scalar field.
+  // The field, its iso-values, the colour array and the clipping planes.
   int association = -1;
-  vtkDataArray* scalars = this->GetInputArrayToProcess(0, inputVector, association);
-  if (!scalars)
+  vtkDataArray* scalars = this->GetPointArray(0, inputVector, association);
+  int component = 0;
+  std::vector<double> values;
+  if (!scalars ||
+    !adapter::CheckPointArray(
+      scalars, association, this->ArrayComponent, false, "ArrayComponent", component, messages) ||
+    !adapter::ConvertIsoValues(this->ContourValues, values, messages))
   {
-    vtkInformation* arrayInfo = this->GetInputArrayInformation(0);
-    const char* name =
-      arrayInfo->Has(vtkDataObject::FIELD_NAME()) ? arrayInfo->Get(vtkDataObject::FIELD_NAME()) : nullptr;
-    if (name)
-    {
-      vtkErrorMacro("No point array named '" << name << "' in the input.");
-    }
-    else
-    {
-      vtkErrorMacro("No point scalars: the input has no active point scalars; choose an array "
-                    "with SetInputArrayToProcess(0, 0, 0, FIELD_ASSOCIATION_POINTS, name).");
-    }
+    REPORT_MESSAGES(messages);
     return 0;
   }
-  const char* arrayName = scalars->GetName() ? scalars->GetName() : "(unnamed)";
-  if (association != vtkDataObject::FIELD_ASSOCIATION_POINTS)
-  {
-    vtkErrorMacro("Array '" << arrayName << "' is not a point array: the quadratic field needs "
-                            << "values at the nodes.");
-    return 0;
-  }
-  const int components = scalars->GetNumberOfComponents();
-  int component = this->ArrayComponent;
-  if (component < 0)
-  {
-    if (components != 1)
-    {
-      vtkErrorMacro("Array '" << arrayName << "' has " << components
-                              << " components: choose one with SetArrayComponent.");
-      return 0;
-    }
-    component = 0;
-  }
-  else if (component >= components)
-  {
-    vtkErrorMacro("ArrayComponent " << component << " is out of range: array '" << arrayName
-                                    << "' has " << components << " components.");
-    return 0;
-  }
-
-  const int numberOfValues = this->ContourValues->GetNumberOfContours();
-  if (numberOfValues == 0)
-  {
-    vtkErrorMacro("No iso-value: set one with SetValue(0, value).");
-    return 0;
-  }
-  std::vector<double> values(this->ContourValues->GetValues(),
-    this->ContourValues->GetValues() + numberOfValues);
-  for (double value : values)
-  {
-    if (!std::isfinite(value))
-    {
-      vtkErrorMacro("Iso-value " << value << " is not finite.");
-      return 0;
-    }
-  }
-
-  // The colour array.
   vtkDataArray* colorArray = nullptr;
-  int colorComponent = this->ColorArrayComponent;
+  int colorComponent = -1;
   if (this->ColorByArray)
   {
     int colorAssociation = -1;
-    colorArray = this->GetInputArrayToProcess(1, inputVector, colorAssociation);
-    if (!colorArray)
+    colorArray = this->GetPointArray(1, inputVector, colorAssociation);
+    if (!colorArray ||
+      !adapter::CheckPointArray(colorArray, colorAssociation, this->ColorArrayComponent, true,
+        "ColorArrayComponent", colorComponent, messages))
     {
-      vtkInformation* arrayInfo = this->GetInputArrayInformation(1);
-      const char* name = arrayInfo->Has(vtkDataObject::FIELD_NAME())
-        ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
-        : nullptr;
-      vtkErrorMacro("ColorByArray is on but "
-        << (name ? "there is no point array named '" + std::string(name) + "'"
-                 : std::string("no colour array is chosen"))
-        << ": choose one with SetInputArrayToProcess(1, 0, 0, FIELD_ASSOCIATION_POINTS, name).");
+      REPORT_MESSAGES(messages);
       return 0;
-    }
-    const char* colorName = colorArray->GetName() ? colorArray->GetName() : "(unnamed)";
-    if (colorAssociation != vtkDataObject::FIELD_ASSOCIATION_POINTS)
-    {
-      vtkErrorMacro("Colour array '" << colorName << "' is not a point array.");
-      return 0;
-    }
-    if (colorComponent >= colorArray->GetNumberOfComponents())
-    {
-      vtkErrorMacro("ColorArrayComponent " << colorComponent << " is out of range: array '"
-                                           << colorName << "' has "
-                                           << colorArray->GetNumberOfComponents()
-                                           << " components.");
-      return 0;
-    }
-    if (colorArray->GetNumberOfComponents() == 1)
-    {
-      colorComponent = 0;
     }
   }
-
-  // Clipping planes.
   std::vector<tetdsr::ClipPlane> clipPlanes;
-  const int numberOfPlanes = this->ClippingPlanes ? this->ClippingPlanes->GetNumberOfItems() : 0;
-  if (numberOfPlanes > MaximumNumberOfClippingPlanes)
+  if (!adapter::ConvertClipPlanes(
+        this->ClippingPlanes, MaximumNumberOfClippingPlanes, clipPlanes, messages))
   {
-    vtkErrorMacro(<< numberOfPlanes << " clipping planes: at most "
-                  << MaximumNumberOfClippingPlanes << " are supported.");
+    REPORT_MESSAGES(messages);
     return 0;
-  }
-  for (int k = 0; k < numberOfPlanes; ++k)
-  {
-    vtkPlane* plane = this->ClippingPlanes->GetItem(k);
-    tetdsr::ClipPlane clip;
-    double v[3];
-    plane->GetOrigin(v);
-    clip.origin = glm::dvec3(v[0], v[1], v[2]);
-    plane->GetNormal(v);
-    clip.normal = glm::dvec3(v[0], v[1], v[2]);
-    const double length = glm::length(clip.normal);
-    if (!(length > 0.0) || !std::isfinite(length) ||
-      !std::isfinite(glm::dot(clip.origin, clip.origin)))
-    {
-      vtkErrorMacro("Clipping plane " << k << " has a zero or non-finite normal or origin.");
-      return 0;
-    }
-    clipPlanes.push_back(clip);
   }
 
   // Preprocess once per mesh, array and transverse test.
@@ -552,57 +397,35 @@ int vtkDirectSurfaceRayCaster::RequestData(
     ? tetdsr::TransverseTest::Mode::WidenedNodalRange
     : tetdsr::TransverseTest::Mode::BernsteinBound;
   transverse.widening = this->NodalRangeWidening;
-  if (!this->Prepared || !this->Prepared->Matches(input, scalars, component, transverse))
+  if (!this->Prepared)
   {
     this->Prepared.reset(new Cache);
-    this->Prepared->Transverse = transverse;
-    const tetdsr::MeshView mesh = this->Prepared->View(input, scalars, component);
-    WithThreads(this->NumberOfThreads,
-      [&]() { this->Prepared->Scene.reset(new tetdsr::Scene(mesh, SMPFor, transverse)); });
   }
-  Cache& prepared = *this->Prepared;
-  const tetdsr::PreprocessSummary& summary = prepared.Scene->summary();
-  this->NumberOfRenderedCells = summary.validCells;
+  adapter::PreparedMesh& prepared = this->Prepared->Mesh;
+  const bool ready =
+    prepared.Prepare(input, scalars, component, transverse, this->NumberOfThreads, messages);
+  const tetdsr::PreprocessSummary& summary = prepared.GetSummary();
+  this->NumberOfRenderedCells = ready ? summary.validCells : 0;
   this->NumberOfInvertedCells = summary.invertedCells;
   this->NumberOfCurvedCells = summary.curvedCells;
   this->NumberOfDegenerateCells = summary.degenerateCells;
+  this->NumberOfOutOfScaleCells = summary.outOfScaleCells;
   this->NumberOfNonFiniteCells = summary.nonFiniteCells;
   this->NumberOfInvalidIdCells = summary.invalidIdCells;
-  this->NumberOfUnsupportedCells = prepared.UnsupportedCells;
-  if (prepared.UnsupportedCells > 0)
+  this->NumberOfUnsupportedCells = prepared.GetUnsupportedCells();
+  this->NumberOfMalformedCells = prepared.GetMalformedCells();
+  const double* colorValues = colorArray && ready
+    ? prepared.PointArrayValues(colorArray, "colour array", messages)
+    : nullptr;
+  if (!messages.ok() || !ready)
   {
-    vtkWarningMacro("Skipped " << prepared.UnsupportedCells
-                               << " cells whose type is neither VTK_QUADRATIC_TETRA nor VTK_TETRA.");
-  }
-  if (summary.curvedCells > 0)
-  {
-    vtkWarningMacro(<< summary.curvedCells
-                    << " cells are curved (a mid-edge node off its edge's midpoint): they are "
-                       "rendered as straight-sided tetrahedra, so only approximately.");
-  }
-  if (summary.degenerateCells > 0)
-  {
-    vtkWarningMacro("Skipped " << summary.degenerateCells
-                               << " degenerate cells (zero volume or a repeated node id).");
-  }
-  if (summary.nonFiniteCells > 0)
-  {
-    vtkWarningMacro("Skipped " << summary.nonFiniteCells << " cells with NaN or Inf values of '"
-                               << arrayName << "' or coordinates at their nodes.");
-  }
-  if (summary.invalidIdCells > 0)
-  {
-    vtkWarningMacro("Skipped " << summary.invalidIdCells << " cells with node ids outside [0, "
-                               << input->GetNumberOfPoints() << ").");
-  }
-  if (summary.validCells == 0)
-  {
-    vtkErrorMacro("No cell can be rendered: all " << input->GetNumberOfCells()
-                                                  << " input cells were skipped.");
+    REPORT_MESSAGES(messages);
     return 0;
   }
+  REPORT_MESSAGES(messages); // the warnings
+  tetdsr::Scene& scene = *prepared.GetScene();
 
-  // Camera.
+  // Camera: the user's, or one that sees every rendered cell (points no cell uses do not count).
   tetdsr::Camera camera;
   if (this->Camera)
   {
@@ -619,13 +442,13 @@ int vtkDirectSurfaceRayCaster::RequestData(
   }
   else
   {
-    camera = tetdsr::resetCamera(input->GetBounds(), static_cast<double>(width) / height);
+    double bounds[6];
+    scene.bounds(bounds);
+    camera = tetdsr::resetCamera(bounds, static_cast<double>(width) / height);
   }
-  if (!tetdsr::RayGenerator::valid(camera))
+  if (!adapter::CheckCamera(camera, scene, messages))
   {
-    vtkErrorMacro("The camera is degenerate: position and focal point must differ, view up must "
-                  "not be parallel to the view direction, and the view angle (or parallel scale) "
-                  "must be positive.");
+    REPORT_MESSAGES(messages);
     return 0;
   }
 
@@ -635,30 +458,40 @@ int vtkDirectSurfaceRayCaster::RequestData(
   vtkNew<vtkUnsignedCharArray> colors;
   colors->SetName("Colors");
   colors->SetNumberOfComponents(4);
-  colors->SetNumberOfTuples(pixels);
   vtkNew<vtkDoubleArray> depth;
   depth->SetName("Depth");
-  depth->SetNumberOfTuples(pixels);
   vtkNew<vtkDoubleArray> normals;
   normals->SetName("Normals");
   normals->SetNumberOfComponents(3);
-  normals->SetNumberOfTuples(pixels);
   vtkNew<vtkIdTypeArray> cellIds;
   cellIds->SetName("CellId");
-  cellIds->SetNumberOfTuples(pixels);
+  vtkNew<vtkDoubleArray> colorValueImage;
+  colorValueImage->SetName("ColorValues");
+  const bool colorMapped = colorArray || (this->Capping != NO_CAP && !clipPlanes.empty());
+  auto allocate = [pixels](vtkDataArray* array) {
+    if (!array->Allocate(pixels * array->GetNumberOfComponents()))
+    {
+      return false;
+    }
+    array->SetNumberOfTuples(pixels);
+    return true;
+  };
+  const bool allocated = allocate(colors) && allocate(depth) && allocate(normals) &&
+    allocate(cellIds) && (!colorMapped || allocate(colorValueImage));
+  if (!allocated)
+  {
+    vtkErrorMacro("Cannot allocate the " << width << " x " << height << " output image.");
+    return 0;
+  }
   vtkPointData* pointData = output->GetPointData();
   pointData->Initialize();
   pointData->SetScalars(colors);
   pointData->AddArray(depth);
   pointData->SetNormals(normals);
   pointData->AddArray(cellIds);
-  vtkNew<vtkDoubleArray> colorValues;
-  const bool colorMapped = this->ColorByArray || (this->Capping != NO_CAP && numberOfPlanes > 0);
   if (colorMapped)
   {
-    colorValues->SetName("ColorValues");
-    colorValues->SetNumberOfTuples(pixels);
-    pointData->AddArray(colorValues);
+    pointData->AddArray(colorValueImage);
   }
 
   tetdsr::ImageView image;
@@ -668,7 +501,7 @@ int vtkDirectSurfaceRayCaster::RequestData(
   image.depth = depth->GetPointer(0);
   image.normals = normals->GetPointer(0);
   image.cellIds = cellIds->GetPointer(0);
-  image.colorValues = colorMapped ? colorValues->GetPointer(0) : nullptr;
+  image.colorValues = colorMapped ? colorValueImage->GetPointer(0) : nullptr;
 
   tetdsr::RenderSettings settings;
   tetdsr::Material& material = settings.material;
@@ -684,14 +517,14 @@ int vtkDirectSurfaceRayCaster::RequestData(
   settings.normals.relativeStep = this->CentralDifferenceStep;
   if (settings.normals.mode == tetdsr::NormalMode::NodalInterpolation)
   {
-    prepared.Scene->computeNodalGradients(); // once per mesh and array: kept with the scene
+    scene.computeNodalGradients(); // once per mesh and array: kept with the scene
   }
-  for (int i = 0; i < numberOfValues; ++i)
+  for (std::size_t i = 0; i < values.size(); ++i)
   {
     double color[3];
-    this->GetIsoValueColor(i, color);
-    settings.isoStyles.push_back({ glm::dvec3(color[0], color[1], color[2]),
-      this->GetIsoValueOpacity(i) });
+    this->GetIsoValueColor(static_cast<int>(i), color);
+    settings.isoStyles.push_back(
+      { glm::dvec3(color[0], color[1], color[2]), this->GetIsoValueOpacity(static_cast<int>(i)) });
   }
   settings.clipPlanes = clipPlanes;
   settings.cap = this->Capping == CAP_BELOW_ISO_VALUE ? tetdsr::CapRegion::BelowIsoValue
@@ -700,21 +533,15 @@ int vtkDirectSurfaceRayCaster::RequestData(
   if (colorMapped)
   {
     double range[2] = { this->ColorRange[0], this->ColorRange[1] };
-    if (range[0] > range[1])
+    if (!(range[0] <= range[1]) || !std::isfinite(range[0]) || !std::isfinite(range[1]))
     {
-      // The colour array's range (-1: the magnitude's), else the field's.
-      if (colorArray)
-      {
-        colorArray->GetRange(range, colorComponent);
-      }
-      else
-      {
-        scalars->GetRange(range, component);
-      }
+      // The colour array's finite range (-1: the magnitude's), else the field's.
+      adapter::FiniteRange(colorArray ? colorArray : scalars,
+        colorArray ? colorComponent : component, range);
     }
     if (colorArray)
     {
-      settings.colorBy.values = prepared.ColorArrayValues(colorArray);
+      settings.colorBy.values = colorValues;
       settings.colorBy.components = colorArray->GetNumberOfComponents();
       settings.colorBy.component = colorComponent;
     }
@@ -723,29 +550,15 @@ int vtkDirectSurfaceRayCaster::RequestData(
     {
       lookupTable = BuiltInColorMap(this->ColorMap);
     }
-    settings.colorTable = SampleColorTable(lookupTable, range[0], range[1]);
+    settings.colorTable = adapter::SampleColorTable(lookupTable, range[0], range[1]);
   }
   const tetdsr::IsoValues isoValues(values);
-  const tetdsr::Renderer renderer(*prepared.Scene, camera, isoValues, settings, image);
-
+  const tetdsr::Renderer renderer(scene, camera, isoValues, settings, image);
   const vtkIdType tiles = renderer.numberOfTiles();
-  vtkIdType tilesDone = 0;
-  WithThreads(this->NumberOfThreads, [&]() {
-    const vtkIdType step = std::max<vtkIdType>(1, tiles / kProgressSteps);
-    while (tilesDone < tiles && !this->CheckAbort())
-    {
-      const vtkIdType end = std::min(tiles, tilesDone + step);
-      vtkSMPTools::For(tilesDone, end, 1,
-        [&](vtkIdType begin, vtkIdType last) { renderer.renderTiles(begin, last); });
-      tilesDone = end;
-      this->UpdateProgress(static_cast<double>(tilesDone) / tiles);
-    }
-    if (tilesDone == tiles && settings.normals.mode == tetdsr::NormalMode::DepthBuffer)
-    {
-      vtkSMPTools::For(0, tiles, 1,
-        [&](vtkIdType begin, vtkIdType last) { renderer.shadeFromDepth(begin, last); });
-    }
-  });
+  const vtkIdType tilesDone = adapter::Cast(renderer,
+    settings.normals.mode == tetdsr::NormalMode::DepthBuffer, this->NumberOfThreads,
+    [this]() { return this->CheckAbort(); },
+    [this](double fraction) { this->UpdateProgress(fraction); });
   if (tilesDone < tiles)
   {
     // CheckAbort set AbortOutput: the executive empties the output and marks it aborted.
@@ -754,108 +567,15 @@ int vtkDirectSurfaceRayCaster::RequestData(
   }
 
   // Map scene cell indices back to input cell ids where cells were re-indexed.
-  if (!prepared.InputCellIds.empty())
+  vtkIdType* ids = cellIds->GetPointer(0);
+  for (vtkIdType p = 0; p < pixels; ++p)
   {
-    vtkIdType* ids = cellIds->GetPointer(0);
-    for (vtkIdType p = 0; p < pixels; ++p)
+    if (ids[p] >= 0)
     {
-      if (ids[p] >= 0)
-      {
-        ids[p] = prepared.InputCellIds[static_cast<std::size_t>(ids[p])];
-      }
+      ids[p] = prepared.InputCellId(ids[p]);
     }
   }
   return 1;
-}
-
-//------------------------------------------------------------------------------
-tetdsr::MeshView vtkDirectSurfaceRayCaster::Cache::View(
-  vtkUnstructuredGrid* input, vtkDataArray* scalars, int component)
-{
-  Cache& cache = *this;
-  cache.Input = input;
-  cache.InputTime = input->GetMTime();
-  cache.Array = scalars;
-  cache.ArrayTime = scalars->GetMTime();
-  cache.Component = component;
-
-  tetdsr::MeshView mesh;
-  const vtkIdType numberOfPoints = input->GetNumberOfPoints();
-  mesh.numberOfPoints = numberOfPoints;
-
-  vtkDataArray* points = input->GetPoints()->GetData();
-  if (auto* doublePoints = vtkDoubleArray::FastDownCast(points))
-  {
-    cache.PointArray = doublePoints;
-    mesh.points = doublePoints->GetPointer(0);
-  }
-  else
-  {
-    cache.PointsCopy.resize(3 * static_cast<std::size_t>(numberOfPoints));
-    for (vtkIdType p = 0; p < numberOfPoints; ++p)
-    {
-      points->GetTuple(p, cache.PointsCopy.data() + 3 * p);
-    }
-    mesh.points = cache.PointsCopy.data();
-  }
-
-  if (scalars->GetNumberOfComponents() == 1 && vtkDoubleArray::FastDownCast(scalars))
-  {
-    cache.ScalarArray = scalars;
-    mesh.values = vtkDoubleArray::FastDownCast(scalars)->GetPointer(0);
-  }
-  else
-  {
-    cache.ValuesCopy.resize(static_cast<std::size_t>(numberOfPoints));
-    for (vtkIdType p = 0; p < numberOfPoints; ++p)
-    {
-      cache.ValuesCopy[p] = scalars->GetComponent(p, component);
-    }
-    mesh.values = cache.ValuesCopy.data();
-  }
-
-  // Connectivity: view it directly when every cell is a quadratic tet (10 ids each).
-  vtkCellArray* cells = input->GetCells();
-  vtkUnsignedCharArray* types = input->GetCellTypesArray();
-  const vtkIdType numberOfCells = input->GetNumberOfCells();
-  vtkIdType quadratic = 0;
-  for (vtkIdType c = 0; c < numberOfCells; ++c)
-  {
-    quadratic += types->GetValue(c) == VTK_QUADRATIC_TETRA;
-  }
-  if (quadratic == numberOfCells && cells->IsStorage64Bit())
-  {
-    cache.ConnectivityArray = cells->GetConnectivityArray();
-    mesh.cellNodes = cells->GetConnectivityArray64()->GetPointer(0);
-    mesh.numberOfCells = numberOfCells;
-    return mesh;
-  }
-  const vtkIdType* ids;
-  vtkIdType count;
-  for (vtkIdType c = 0; c < numberOfCells; ++c)
-  {
-    const int type = types->GetValue(c);
-    if (type != VTK_QUADRATIC_TETRA && type != VTK_TETRA)
-    {
-      ++cache.UnsupportedCells;
-      continue;
-    }
-    cells->GetCellAtId(c, count, ids);
-    const vtkIdType expected = type == VTK_QUADRATIC_TETRA ? 10 : 4;
-    if (count != expected)
-    {
-      ++cache.UnsupportedCells; // malformed: wrong number of nodes for its type
-      continue;
-    }
-    for (vtkIdType n = 0; n < 10; ++n)
-    {
-      cache.CellNodesCopy.push_back(n < count ? ids[n] : -1);
-    }
-    cache.InputCellIds.push_back(c);
-  }
-  mesh.cellNodes = cache.CellNodesCopy.data();
-  mesh.numberOfCells = static_cast<vtkIdType>(cache.InputCellIds.size());
-  return mesh;
 }
 
 //------------------------------------------------------------------------------
@@ -906,5 +626,7 @@ void vtkDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfNonFiniteCells: " << this->NumberOfNonFiniteCells << "\n";
   os << indent << "NumberOfInvalidIdCells: " << this->NumberOfInvalidIdCells << "\n";
   os << indent << "NumberOfUnsupportedCells: " << this->NumberOfUnsupportedCells << "\n";
+  os << indent << "NumberOfMalformedCells: " << this->NumberOfMalformedCells << "\n";
+  os << indent << "NumberOfOutOfScaleCells: " << this->NumberOfOutOfScaleCells << "\n";
   os << indent << "PreprocessedBytes: " << this->GetPreprocessedBytes() << "\n";
 }

@@ -49,6 +49,7 @@
 #include <vector> // For std::vector
 
 class vtkCamera;
+class vtkDataArray;
 class vtkContourValues;
 class vtkPlane;
 class vtkPlaneCollection;
@@ -297,9 +298,10 @@ public:
   ///@{
   /**
    * What the last preprocessing found: cells rendered, inverted (rendered), curved (rendered
-   * as straight-sided, so approximately), and skipped for
-   * zero volume or repeated node ids, NaN/Inf values or coordinates, node ids out of range,
-   * or an unsupported cell type.
+   * as straight-sided, so approximately), and skipped for: flat or needle-like shape or
+   * repeated node ids (degenerate), NaN/Inf values or coordinates, node ids out of range, an
+   * unsupported cell type, a number of ids that does not match the type or offsets out of
+   * order (malformed), a longest edge outside [1e-100, 1e100] (out of scale).
    */
   vtkGetMacro(NumberOfRenderedCells, vtkIdType);
   vtkGetMacro(NumberOfInvertedCells, vtkIdType);
@@ -308,6 +310,8 @@ public:
   vtkGetMacro(NumberOfNonFiniteCells, vtkIdType);
   vtkGetMacro(NumberOfInvalidIdCells, vtkIdType);
   vtkGetMacro(NumberOfUnsupportedCells, vtkIdType);
+  vtkGetMacro(NumberOfMalformedCells, vtkIdType);
+  vtkGetMacro(NumberOfOutOfScaleCells, vtkIdType);
   ///@}
 
   /**
@@ -366,11 +370,15 @@ protected:
   vtkIdType NumberOfNonFiniteCells = 0;
   vtkIdType NumberOfInvalidIdCells = 0;
   vtkIdType NumberOfUnsupportedCells = 0;
+  vtkIdType NumberOfMalformedCells = 0;
+  vtkIdType NumberOfOutOfScaleCells = 0;
 
 private:
   vtkDirectSurfaceRayCaster(const vtkDirectSurfaceRayCaster&) = delete;
   void operator=(const vtkDirectSurfaceRayCaster&) = delete;
 
+  /// Input array `index` (0: the field, 1: the colour array), or null after an error naming it.
+  vtkDataArray* GetPointArray(int index, vtkInformationVector** inputVector, int& association);
   struct Cache;
   std::unique_ptr<Cache> Prepared;
 };

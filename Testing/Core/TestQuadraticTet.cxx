@@ -517,8 +517,10 @@ TEST(Scene, LinearTetEqualsQuadraticTetWithMidpointValues)
   LatticeMesh linear = quadratic;
   for (std::size_t c = 0; c < linear.cellNodes.size() / 10; ++c)
     for (int k = 4; k < 10; ++k)
-      linear.cellNodes[10 * c + k] = -1;
-  const tetdsr::Scene a(quadratic.view()), b(linear.view());
+      linear.cellNodes[10 * c + k] = tetdsr::kStraightEdge;
+  tetdsr::MeshView linearView = linear.view();
+  linearView.straightEdgeMarkers = true;
+  const tetdsr::Scene a(quadratic.view()), b(linearView);
   const tetdsr::IsoValues iso({ 0.2 });
   tetdsr::Camera camera;
   camera.position = glm::dvec3(2.0, 1.5, 3.0);
@@ -617,4 +619,77 @@ TEST(Scene, PointLocationAndInterpolationOfAnotherArray)
   }
   tetdsr::NodeId cell;
   EXPECT_FALSE(scene.locate(glm::dvec3(1.5, 0.5, 0.5), cell)) << "outside the mesh";
+}
+
+// Hostile input at the core: many copies of one cell (leaves stay small; the traversal ends),
+// and a field or mesh scaled across double range (the same hits, relative to the scale).
+TEST(Scene, CopiesOfOneCellKeepLeavesSmallAndTraversalFinite)
+{
+  LatticeMesh one = makeLattice(1, glm::dvec3(0.0), 1.0);
+  one.sample([](const glm::dvec3& x) { return glm::dot(x, x); });
+  one.cellNodes.resize(10);
+  const std::vector<tetdsr::NodeId> cell = one.cellNodes;
+  for (int copy = 1; copy < 70000; ++copy) // beyond a 16-bit count
+    one.cellNodes.insert(one.cellNodes.end(), cell.begin(), cell.end());
+  const tetdsr::Scene scene(one.view());
+  ASSERT_EQ(scene.summary().validCells, 70000);
+  tetdsr::Camera camera;
+  camera.position = glm::dvec3(2.0, 1.5, 3.0);
+  camera.focalPoint = glm::dvec3(0.1);
+  camera.viewAngleDegrees = 10.0;
+  const tetdsr::RayGenerator rays(camera, 8, 8);
+  int hits = 0;
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 8; ++i)
+    {
+      tetdsr::SurfaceHit hit;
+      hits += scene.firstHit(rays.pixelRay(i, j), tetdsr::IsoValues({ 0.2 }), hit);
+    }
+  EXPECT_GT(hits, 0);
+}
+
+TEST(Scene, HitsDoNotDependOnTheScaleOfFieldOrCoordinates)
+{
+  LatticeMesh base = makeLattice(2, glm::dvec3(0.0), 1.0);
+  base.sample([](const glm::dvec3& x) { return glm::dot(x - glm::dvec3(0.4), x - glm::dvec3(0.4)); });
+  tetdsr::Camera camera;
+  camera.position = glm::dvec3(2.0, 1.5, 3.0);
+  camera.focalPoint = glm::dvec3(0.5);
+  auto render = [&](const LatticeMesh& mesh, double fieldScale, double lengthScale) {
+    tetdsr::Camera scaled = camera;
+    scaled.position *= lengthScale;
+    scaled.focalPoint *= lengthScale;
+    const tetdsr::Scene scene(mesh.view());
+    const tetdsr::RayGenerator rays(scaled, 16, 16);
+    std::vector<double> depths;
+    for (int j = 0; j < 16; ++j)
+      for (int i = 0; i < 16; ++i)
+      {
+        tetdsr::SurfaceHit hit;
+        const bool found =
+          scene.firstHit(rays.pixelRay(i, j), tetdsr::IsoValues({ 0.15 * fieldScale }), hit);
+        depths.push_back(found ? hit.t / lengthScale : -1.0);
+      }
+    return depths;
+  };
+  const std::vector<double> reference = render(base, 1.0, 1.0);
+  ASSERT_GT(std::count_if(reference.begin(), reference.end(), [](double t) { return t > 0; }), 20);
+  for (const double fieldScale : { 1e-300, 1e-200, 1e155, 1e300 })
+  {
+    LatticeMesh mesh = base;
+    for (double& v : mesh.values)
+      v *= fieldScale;
+    const std::vector<double> depths = render(mesh, fieldScale, 1.0);
+    for (std::size_t p = 0; p < depths.size(); ++p)
+      EXPECT_NEAR(depths[p], reference[p], 1e-12) << "field scale " << fieldScale << " pixel " << p;
+  }
+  for (const double lengthScale : { 1e-90, 1e90 })
+  {
+    LatticeMesh mesh = base;
+    for (double& x : mesh.points)
+      x *= lengthScale;
+    const std::vector<double> depths = render(mesh, 1.0, lengthScale);
+    for (std::size_t p = 0; p < depths.size(); ++p)
+      EXPECT_NEAR(depths[p], reference[p], 1e-9) << "length scale " << lengthScale << " pixel " << p;
+  }
 }

@@ -411,7 +411,7 @@ class BadInput(unittest.TestCase):
         _, messages = self.run_filter(self.mesh(), planes(7))
         self.assertTrue(any("7 clipping planes: at most 6" in e for e in messages.errors), messages.errors)
         _, messages = self.run_filter(self.mesh(), planes(1, (0.0, 0.0, 0.0)))
-        self.assertTrue(any("zero or non-finite normal" in e for e in messages.errors), messages.errors)
+        self.assertTrue(any("zero normal" in e for e in messages.errors), messages.errors)
         caster, messages = self.run_filter(self.mesh(), planes(6))
         self.assertEqual(messages.errors, [])
 

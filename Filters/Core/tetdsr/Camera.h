@@ -3,6 +3,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace tetdsr
@@ -50,19 +51,79 @@ struct Ray
   glm::dvec3 direction; ///< unit length
 };
 
-/// Pixel (i, j) with j = 0 the bottom row maps to normalised device coordinates
-/// x = 2(i+0.5)/width - 1, y = 2(j+0.5)/height - 1. Perspective rays start at the camera
-/// position; parallel rays start on the camera plane, so the ray parameter is the depth.
+inline bool isFinite(const glm::dvec3& v)
+{
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+/// `v` scaled to unit length without overflow or underflow in the squared length (components
+/// up to the largest double, down to subnormals); 0 for a zero or non-finite vector.
+inline glm::dvec3 unitVector(const glm::dvec3& v)
+{
+  const double largest = std::max({ std::abs(v.x), std::abs(v.y), std::abs(v.z) });
+  if (!(largest > 0.0) || !std::isfinite(largest))
+  {
+    return glm::dvec3(0.0);
+  }
+  const glm::dvec3 scaled = v / largest; // largest component is now +-1: no overflow below
+  return scaled / glm::length(scaled);
+}
+
+/// Why a camera cannot make rays (None: it can).
+enum class CameraProblem
+{
+  None,
+  NonFinite,          ///< a NaN or Inf in position, focal point, view up, angle or scale
+  CoincidentPoints,   ///< position equals focal point
+  ViewUpParallel,     ///< view up is zero or parallel to the view direction
+  AngleOutOfRange,    ///< view angle outside (0, 180) degrees, or parallel scale <= 0
+  SingularProjection  ///< an explicit projection matrix that cannot be inverted
+};
+
+/// A readable sentence for a camera problem.
+inline const char* describe(CameraProblem problem)
+{
+  switch (problem)
+  {
+    case CameraProblem::NonFinite:
+      return "the camera has a NaN or Inf in its position, focal point, view up, view angle or "
+             "parallel scale";
+    case CameraProblem::CoincidentPoints:
+      return "the camera's position equals its focal point";
+    case CameraProblem::ViewUpParallel:
+      return "the camera's view up is zero or parallel to its direction of view";
+    case CameraProblem::AngleOutOfRange:
+      return "the camera's view angle is outside (0, 180) degrees or its parallel scale is not "
+             "positive";
+    case CameraProblem::SingularProjection:
+      return "the camera's projection matrix is singular or not finite";
+    case CameraProblem::None:
+    default:
+      return "the camera is valid";
+  }
+}
+
+/// One ray per pixel centre. Pixel (i, j) with j = 0 the bottom row maps to normalised device
+/// coordinates x = 2(i+0.5)/width - 1, y = 2(j+0.5)/height - 1.
+///
+/// From a Camera: perspective rays start at the camera position; parallel rays start on the
+/// camera plane, so the ray parameter is the distance from the camera (plane).
+/// From an inverse projection (normalised device coordinates, z in [-1, 1], to world, as the
+/// inverse of vtkCamera's composite projection): rays run from the near plane (z = -1) towards
+/// the far plane (z = 1), so explicit and off-axis projections (tiles, stereo) work; the ray
+/// parameter is the distance from the near plane.
 class RayGenerator
 {
 public:
   RayGenerator(const Camera& camera, int width, int height)
-    : Camera_(camera)
-    , Width_(width)
+    : Width_(width)
     , Height_(height)
+    , Parallel_(camera.parallelProjection)
+    , Position_(camera.position)
   {
-    Forward_ = glm::normalize(camera.focalPoint - camera.position);
-    Right_ = glm::normalize(glm::cross(Forward_, camera.viewUp));
+    // unitVector: the difference of far-apart points may overflow a plain length.
+    Forward_ = unitVector(camera.focalPoint - camera.position);
+    Right_ = unitVector(glm::cross(Forward_, unitVector(camera.viewUp)));
     Up_ = glm::cross(Right_, Forward_);
     const double aspect = static_cast<double>(width) / static_cast<double>(height);
     const double halfHeight = camera.parallelProjection
@@ -72,36 +133,72 @@ public:
     HalfHeight_ = halfHeight;
   }
 
+  RayGenerator(const glm::dmat4& ndcToWorld, int width, int height)
+    : Width_(width)
+    , Height_(height)
+    , FromMatrix_(true)
+    , NdcToWorld_(ndcToWorld)
+  {
+  }
+
   Ray pixelRay(int i, int j) const
   {
     const double x = 2.0 * (i + 0.5) / Width_ - 1.0;
     const double y = 2.0 * (j + 0.5) / Height_ - 1.0;
-    const glm::dvec3 offset = (x * HalfWidth_) * Right_ + (y * HalfHeight_) * Up_;
-    if (Camera_.parallelProjection)
+    if (FromMatrix_)
     {
-      return { Camera_.position + offset, Forward_ };
+      const glm::dvec3 nearPoint = unproject(x, y, -1.0);
+      return { nearPoint, unitVector(unproject(x, y, 1.0) - nearPoint) };
     }
-    return { Camera_.position, glm::normalize(Forward_ + offset) };
+    const glm::dvec3 offset = (x * HalfWidth_) * Right_ + (y * HalfHeight_) * Up_;
+    if (Parallel_)
+    {
+      return { Position_ + offset, Forward_ };
+    }
+    return { Position_, glm::normalize(Forward_ + offset) };
   }
 
-  /// False when position, focal point and view up do not define a frame.
-  static bool valid(const Camera& camera)
+  /// What, if anything, keeps `camera` from defining rays.
+  static CameraProblem check(const Camera& camera)
   {
-    const glm::dvec3 forward = camera.focalPoint - camera.position;
-    const glm::dvec3 right = glm::cross(forward, camera.viewUp);
+    const bool finite = isFinite(camera.position) && isFinite(camera.focalPoint) &&
+      isFinite(camera.viewUp) && std::isfinite(camera.viewAngleDegrees) &&
+      std::isfinite(camera.parallelScale);
+    if (!finite)
+    {
+      return CameraProblem::NonFinite;
+    }
+    if (camera.position == camera.focalPoint)
+    {
+      return CameraProblem::CoincidentPoints;
+    }
+    const glm::dvec3 forward = unitVector(camera.focalPoint - camera.position);
+    const glm::dvec3 right = glm::cross(forward, unitVector(camera.viewUp));
+    if (!(glm::length(right) > 1e-12)) // sine of the angle between view up and direction
+    {
+      return CameraProblem::ViewUpParallel;
+    }
     const bool angleOk = camera.parallelProjection
       ? (camera.parallelScale > 0.0)
       : (camera.viewAngleDegrees > 0.0 && camera.viewAngleDegrees < 180.0);
-    return glm::length(forward) > 0.0 && glm::length(right) > 0.0 && angleOk &&
-      std::isfinite(glm::dot(right, right));
+    return angleOk ? CameraProblem::None : CameraProblem::AngleOutOfRange;
   }
 
 private:
-  Camera Camera_;
+  glm::dvec3 unproject(double x, double y, double z) const
+  {
+    const glm::dvec4 p = NdcToWorld_ * glm::dvec4(x, y, z, 1.0);
+    return glm::dvec3(p) / p.w;
+  }
+
   int Width_;
   int Height_;
-  glm::dvec3 Forward_, Right_, Up_;
-  double HalfWidth_, HalfHeight_;
+  bool Parallel_ = false;
+  bool FromMatrix_ = false;
+  glm::dvec3 Position_{ 0.0 };
+  glm::dvec3 Forward_{ 0.0 }, Right_{ 0.0 }, Up_{ 0.0 };
+  double HalfWidth_ = 0.0, HalfHeight_ = 0.0;
+  glm::dmat4 NdcToWorld_{ 1.0 };
 };
 
 } // namespace tetdsr

@@ -14,7 +14,14 @@ glm::dvec3 ColorTable::map(double value) const
     return nanColor;
   }
   const double last = static_cast<double>(colors.size() - 1);
-  const double x = hi > lo ? std::clamp((value - lo) / (hi - lo), 0.0, 1.0) * last : 0.0;
+  // (value - lo) / (hi - lo) is NaN for an infinite range or an infinite value at an infinite
+  // end: such a value takes the nearer end's colour, and a degenerate range the first.
+  double fraction = hi > lo ? (value - lo) / (hi - lo) : 0.0;
+  if (std::isnan(fraction))
+  {
+    fraction = value > 0.5 * lo + 0.5 * hi ? 1.0 : 0.0;
+  }
+  const double x = std::clamp(fraction, 0.0, 1.0) * last;
   const std::size_t k = std::min(static_cast<std::size_t>(x), colors.size() - 2);
   const double w = x - static_cast<double>(k);
   return (1.0 - w) * colors[k] + w * colors[k + 1];
@@ -64,7 +71,7 @@ Renderer::Renderer(const Scene& scene, const Camera& camera, const IsoValues& is
   }
   for (ClipPlane& plane : Settings_.clipPlanes)
   {
-    plane.normal = glm::normalize(plane.normal);
+    plane.normal = unitVector(plane.normal); // normals as large as 1e300 are fine
   }
   // Crossings nearer than this are one: the same surface found again in the neighbouring cell
   // differs by rounding (~1e-15 of the scene), far below it; surfaces truly this close are
@@ -226,8 +233,7 @@ void Renderer::renderPixel(int i, int j) const
     }
     const glm::dvec3 point = ray.origin + hit.t * ray.direction;
     const glm::dvec3 normal = normalAt(hit, point);
-    const double length = glm::length(normal);
-    const glm::dvec3 unitNormal = length > 0.0 ? normal / length : glm::dvec3(0.0);
+    const glm::dvec3 unitNormal = unitVector(normal);
     const SurfaceStyle& style = SortedStyles_[hit.isoIndex];
     double value = std::numeric_limits<double>::quiet_NaN();
     glm::dvec3 base = style.color;
@@ -375,15 +381,23 @@ void Renderer::shadeFromDepth(NodeId tileBegin, NodeId tileEnd) const
   });
 }
 
+namespace
+{
+/// [0, 1] to a byte; NaN (a colour from a NaN lookup-table entry, say) becomes 0.
+std::uint8_t toByte(double x)
+{
+  return x > 0.0 ? static_cast<std::uint8_t>(std::min(x, 1.0) * 255.0 + 0.5) : 0;
+}
+}
+
 void Renderer::writePixel(std::size_t pixel, const glm::dvec3& premultiplied, double opacity) const
 {
   std::uint8_t* rgba = Image_.colors + 4 * pixel;
   for (int c = 0; c < 3; ++c)
   {
-    rgba[c] =
-      static_cast<std::uint8_t>(std::clamp(premultiplied[c] / opacity, 0.0, 1.0) * 255.0 + 0.5);
+    rgba[c] = toByte(premultiplied[c] / opacity);
   }
-  rgba[3] = static_cast<std::uint8_t>(std::clamp(opacity, 0.0, 1.0) * 255.0 + 0.5);
+  rgba[3] = toByte(opacity);
 }
 
 void Renderer::writeMiss(std::size_t pixel) const

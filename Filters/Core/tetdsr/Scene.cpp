@@ -169,7 +169,8 @@ enum : std::uint8_t
   kCurved = 4,
   kDegenerate = 8,
   kNonFinite = 16,
-  kInvalidId = 32
+  kInvalidId = 32,
+  kOutOfScale = 64
 };
 
 float roundDown(double x)
@@ -203,6 +204,11 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
   : Mesh_(mesh)
   , Transverse_(transverseTest)
 {
+  if (mesh.numberOfCells < 0 || mesh.numberOfCells > kMaxCells || mesh.numberOfPoints < 0)
+  {
+    Mesh_.numberOfCells = 0; // cannot be indexed: an empty scene (the caller reports it)
+    return;
+  }
   // Any finite vertex of the mesh will do as the origin of the float boxes.
   for (NodeId cell = 0; cell < mesh.numberOfCells; ++cell)
   {
@@ -217,6 +223,22 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
       }
     }
   }
+  // The boxes' unit: a power of two near the extent of the cells' vertices around Origin_, so
+  // float boxes resolve scenes of any size in double range (float alone stops near 1e-38).
+  double extent = 0.0;
+  for (NodeId n = 0; n < 10 * mesh.numberOfCells; ++n)
+  {
+    const NodeId id = mesh.cellNodes[n];
+    if (n % 10 < 4 && id >= 0 && id < mesh.numberOfPoints)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        const double offset = std::abs(mesh.points[3 * id + a] - Origin_[a]);
+        extent = std::isfinite(offset) ? std::max(extent, offset) : extent;
+      }
+    }
+  }
+  BoxScale_ = extent > 0.0 ? std::ldexp(1.0, -std::clamp(std::ilogb(extent), -1020, 1020)) : 1.0;
 
   // Validate every cell in parallel, each writing only its own slot...
   std::vector<BuildItem> items(static_cast<std::size_t>(mesh.numberOfCells));
@@ -237,6 +259,7 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
     Summary_.degenerateCells += (flags & kDegenerate) != 0;
     Summary_.nonFiniteCells += (flags & kNonFinite) != 0;
     Summary_.invalidIdCells += (flags & kInvalidId) != 0;
+    Summary_.outOfScaleCells += (flags & kOutOfScale) != 0;
     if (flags & kValid)
     {
       items[valid++] = items[cell];
@@ -265,7 +288,7 @@ std::uint8_t Scene::validate(NodeId cell, BuildItem& item) const
   const NodeId* ids = Mesh_.cellNodes + 10 * cell;
   for (int n = 0; n < 10; ++n)
   {
-    const bool optional = n >= 4 && ids[n] == -1;
+    const bool optional = n >= 4 && Mesh_.straightEdgeMarkers && ids[n] == kStraightEdge;
     if (!optional && (ids[n] < 0 || ids[n] >= Mesh_.numberOfPoints))
     {
       return kInvalidId;
@@ -298,6 +321,10 @@ std::uint8_t Scene::validate(NodeId cell, BuildItem& item) const
   for (const auto& edge : kEdgeVertices)
   {
     maxEdge = std::max(maxEdge, glm::length(vertices[edge[0]] - vertices[edge[1]]));
+  }
+  if (!(maxEdge >= kMinCellSize && maxEdge <= kMaxCellSize)) // also an overflowed (Inf) length
+  {
+    return kOutOfScale;
   }
   if (!TetFrame::fromVertices(vertices, frame) ||
     std::abs(frame.orientedVolume6) <= kDegenerateVolumeRatio * maxEdge * maxEdge * maxEdge)
@@ -345,8 +372,8 @@ std::uint8_t Scene::validate(NodeId cell, BuildItem& item) const
   const double pad = 1e-8 * maxEdge + 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
   for (int axis = 0; axis < 3; ++axis)
   {
-    item.boxLo[axis] = roundDown(boxLo[axis] - pad - Origin_[axis]);
-    item.boxHi[axis] = roundUp(boxHi[axis] + pad - Origin_[axis]);
+    item.boxLo[axis] = roundDown((boxLo[axis] - pad - Origin_[axis]) * BoxScale_);
+    item.boxHi[axis] = roundUp((boxHi[axis] + pad - Origin_[axis]) * BoxScale_);
   }
   return flags;
 }
@@ -373,16 +400,17 @@ bool Scene::split(std::vector<BuildItem>& items, std::size_t begin, std::size_t 
     }
   }
   const float extent = bounds.centroidHi[axis] - bounds.centroidLo[axis];
-  node.axis = static_cast<std::uint16_t>(axis);
-  if (count <= static_cast<std::size_t>(kLeafSize) || !(extent > 0.0f))
+  if (count <= static_cast<std::size_t>(kLeafSize))
   {
     node.firstOrSecondChild = static_cast<std::uint32_t>(begin);
-    node.count = static_cast<std::uint16_t>(count);
+    node.count = static_cast<std::uint32_t>(count);
     return false;
   }
   node.count = 0;
 
-  if (depth < kMaxSahDepth)
+  // Cells whose centroids coincide (extent 0) are split at the median too: leaves never hold
+  // more than kLeafSize cells, however many copies of a cell the mesh has.
+  if (depth < kMaxSahDepth && extent > 0.0f)
   {
     // Binned surface area heuristic over centroids: cost of a split = area * count per side.
     // The bins also collect each side's bounds, so children need no pass of their own.
@@ -634,13 +662,18 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
     return false;
   }
 
-  // The field along the ray, exactly: f(s) = a s^2 + b s + c (see QuadraticTet.h).
-  const BernsteinForm form = BernsteinForm::fromNodeValues(values);
-  const double a = form.bilinear(dL, dL);
-  const double b = 2.0 * form.bilinear(L, dL);
-  const double c = form.bilinear(L, L);
   double cellLo, cellHi;
   Transverse_.range(values, cellLo, cellHi);
+  const std::vector<double>& sorted = isoValues.sorted();
+  // The iso-values this cell can contain: sorted[first, last).
+  const std::size_t first =
+    static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), cellLo) - sorted.begin());
+  const std::size_t last =
+    static_cast<std::size_t>(std::upper_bound(sorted.begin(), sorted.end(), cellHi) - sorted.begin());
+  if (first >= last)
+  {
+    return false;
+  }
 
   // A field constant over the cell (to rounding) and equal to an iso-value: the whole cell is on
   // the "surface"; the ray meets it where it enters, with no gradient. Rounding would otherwise
@@ -648,30 +681,34 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
   const double magnitude = std::max(std::abs(cellLo), std::abs(cellHi));
   if (cellHi - cellLo <= 8.0 * std::numeric_limits<double>::epsilon() * magnitude)
   {
-    const std::vector<double>& sorted = isoValues.sorted();
-    const auto it = std::lower_bound(sorted.begin(), sorted.end(), cellLo);
-    if (it == sorted.end() || *it > cellHi)
-    {
-      return false;
-    }
-    hit.isoIndex = static_cast<std::size_t>(it - sorted.begin());
+    hit.isoIndex = first;
     hit.t = tCentre + sEntry;
     hit.cellId = cellId;
     hit.gradient = glm::dvec3(0.0);
     return true;
   }
 
+  // Scale the field by a power of two (exact) so that its largest nodal magnitude is about 1:
+  // the products in the quadratic's coefficients and its discriminant (field^2) then neither
+  // overflow nor underflow, whatever the field's scale within double range.
+  // (Clamped so the factor itself stays a normal double for subnormal fields.)
+  const double scale = std::ldexp(1.0, -std::clamp(std::ilogb(magnitude), -1020, 1020));
+  for (double& value : values)
+  {
+    value *= scale;
+  }
+  // The field along the ray, exactly: f(s) = a s^2 + b s + c (see QuadraticTet.h).
+  const BernsteinForm form = BernsteinForm::fromNodeValues(values);
+  const double a = form.bilinear(dL, dL);
+  const double b = 2.0 * form.bilinear(L, dL);
+  const double c = form.bilinear(L, L);
+
   bool found = false;
   double sHit = sExit;
-  const std::vector<double>& sorted = isoValues.sorted();
-  for (std::size_t k = 0; k < sorted.size(); ++k)
+  for (std::size_t k = first; k < last; ++k)
   {
-    if (sorted[k] < cellLo || sorted[k] > cellHi)
-    {
-      continue; // not transverse for this iso-value
-    }
     double s;
-    if (firstRootInInterval(a, b, c - sorted[k], sEntry, sHit, s))
+    if (firstRootInInterval(a, b, c - sorted[k] * scale, sEntry, sHit, s))
     {
       found = true;
       sHit = s;
@@ -689,7 +726,7 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
   }
   hit.t = tCentre + sHit;
   hit.cellId = cellId;
-  hit.gradient = fieldGradient(form, frame, LHit);
+  hit.gradient = fieldGradient(form, frame, LHit) / scale; // exact: scale is a power of two
   return true;
 }
 
@@ -700,9 +737,10 @@ bool Scene::firstHit(
   {
     return false;
   }
-  // Boxes are relative to Origin_; cells are tested in world coordinates.
-  const glm::dvec3 origin = ray.origin - Origin_;
-  const glm::dvec3 inverse = rayInverse(ray.direction);
+  // Boxes are relative to Origin_ in units of 1 / BoxScale_; scaling the direction too keeps
+  // the slab test's t in world units. Cells are tested in world coordinates.
+  const glm::dvec3 origin = (ray.origin - Origin_) * BoxScale_;
+  const glm::dvec3 inverse = rayInverse(ray.direction * BoxScale_);
   struct Entry
   {
     std::uint32_t node;
@@ -798,7 +836,7 @@ bool Scene::locate(const glm::dvec3& point, NodeId& cellId) const
   {
     return false;
   }
-  const glm::dvec3 relative = point - Origin_;
+  const glm::dvec3 relative = (point - Origin_) * BoxScale_;
   auto contains = [&](const Node& node) {
     for (int a = 0; a < 3; ++a)
     {
@@ -850,6 +888,20 @@ bool Scene::locate(const glm::dvec3& point, NodeId& cellId) const
   return false;
 }
 
+bool Scene::bounds(double box[6]) const
+{
+  if (Nodes_.empty())
+  {
+    return false;
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    box[2 * a] = Origin_[a] + static_cast<double>(Nodes_[0].boxLo[a]) / BoxScale_;
+    box[2 * a + 1] = Origin_[a] + static_cast<double>(Nodes_[0].boxHi[a]) / BoxScale_;
+  }
+  return true;
+}
+
 double Scene::diagonal() const
 {
   if (Nodes_.empty())
@@ -858,7 +910,7 @@ double Scene::diagonal() const
   }
   const Node& root = Nodes_[0];
   return glm::length(glm::dvec3(root.boxHi[0] - root.boxLo[0], root.boxHi[1] - root.boxLo[1],
-    root.boxHi[2] - root.boxLo[2]));
+           root.boxHi[2] - root.boxLo[2])) / BoxScale_;
 }
 
 void Scene::computeNodalGradients()

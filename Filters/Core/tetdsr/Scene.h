@@ -26,12 +26,18 @@ struct MeshView
 {
   const double* points = nullptr; ///< x, y, z per point
   NodeId numberOfPoints = 0;
-  /// 10 node ids per cell. A mid-edge id of -1 marks a straight edge whose mid-edge value is the
-  /// mean of its ends: that is how a linear tetrahedron enters as an exact quadratic one.
+  /// 10 node ids per cell (exactly 10 * numberOfCells entries).
   const NodeId* cellNodes = nullptr;
-  NodeId numberOfCells = 0;
-  const double* values = nullptr; ///< one scalar per point
+  NodeId numberOfCells = 0; ///< at most Scene::kMaxCells
+  const double* values = nullptr; ///< one scalar per point (numberOfPoints entries)
+  /// When true, a mid-edge id of kStraightEdge marks a straight edge whose mid-edge value is the
+  /// mean of its ends: that is how a linear tetrahedron enters as an exact quadratic one. When
+  /// false (a mesh of 10-node cells as given), such an id is out of range like any other.
+  bool straightEdgeMarkers = false;
 };
+
+/// The mid-edge id of a straight edge (MeshView::straightEdgeMarkers).
+constexpr NodeId kStraightEdge = -1;
 
 /// What preprocessing found. Cells that are not valid are left out of the hierarchy.
 struct PreprocessSummary
@@ -39,7 +45,12 @@ struct PreprocessSummary
   NodeId validCells = 0;
   NodeId invertedCells = 0;   ///< valid, negative orientation (rendered the same way)
   NodeId curvedCells = 0;     ///< valid, a mid-edge node off its edge's midpoint (rendered straight)
-  NodeId degenerateCells = 0; ///< zero volume, or a node id repeated within the cell
+  /// flat or needle-like (volume below 1e-13 of the longest edge cubed), or a node id repeated
+  /// within the cell
+  NodeId degenerateCells = 0;
+  /// longest edge outside [kMinCellSize, kMaxCellSize]: its volume and barycentric frame would
+  /// underflow or overflow double precision
+  NodeId outOfScaleCells = 0;
   NodeId nonFiniteCells = 0;  ///< a NaN or Inf nodal value or coordinate
   NodeId invalidIdCells = 0;  ///< a node id outside [0, numberOfPoints)
 };
@@ -109,8 +120,16 @@ inline void serialFor(NodeId count, const std::function<void(NodeId, NodeId)>& b
 class Scene
 {
 public:
+  /// Cells a scene can index (32-bit slots); a larger mesh gives an empty scene.
+  static constexpr NodeId kMaxCells = 0xFFFFFFFFLL;
+  /// The range of cell sizes (longest edge) whose barycentric frames stay within double
+  /// precision: the volume (size^3) and its inverse times size^2 stay far from under- and
+  /// overflow. Cells outside it are skipped and counted (outOfScaleCells).
+  static constexpr double kMinCellSize = 1e-100;
+  static constexpr double kMaxCellSize = 1e100;
+
   /// Validates every cell (in parallel through `parallelFor`) and builds the hierarchy. The
-  /// mesh's arrays must outlive the scene.
+  /// mesh's arrays must outlive the scene, and hold the counts the view gives.
   explicit Scene(const MeshView& mesh, const ParallelFor& parallelFor = serialFor,
     const TransverseTest& transverseTest = TransverseTest());
 
@@ -135,6 +154,10 @@ public:
 
   /// The diagonal of the box around the valid cells (0 when there is none).
   double diagonal() const;
+
+  /// The box around the valid cells (xmin, xmax, ymin, ymax, zmin, zmax), slightly padded;
+  /// false when there is no valid cell.
+  bool bounds(double box[6]) const;
 
   /// The longest edge of a cell.
   double cellSize(NodeId cellId) const;
@@ -163,8 +186,8 @@ public:
 
 private:
   // Boxes and value ranges are stored in float, rounded outward, so every test on them is
-  // conservative; boxes are relative to Origin_ so their precision follows the scene's size,
-  // not its distance from the world origin. Exact (double) tests happen per cell.
+  // conservative; boxes are relative to Origin_ and in units of the scene's extent, so their
+  // precision follows the scene's size, not its distance from the world origin or its scale. Exact (double) tests happen per cell.
   struct Node
   {
     float boxLo[3];
@@ -172,8 +195,7 @@ private:
     float valueLo;
     float valueHi;
     std::uint32_t firstOrSecondChild; ///< leaf: first slot; interior: index of the second child
-    std::uint16_t count;              ///< leaf: number of cells; interior: 0 (first child: next)
-    std::uint16_t axis;
+    std::uint32_t count; ///< leaf: number of cells (at most kLeafSize); interior: 0 (first child: next)
   };
   struct BuildItem;
   struct Bounds;
@@ -202,6 +224,7 @@ private:
   MeshView Mesh_;
   TransverseTest Transverse_;
   glm::dvec3 Origin_{ 0.0 };
+  double BoxScale_ = 1.0; ///< boxes hold (x - Origin_) * BoxScale_, a power of two
   PreprocessSummary Summary_;
   std::vector<Node> Nodes_;
   std::vector<std::uint32_t> SlotCell_; ///< cell id of each leaf slot

@@ -1,0 +1,659 @@
+#include "vtkDirectSurfaceAdapter.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellType.h"
+#include "vtkContourValues.h"
+#include "vtkDataArray.h"
+#include "vtkDataObject.h"
+#include "vtkDoubleArray.h"
+#include "vtkMath.h"
+#include "vtkPlane.h"
+#include "vtkPlaneCollection.h"
+#include "vtkPoints.h"
+#include "vtkSMPTools.h"
+#include "vtkScalarsToColors.h"
+#include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <sstream>
+#include <type_traits>
+#include <unistd.h>
+
+static_assert(std::is_same<vtkIdType, tetdsr::NodeId>::value,
+  "TetDSR needs VTK built with 64-bit ids (VTK_USE_64BIT_IDS)");
+
+namespace tetdsr
+{
+namespace vtkadapter
+{
+
+namespace
+{
+// Entries of the colour table sampled from a lookup table: 1024 keeps the linear interpolation
+// between entries within 1/255 of the lookup table's colour for any map with a few control points.
+constexpr int kColorTableSize = 1024;
+
+// Progress reports / abort checks per cast.
+constexpr NodeId kProgressSteps = 32;
+
+template <typename... Parts>
+std::string Text(const Parts&... parts)
+{
+  std::ostringstream stream;
+  (stream << ... << parts);
+  return stream.str();
+}
+
+/// What a scene was built from: each object and its modification time. vtkUnstructuredGrid's
+/// own MTime does not follow edits of its cell arrays, so every array is stamped on its own.
+struct Stamp
+{
+  std::vector<std::pair<const void*, vtkMTimeType>> parts;
+
+  static Stamp Of(vtkUnstructuredGrid* input, vtkDataArray* scalars)
+  {
+    Stamp stamp;
+    auto add = [&stamp](vtkObject* object) {
+      stamp.parts.emplace_back(object, object ? object->GetMTime() : 0);
+    };
+    add(input);
+    add(input->GetPoints());
+    add(input->GetPoints() ? input->GetPoints()->GetData() : nullptr);
+    vtkCellArray* cells = input->GetCells();
+    add(cells);
+    add(cells ? cells->GetOffsetsArray() : nullptr);
+    add(cells ? cells->GetConnectivityArray() : nullptr);
+    add(input->GetCellTypesArray());
+    add(scalars);
+    return stamp;
+  }
+  bool operator==(const Stamp& other) const { return parts == other.parts; }
+};
+} // namespace
+
+struct PreparedMesh::Internals
+{
+  Stamp BuiltFrom;
+  int Component = 0;
+  TransverseTest Transverse;
+  bool Valid = false;
+
+  // The viewed VTK arrays, kept alive as long as the scene views them.
+  vtkSmartPointer<vtkDataArray> PointArray;
+  vtkSmartPointer<vtkDataArray> ConnectivityArray;
+  vtkSmartPointer<vtkDataArray> ScalarArray;
+  std::vector<double> PointsCopy;
+  std::vector<vtkIdType> CellNodesCopy;
+  std::vector<double> ValuesCopy;
+  std::vector<vtkIdType> InputCellIds; ///< scene cell -> input cell; empty when the identity
+  NodeId NumberOfPoints = 0;
+
+  std::unique_ptr<Scene> TheScene;
+  PreprocessSummary EmptySummary;
+  vtkIdType UnsupportedCells = 0;
+  vtkIdType MalformedCells = 0;
+
+  // A point array (colour), as doubles, kept until it changes.
+  vtkDataArray* ColorArray = nullptr;
+  vtkMTimeType ColorArrayTime = 0;
+  vtkSmartPointer<vtkDataArray> ColorArrayView;
+  std::vector<double> ColorValuesCopy;
+  const double* ColorValues = nullptr;
+
+  bool Convert(vtkUnstructuredGrid* input, vtkDataArray* scalars, int component,
+    MeshView& mesh, Messages& messages);
+  template <typename OffsetsType, typename IdsType>
+  void CopyCells(vtkUnstructuredGrid* input, OffsetsType* offsets, IdsType* connectivity);
+};
+
+PreparedMesh::PreparedMesh()
+  : Internal(new Internals)
+{
+}
+
+PreparedMesh::~PreparedMesh() = default;
+
+Scene* PreparedMesh::GetScene() const
+{
+  return this->Internal->Valid ? this->Internal->TheScene.get() : nullptr;
+}
+
+const PreprocessSummary& PreparedMesh::GetSummary() const
+{
+  return this->Internal->TheScene ? this->Internal->TheScene->summary()
+                                  : this->Internal->EmptySummary;
+}
+
+vtkIdType PreparedMesh::GetUnsupportedCells() const
+{
+  return this->Internal->UnsupportedCells;
+}
+
+vtkIdType PreparedMesh::GetMalformedCells() const
+{
+  return this->Internal->MalformedCells;
+}
+
+vtkIdType PreparedMesh::InputCellId(NodeId sceneCell) const
+{
+  const auto& ids = this->Internal->InputCellIds;
+  return ids.empty() ? sceneCell : ids[static_cast<std::size_t>(sceneCell)];
+}
+
+std::size_t PreparedMesh::MemoryBytes() const
+{
+  const Internals& in = *this->Internal;
+  return (in.TheScene ? in.TheScene->memoryBytes() : 0) +
+    sizeof(double) * (in.PointsCopy.capacity() + in.ValuesCopy.capacity()) +
+    sizeof(vtkIdType) * (in.CellNodesCopy.capacity() + in.InputCellIds.capacity());
+}
+
+bool PreparedMesh::Prepare(vtkUnstructuredGrid* input, vtkDataArray* scalars, int component,
+  const TransverseTest& transverse, int numberOfThreads, Messages& messages)
+{
+  Internals& in = *this->Internal;
+  const Stamp stamp = Stamp::Of(input, scalars);
+  const bool same = in.TheScene && stamp == in.BuiltFrom && component == in.Component &&
+    transverse.mode == in.Transverse.mode && transverse.widening == in.Transverse.widening;
+  if (!same)
+  {
+    // Rebuild from scratch: nothing of the previous conversion is trusted.
+    this->Internal.reset(new Internals);
+    Internals& fresh = *this->Internal;
+    fresh.BuiltFrom = stamp;
+    fresh.Component = component;
+    fresh.Transverse = transverse;
+    MeshView mesh;
+    if (!fresh.Convert(input, scalars, component, mesh, messages))
+    {
+      return false;
+    }
+    WithThreads(numberOfThreads, [&]() {
+      fresh.TheScene.reset(new Scene(mesh,
+        [](NodeId count, const std::function<void(NodeId, NodeId)>& body) {
+          vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) { body(begin, end); });
+        },
+        transverse));
+    });
+  }
+  Internals& current = *this->Internal;
+  current.Valid = false;
+
+  const PreprocessSummary& summary = current.TheScene->summary();
+  if (current.UnsupportedCells > 0)
+  {
+    messages.warnings.push_back(Text("Skipped ", current.UnsupportedCells,
+      " cells whose type is neither VTK_QUADRATIC_TETRA nor VTK_TETRA."));
+  }
+  if (current.MalformedCells > 0)
+  {
+    messages.warnings.push_back(Text("Skipped ", current.MalformedCells,
+      " malformed cells: a number of node ids that does not match the type (10 for "
+      "VTK_QUADRATIC_TETRA, 4 for VTK_TETRA), or offsets out of order or past the end of the "
+      "connectivity array."));
+  }
+  if (summary.curvedCells > 0)
+  {
+    messages.warnings.push_back(Text(summary.curvedCells,
+      " cells are curved (a mid-edge node off its edge's midpoint): they are rendered as "
+      "straight-sided tetrahedra, so only approximately."));
+  }
+  if (summary.degenerateCells > 0)
+  {
+    messages.warnings.push_back(Text("Skipped ", summary.degenerateCells,
+      " degenerate cells (flat or needle-like: 6 x volume below 1e-13 of the longest edge cubed; "
+      "or a node id repeated within the cell)."));
+  }
+  if (summary.outOfScaleCells > 0)
+  {
+    messages.warnings.push_back(Text("Skipped ", summary.outOfScaleCells,
+      " cells whose longest edge is outside [", Scene::kMinCellSize, ", ", Scene::kMaxCellSize,
+      "]: their volumes would underflow or overflow double precision."));
+  }
+  if (summary.nonFiniteCells > 0)
+  {
+    messages.warnings.push_back(Text("Skipped ", summary.nonFiniteCells,
+      " cells with NaN or Inf values of '", scalars->GetName() ? scalars->GetName() : "(unnamed)",
+      "' or coordinates at their nodes."));
+  }
+  if (summary.invalidIdCells > 0)
+  {
+    messages.warnings.push_back(Text("Skipped ", summary.invalidIdCells,
+      " cells with node ids outside [0, ", current.NumberOfPoints, ")."));
+  }
+  if (summary.validCells == 0)
+  {
+    messages.errors.push_back(Text("No cell can be rendered: all ", input->GetNumberOfCells(),
+      " input cells were skipped."));
+    return false;
+  }
+  current.Valid = true;
+  return true;
+}
+
+bool PreparedMesh::Internals::Convert(vtkUnstructuredGrid* input, vtkDataArray* scalars,
+  int component, MeshView& mesh, Messages& messages)
+{
+  vtkPoints* points = input->GetPoints();
+  vtkCellArray* cells = input->GetCells();
+  const vtkIdType numberOfPoints = points ? points->GetNumberOfPoints() : 0;
+  const vtkIdType numberOfCells = cells ? cells->GetNumberOfCells() : 0;
+  if (numberOfPoints == 0 || numberOfCells == 0)
+  {
+    messages.errors.push_back("The input mesh is empty: it has no cells or no points.");
+    return false;
+  }
+  if (numberOfCells > Scene::kMaxCells)
+  {
+    messages.errors.push_back(Text("The input has ", numberOfCells, " cells; at most ",
+      Scene::kMaxCells, " can be rendered."));
+    return false;
+  }
+  vtkUnsignedCharArray* types = input->GetCellTypesArray();
+  if (!types || types->GetNumberOfTuples() < numberOfCells || types->GetNumberOfComponents() != 1)
+  {
+    messages.errors.push_back(Text("The input's cell types array has ",
+      types ? types->GetNumberOfValues() : 0, " values for ", numberOfCells, " cells."));
+    return false;
+  }
+  const char* name = scalars->GetName() ? scalars->GetName() : "(unnamed)";
+  if (scalars->GetNumberOfTuples() < numberOfPoints)
+  {
+    messages.errors.push_back(Text("Point array '", name, "' has ", scalars->GetNumberOfTuples(),
+      " tuples for ", numberOfPoints, " points."));
+    return false;
+  }
+  NumberOfPoints = numberOfPoints;
+  mesh.numberOfPoints = numberOfPoints;
+
+  vtkDataArray* pointData = points->GetData();
+  if (auto* doublePoints = vtkDoubleArray::FastDownCast(pointData))
+  {
+    PointArray = doublePoints;
+    mesh.points = doublePoints->GetPointer(0);
+  }
+  else
+  {
+    PointsCopy.resize(3 * static_cast<std::size_t>(numberOfPoints));
+    for (vtkIdType p = 0; p < numberOfPoints; ++p)
+    {
+      pointData->GetTuple(p, PointsCopy.data() + 3 * p);
+    }
+    mesh.points = PointsCopy.data();
+  }
+
+  if (scalars->GetNumberOfComponents() == 1 && vtkDoubleArray::FastDownCast(scalars))
+  {
+    ScalarArray = scalars;
+    mesh.values = vtkDoubleArray::FastDownCast(scalars)->GetPointer(0);
+  }
+  else
+  {
+    ValuesCopy.resize(static_cast<std::size_t>(numberOfPoints));
+    for (vtkIdType p = 0; p < numberOfPoints; ++p)
+    {
+      ValuesCopy[p] = scalars->GetComponent(p, component);
+    }
+    mesh.values = ValuesCopy.data();
+  }
+
+  // Connectivity: viewed directly when every cell is a quadratic tet whose offsets are exactly
+  // 0, 10, 20, ... (a .vtu may claim the type and give another count); else copied cell by cell,
+  // each checked against the arrays.
+  bool allQuadratic = true;
+  for (vtkIdType c = 0; c < numberOfCells && allQuadratic; ++c)
+  {
+    allQuadratic = types->GetValue(c) == VTK_QUADRATIC_TETRA;
+  }
+  if (allQuadratic && cells->IsStorage64Bit())
+  {
+    auto* offsets = cells->GetOffsetsArray64();
+    auto* connectivity = cells->GetConnectivityArray64();
+    bool regular = connectivity->GetNumberOfValues() == 10 * numberOfCells;
+    const vtkIdType* offset = offsets->GetPointer(0);
+    for (vtkIdType c = 0; c <= numberOfCells && regular; ++c)
+    {
+      regular = offset[c] == 10 * c;
+    }
+    if (regular)
+    {
+      ConnectivityArray = connectivity;
+      mesh.cellNodes = connectivity->GetPointer(0);
+      mesh.numberOfCells = numberOfCells;
+      return true;
+    }
+  }
+  if (cells->IsStorage64Bit())
+  {
+    CopyCells(input, cells->GetOffsetsArray64(), cells->GetConnectivityArray64());
+  }
+  else
+  {
+    CopyCells(input, cells->GetOffsetsArray32(), cells->GetConnectivityArray32());
+  }
+  mesh.cellNodes = CellNodesCopy.data();
+  mesh.numberOfCells = static_cast<vtkIdType>(InputCellIds.size());
+  mesh.straightEdgeMarkers = true; // linear tets' mid-edge ids are kStraightEdge
+  if (mesh.numberOfCells == 0)
+  {
+    messages.errors.push_back(Text("No cell can be rendered: none of the ", numberOfCells,
+      " input cells is a well-formed VTK_QUADRATIC_TETRA or VTK_TETRA (", UnsupportedCells,
+      " of another type, ", MalformedCells, " malformed)."));
+    return false;
+  }
+  return true;
+}
+
+template <typename OffsetsType, typename IdsType>
+void PreparedMesh::Internals::CopyCells(
+  vtkUnstructuredGrid* input, OffsetsType* offsets, IdsType* connectivity)
+{
+  vtkUnsignedCharArray* types = input->GetCellTypesArray();
+  const vtkIdType numberOfCells = offsets->GetNumberOfValues() - 1;
+  const vtkIdType size = connectivity->GetNumberOfValues();
+  for (vtkIdType c = 0; c < numberOfCells; ++c)
+  {
+    const int type = types->GetValue(c);
+    if (type != VTK_QUADRATIC_TETRA && type != VTK_TETRA)
+    {
+      ++UnsupportedCells;
+      continue;
+    }
+    const vtkIdType begin = offsets->GetValue(c);
+    const vtkIdType end = offsets->GetValue(c + 1);
+    const vtkIdType expected = type == VTK_QUADRATIC_TETRA ? 10 : 4;
+    if (begin < 0 || end > size || end - begin != expected)
+    {
+      ++MalformedCells;
+      continue;
+    }
+    for (vtkIdType n = 0; n < 10; ++n)
+    {
+      vtkIdType id = kStraightEdge; // a linear tet's straight edges
+      if (n < expected)
+      {
+        id = static_cast<vtkIdType>(connectivity->GetValue(begin + n));
+        // A quadratic cell's negative id is invalid, not a straight edge: keep it out of range.
+        id = id < 0 ? std::numeric_limits<vtkIdType>::min() : id;
+      }
+      CellNodesCopy.push_back(id);
+    }
+    InputCellIds.push_back(c);
+  }
+}
+
+const double* PreparedMesh::PointArrayValues(vtkDataArray* array, const char* role, Messages& messages)
+{
+  Internals& in = *this->Internal;
+  if (array->GetNumberOfTuples() < in.NumberOfPoints)
+  {
+    messages.errors.push_back(Text("The ", role, " '", array->GetName() ? array->GetName() : "",
+      "' has ", array->GetNumberOfTuples(), " tuples for ", in.NumberOfPoints, " points."));
+    return nullptr;
+  }
+  if (array == in.ColorArray && array->GetMTime() == in.ColorArrayTime)
+  {
+    return in.ColorValues;
+  }
+  in.ColorArray = array;
+  in.ColorArrayTime = array->GetMTime();
+  in.ColorValuesCopy.clear();
+  if (auto* doubles = vtkDoubleArray::FastDownCast(array))
+  {
+    in.ColorArrayView = doubles;
+    in.ColorValues = doubles->GetPointer(0);
+    return in.ColorValues;
+  }
+  in.ColorArrayView = nullptr;
+  const int components = array->GetNumberOfComponents();
+  in.ColorValuesCopy.resize(static_cast<std::size_t>(in.NumberOfPoints) * components);
+  for (vtkIdType p = 0; p < in.NumberOfPoints; ++p)
+  {
+    array->GetTuple(p, in.ColorValuesCopy.data() + static_cast<std::size_t>(p) * components);
+  }
+  in.ColorValues = in.ColorValuesCopy.data();
+  return in.ColorValues;
+}
+
+//------------------------------------------------------------------------------
+bool ConvertIsoValues(vtkContourValues* contourValues, std::vector<double>& values, Messages& messages)
+{
+  const int count = contourValues->GetNumberOfContours();
+  if (count <= 0)
+  {
+    messages.errors.push_back("No iso-value: set one with SetValue(0, value).");
+    return false;
+  }
+  values.assign(contourValues->GetValues(), contourValues->GetValues() + count);
+  for (double value : values)
+  {
+    if (!std::isfinite(value))
+    {
+      messages.errors.push_back(Text("Iso-value ", value, " is not finite."));
+      return false;
+    }
+  }
+  return true;
+}
+
+bool ConvertClipPlanes(vtkPlaneCollection* planes, int maximum, std::vector<ClipPlane>& clipPlanes,
+  Messages& messages)
+{
+  clipPlanes.clear();
+  const int count = planes ? planes->GetNumberOfItems() : 0;
+  if (count > maximum)
+  {
+    messages.errors.push_back(Text(count, " clipping planes: at most ", maximum, " are supported."));
+    return false;
+  }
+  for (int k = 0; k < count; ++k)
+  {
+    vtkPlane* plane = planes->GetItem(k);
+    ClipPlane clip;
+    double v[3];
+    plane->GetOrigin(v);
+    clip.origin = glm::dvec3(v[0], v[1], v[2]);
+    plane->GetNormal(v);
+    clip.normal = glm::dvec3(v[0], v[1], v[2]);
+    if (!isFinite(clip.normal) || !isFinite(clip.origin))
+    {
+      messages.errors.push_back(Text("Clipping plane ", k, " has a NaN or Inf in its normal or origin."));
+      return false;
+    }
+    if (unitVector(clip.normal) == glm::dvec3(0.0))
+    {
+      messages.errors.push_back(Text("Clipping plane ", k, " has a zero normal: it keeps no side."));
+      return false;
+    }
+    clipPlanes.push_back(clip);
+  }
+  return true;
+}
+
+bool CheckPointArray(vtkDataArray* array, int association, int requestedComponent,
+  bool allowMagnitude, const char* componentSetting, int& component, Messages& messages)
+{
+  const char* name = array->GetName() ? array->GetName() : "(unnamed)";
+  if (association != vtkDataObject::FIELD_ASSOCIATION_POINTS)
+  {
+    messages.errors.push_back(Text("Array '", name,
+      "' is not a point array: the quadratic field needs values at the nodes."));
+    return false;
+  }
+  const int components = array->GetNumberOfComponents();
+  if (requestedComponent >= components)
+  {
+    messages.errors.push_back(Text(componentSetting, " ", requestedComponent,
+      " is out of range: array '", name, "' has ", components, " components."));
+    return false;
+  }
+  if (requestedComponent >= 0 || components == 1)
+  {
+    component = std::max(requestedComponent, 0);
+    return true;
+  }
+  if (!allowMagnitude)
+  {
+    messages.errors.push_back(Text("Array '", name, "' has ", components,
+      " components: choose one with ", componentSetting, "."));
+    return false;
+  }
+  component = -1;
+  return true;
+}
+
+void FiniteRange(vtkDataArray* array, int component, double range[2])
+{
+  range[0] = std::numeric_limits<double>::infinity();
+  range[1] = -std::numeric_limits<double>::infinity();
+  const int components = array->GetNumberOfComponents();
+  std::vector<double> tuple(static_cast<std::size_t>(components));
+  for (vtkIdType p = 0; p < array->GetNumberOfTuples(); ++p)
+  {
+    array->GetTuple(p, tuple.data());
+    double value = 0.0;
+    if (component >= 0)
+    {
+      value = tuple[static_cast<std::size_t>(component)];
+    }
+    else
+    {
+      for (double x : tuple)
+      {
+        value += x * x;
+      }
+      value = std::sqrt(value);
+    }
+    if (std::isfinite(value))
+    {
+      range[0] = std::min(range[0], value);
+      range[1] = std::max(range[1], value);
+    }
+  }
+  if (range[0] > range[1])
+  {
+    range[0] = 0.0;
+    range[1] = 1.0;
+  }
+}
+
+ColorTable SampleColorTable(vtkScalarsToColors* lookupTable, double lo, double hi)
+{
+  ColorTable table;
+  table.lo = lo;
+  table.hi = hi;
+  const double* range = lookupTable->GetRange();
+  double rgb[3];
+  for (int k = 0; k < kColorTableSize; ++k)
+  {
+    const double x = static_cast<double>(k) / (kColorTableSize - 1);
+    lookupTable->GetColor(range[0] + x * (range[1] - range[0]), rgb);
+    table.colors.emplace_back(rgb[0], rgb[1], rgb[2]);
+  }
+  lookupTable->GetColor(vtkMath::Nan(), rgb);
+  table.nanColor = glm::dvec3(rgb[0], rgb[1], rgb[2]);
+  return table;
+}
+
+bool CheckImageSize(int width, int height, double bytesPerPixel, const char* what, Messages& messages)
+{
+  const double pixels = static_cast<double>(width) * static_cast<double>(height);
+  const double bytes = pixels * bytesPerPixel;
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long pageSize = sysconf(_SC_PAGESIZE);
+  const double memory = pages > 0 && pageSize > 0 ? static_cast<double>(pages) * pageSize : 0.0;
+  // Extents and pixel indices are ints in VTK's image data: each side below 2^31, and the
+  // product too (so that no index wraps).
+  const bool fitsIndices = pixels < 2147483647.0;
+  if (width <= 0 || height <= 0 || !fitsIndices || (memory > 0.0 && bytes > memory))
+  {
+    std::ostringstream text;
+    text << what << " " << width << " x " << height << " pixels";
+    if (width > 0 && height > 0)
+    {
+      text.precision(3);
+      text << " needs " << bytes / (1024.0 * 1024.0 * 1024.0) << " GiB";
+      if (memory > 0.0)
+      {
+        text << "; this machine has " << memory / (1024.0 * 1024.0 * 1024.0) << " GiB";
+      }
+      if (!fitsIndices)
+      {
+        text << "; VTK images hold fewer than 2^31 pixels";
+      }
+    }
+    text << ": choose a smaller size.";
+    messages.errors.push_back(text.str());
+    return false;
+  }
+  return true;
+}
+
+bool CheckCamera(const Camera& camera, const Scene& scene, Messages& messages)
+{
+  const CameraProblem problem = RayGenerator::check(camera);
+  if (problem != CameraProblem::None)
+  {
+    messages.errors.push_back(Text("Cannot render: ", describe(problem), "."));
+    return false;
+  }
+  double box[6];
+  if (scene.bounds(box))
+  {
+    const glm::dvec3 centre(
+      0.5 * (box[0] + box[1]), 0.5 * (box[2] + box[3]), 0.5 * (box[4] + box[5]));
+    const glm::dvec3 offset = (camera.position - centre) / std::max(scene.diagonal(), 1e-300);
+    // Compared in units of the diagonal, each component first, so nothing overflows.
+    const double largest = std::max({ std::abs(offset.x), std::abs(offset.y), std::abs(offset.z) });
+    if (!(largest <= kMaxCameraDistance))
+    {
+      messages.errors.push_back(Text("Cannot render: the camera is ", largest,
+        " scene diagonals from the scene; beyond ", kMaxCameraDistance,
+        " double-precision rays cannot place hits within 1e-7 of the scene."));
+      return false;
+    }
+  }
+  return true;
+}
+
+void WithThreads(int numberOfThreads, const std::function<void()>& work)
+{
+  std::string backend = vtkSMPTools::GetBackend();
+  if (backend == "Sequential" && !std::getenv("VTK_SMP_BACKEND_IN_USE"))
+  {
+    backend = "STDThread";
+  }
+  vtkSMPTools::LocalScope(vtkSMPTools::Config{ numberOfThreads, backend, false }, work);
+}
+
+NodeId Cast(const Renderer& renderer, bool depthBufferNormals, int numberOfThreads,
+  const std::function<bool()>& abort, const std::function<void(double)>& progress)
+{
+  const NodeId tiles = renderer.numberOfTiles();
+  NodeId done = 0;
+  WithThreads(numberOfThreads, [&]() {
+    const NodeId step = std::max<NodeId>(1, tiles / kProgressSteps);
+    while (done < tiles && !abort())
+    {
+      const NodeId end = std::min(tiles, done + step);
+      vtkSMPTools::For(
+        done, end, 1, [&](vtkIdType begin, vtkIdType last) { renderer.renderTiles(begin, last); });
+      done = end;
+      progress(static_cast<double>(done) / tiles);
+    }
+    if (done == tiles && depthBufferNormals)
+    {
+      vtkSMPTools::For(
+        0, tiles, 1, [&](vtkIdType begin, vtkIdType last) { renderer.shadeFromDepth(begin, last); });
+    }
+  });
+  return done;
+}
+
+} // namespace vtkadapter
+} // namespace tetdsr
