@@ -421,6 +421,104 @@ const double* PreparedMesh::PointArrayValues(vtkDataArray* array, const char* ro
 }
 
 //------------------------------------------------------------------------------
+bool IsoValueStyles::SetColor(int i, double red, double green, double blue, Messages& messages)
+{
+  if (i < 0 || i >= kMaxIndex)
+  {
+    messages.errors.push_back(Text("SetIsoValueColor: index ", i, " is outside [0, ", kMaxIndex, ")."));
+    return false;
+  }
+  const std::size_t first = 3 * static_cast<std::size_t>(i);
+  if (this->Colors.size() < first + 3)
+  {
+    this->Colors.resize(first + 3, vtkMath::Nan());
+  }
+  const double color[3] = { red, green, blue };
+  for (int c = 0; c < 3; ++c)
+  {
+    this->Colors[first + c] = vtkMath::ClampValue(color[c], 0.0, 1.0);
+  }
+  return true;
+}
+
+bool IsoValueStyles::SetOpacity(int i, double opacity, Messages& messages)
+{
+  if (i < 0 || i >= kMaxIndex)
+  {
+    messages.errors.push_back(Text("SetIsoValueOpacity: index ", i, " is outside [0, ", kMaxIndex, ")."));
+    return false;
+  }
+  if (this->Opacities.size() < static_cast<std::size_t>(i) + 1)
+  {
+    this->Opacities.resize(static_cast<std::size_t>(i) + 1, vtkMath::Nan());
+  }
+  this->Opacities[static_cast<std::size_t>(i)] = vtkMath::ClampValue(opacity, 0.0, 1.0);
+  return true;
+}
+
+void IsoValueStyles::GetColor(int i, const double fallback[3], double color[3]) const
+{
+  const std::size_t first = 3 * static_cast<std::size_t>(std::max(i, 0));
+  const bool set = i >= 0 && first < this->Colors.size() && !std::isnan(this->Colors[first]);
+  for (int c = 0; c < 3; ++c)
+  {
+    color[c] = set ? this->Colors[first + c] : fallback[c];
+  }
+}
+
+double IsoValueStyles::GetOpacity(int i) const
+{
+  return i >= 0 && static_cast<std::size_t>(i) < this->Opacities.size() &&
+      !std::isnan(this->Opacities[static_cast<std::size_t>(i)])
+    ? this->Opacities[static_cast<std::size_t>(i)]
+    : 1.0;
+}
+
+bool IsoValueStyles::RemoveAllColors()
+{
+  const bool any = !this->Colors.empty();
+  this->Colors.clear();
+  return any;
+}
+
+bool IsoValueStyles::RemoveAllOpacities()
+{
+  const bool any = !this->Opacities.empty();
+  this->Opacities.clear();
+  return any;
+}
+
+std::vector<SurfaceStyle> IsoValueStyles::Styles(
+  std::size_t count, const double fallback[3], double opacityFactor) const
+{
+  std::vector<SurfaceStyle> styles;
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    double color[3];
+    this->GetColor(static_cast<int>(i), fallback, color);
+    styles.push_back({ glm::dvec3(color[0], color[1], color[2]),
+      opacityFactor * this->GetOpacity(static_cast<int>(i)) });
+  }
+  return styles;
+}
+
+std::string IsoValueStyles::Describe() const
+{
+  std::ostringstream text;
+  text << "colours (r g b per value, nan: not set):";
+  for (double c : this->Colors)
+  {
+    text << " " << c;
+  }
+  text << "; opacities (nan: 1):";
+  for (double o : this->Opacities)
+  {
+    text << " " << o;
+  }
+  return text.str();
+}
+
+//------------------------------------------------------------------------------
 bool ConvertIsoValues(vtkContourValues* contourValues, std::vector<double>& values, Messages& messages)
 {
   const int count = contourValues->GetNumberOfContours();

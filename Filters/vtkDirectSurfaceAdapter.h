@@ -85,6 +85,31 @@ private:
   std::unique_ptr<Internals> Internal;
 };
 
+/// Per-iso-value colours and opacities, as the filter and the mapper let users set them: index i
+/// is the i-th iso-value as given; unset entries fall back to the surface colour and opacity 1.
+class TETDSRFILTERS_EXPORT IsoValueStyles
+{
+public:
+  /// Indices are refused at and beyond this (no scene needs a million surfaces).
+  static constexpr int kMaxIndex = 1 << 20;
+  /// False, with an error, for an index outside [0, kMaxIndex). Components are clamped to [0, 1].
+  bool SetColor(int i, double red, double green, double blue, Messages& messages);
+  bool SetOpacity(int i, double opacity, Messages& messages);
+  void GetColor(int i, const double fallback[3], double color[3]) const;
+  double GetOpacity(int i) const;
+  /// True when something was removed.
+  bool RemoveAllColors();
+  bool RemoveAllOpacities();
+  /// The core's styles of `count` iso-values; every opacity is multiplied by `opacityFactor`.
+  std::vector<SurfaceStyle> Styles(std::size_t count, const double fallback[3], double opacityFactor) const;
+  /// "r g b ..." and "a ..." of what is set, NaN where not.
+  std::string Describe() const;
+
+private:
+  std::vector<double> Colors;    ///< 3 per iso-value; NaN: not set
+  std::vector<double> Opacities; ///< NaN: not set
+};
+
 /// Iso-values from VTK's contour values; false, with an error, when there is none or one is
 /// not finite.
 TETDSRFILTERS_EXPORT bool ConvertIsoValues(

@@ -44,6 +44,7 @@ vtkCxxSetObjectMacro(vtkDirectSurfaceRayCaster, ClippingPlanes, vtkPlaneCollecti
 struct vtkDirectSurfaceRayCaster::Cache
 {
   tetdsr::vtkadapter::PreparedMesh Mesh;
+  tetdsr::vtkadapter::IsoValueStyles Styles;
 };
 
 namespace
@@ -53,10 +54,6 @@ namespace adapter = tetdsr::vtkadapter;
 // Bytes per output pixel: Colors (4), Depth (8), Normals (24), CellId (8), ColorValues (8), and
 // the depth-buffer normals' per-pixel record (64).
 constexpr double kBytesPerPixel = 4 + 8 + 24 + 8 + 8 + 64;
-
-// Iso-value colours and opacities are indexed like the iso-values; beyond this index a call is
-// refused (vtkContourValues itself holds any number, but no scene needs a million surfaces).
-constexpr int kMaxIsoValueIndex = 1 << 20;
 
 /// One of the built-in colour maps over [0, 1].
 vtkSmartPointer<vtkScalarsToColors> BuiltInColorMap(int which)
@@ -110,6 +107,7 @@ vtkSmartPointer<vtkScalarsToColors> BuiltInColorMap(int which)
 //------------------------------------------------------------------------------
 vtkDirectSurfaceRayCaster::vtkDirectSurfaceRayCaster()
   : ContourValues(vtkContourValues::New())
+  , Prepared(new Cache)
 {
   this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(1);
@@ -129,70 +127,46 @@ vtkDirectSurfaceRayCaster::~vtkDirectSurfaceRayCaster()
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceRayCaster::SetIsoValueColor(int i, double red, double green, double blue)
 {
-  if (i < 0 || i >= kMaxIsoValueIndex)
+  adapter::Messages messages;
+  if (this->Prepared->Styles.SetColor(i, red, green, blue, messages))
   {
-    vtkErrorMacro("SetIsoValueColor: index " << i << " is outside [0, " << kMaxIsoValueIndex << ").");
-    return;
+    this->Modified();
   }
-  if (this->IsoValueColors.size() < 3 * static_cast<std::size_t>(i + 1))
-  {
-    this->IsoValueColors.resize(3 * static_cast<std::size_t>(i + 1), vtkMath::Nan());
-  }
-  const double color[3] = { red, green, blue };
-  for (int c = 0; c < 3; ++c)
-  {
-    this->IsoValueColors[3 * i + c] = vtkMath::ClampValue(color[c], 0.0, 1.0);
-  }
-  this->Modified();
+  REPORT_MESSAGES(messages);
 }
 
 void vtkDirectSurfaceRayCaster::GetIsoValueColor(int i, double color[3])
 {
-  const bool set = i >= 0 && 3 * static_cast<std::size_t>(i) < this->IsoValueColors.size() &&
-    !std::isnan(this->IsoValueColors[3 * i]);
-  for (int c = 0; c < 3; ++c)
-  {
-    color[c] = set ? this->IsoValueColors[3 * i + c] : this->SurfaceColor[c];
-  }
+  this->Prepared->Styles.GetColor(i, this->SurfaceColor, color);
 }
 
 void vtkDirectSurfaceRayCaster::RemoveAllIsoValueColors()
 {
-  if (!this->IsoValueColors.empty())
+  if (this->Prepared->Styles.RemoveAllColors())
   {
-    this->IsoValueColors.clear();
     this->Modified();
   }
 }
 
 void vtkDirectSurfaceRayCaster::SetIsoValueOpacity(int i, double opacity)
 {
-  if (i < 0 || i >= kMaxIsoValueIndex)
+  adapter::Messages messages;
+  if (this->Prepared->Styles.SetOpacity(i, opacity, messages))
   {
-    vtkErrorMacro("SetIsoValueOpacity: index " << i << " is outside [0, " << kMaxIsoValueIndex << ").");
-    return;
+    this->Modified();
   }
-  if (this->IsoValueOpacities.size() < static_cast<std::size_t>(i + 1))
-  {
-    this->IsoValueOpacities.resize(static_cast<std::size_t>(i + 1), vtkMath::Nan());
-  }
-  this->IsoValueOpacities[i] = vtkMath::ClampValue(opacity, 0.0, 1.0);
-  this->Modified();
+  REPORT_MESSAGES(messages);
 }
 
 double vtkDirectSurfaceRayCaster::GetIsoValueOpacity(int i)
 {
-  return i >= 0 && static_cast<std::size_t>(i) < this->IsoValueOpacities.size() &&
-      !std::isnan(this->IsoValueOpacities[i])
-    ? this->IsoValueOpacities[i]
-    : 1.0;
+  return this->Prepared->Styles.GetOpacity(i);
 }
 
 void vtkDirectSurfaceRayCaster::RemoveAllIsoValueOpacities()
 {
-  if (!this->IsoValueOpacities.empty())
+  if (this->Prepared->Styles.RemoveAllOpacities())
   {
-    this->IsoValueOpacities.clear();
     this->Modified();
   }
 }
@@ -397,10 +371,6 @@ int vtkDirectSurfaceRayCaster::RequestData(
     ? tetdsr::TransverseTest::Mode::WidenedNodalRange
     : tetdsr::TransverseTest::Mode::BernsteinBound;
   transverse.widening = this->NodalRangeWidening;
-  if (!this->Prepared)
-  {
-    this->Prepared.reset(new Cache);
-  }
   adapter::PreparedMesh& prepared = this->Prepared->Mesh;
   const bool ready =
     prepared.Prepare(input, scalars, component, transverse, this->NumberOfThreads, messages);
@@ -510,22 +480,19 @@ int vtkDirectSurfaceRayCaster::RequestData(
   material.diffuse = this->Diffuse;
   material.specular = this->Specular;
   material.specularPower = this->SpecularPower;
-  settings.lightPosition = this->LightAtCamera
+  tetdsr::Light light; // one white point light
+  light.positional = true;
+  light.position = this->LightAtCamera
     ? camera.position
     : glm::dvec3(this->LightPosition[0], this->LightPosition[1], this->LightPosition[2]);
+  settings.lighting.lights.push_back(light);
   settings.normals.mode = static_cast<tetdsr::NormalMode>(this->NormalMode);
   settings.normals.relativeStep = this->CentralDifferenceStep;
   if (settings.normals.mode == tetdsr::NormalMode::NodalInterpolation)
   {
     scene.computeNodalGradients(); // once per mesh and array: kept with the scene
   }
-  for (std::size_t i = 0; i < values.size(); ++i)
-  {
-    double color[3];
-    this->GetIsoValueColor(static_cast<int>(i), color);
-    settings.isoStyles.push_back(
-      { glm::dvec3(color[0], color[1], color[2]), this->GetIsoValueOpacity(static_cast<int>(i)) });
-  }
+  settings.isoStyles = this->Prepared->Styles.Styles(values.size(), this->SurfaceColor, 1.0);
   settings.clipPlanes = clipPlanes;
   settings.cap = this->Capping == CAP_BELOW_ISO_VALUE ? tetdsr::CapRegion::BelowIsoValue
     : this->Capping == CAP_ABOVE_ISO_VALUE           ? tetdsr::CapRegion::AboveIsoValue
@@ -601,17 +568,7 @@ void vtkDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TransverseTest: "
      << (this->TransverseTest == BERNSTEIN_BOUND ? "BERNSTEIN_BOUND" : "WIDENED_NODAL_RANGE") << "\n";
   os << indent << "NodalRangeWidening: " << this->NodalRangeWidening << "\n";
-  os << indent << "IsoValueColors (r g b per value, nan: SurfaceColor):";
-  for (double c : this->IsoValueColors)
-  {
-    os << " " << c;
-  }
-  os << "\n" << indent << "IsoValueOpacities (nan: 1):";
-  for (double o : this->IsoValueOpacities)
-  {
-    os << " " << o;
-  }
-  os << "\n";
+  os << indent << "Iso-value " << this->Prepared->Styles.Describe() << "\n";
   os << indent << "ColorByArray: " << this->ColorByArray << "\n";
   os << indent << "ColorArrayComponent: " << this->ColorArrayComponent << "\n";
   os << indent << "ColorRange: (" << this->ColorRange[0] << ", " << this->ColorRange[1] << ")\n";

@@ -353,8 +353,6 @@ protected:
   double CentralDifferenceStep = 1e-3;
   int TransverseTest = BERNSTEIN_BOUND;
   double NodalRangeWidening = 0.25;
-  std::vector<double> IsoValueColors;    ///< 3 per iso-value; NaN: not set
-  std::vector<double> IsoValueOpacities; ///< NaN: not set
   bool ColorByArray = false;
   int ColorArrayComponent = -1;
   double ColorRange[2] = { 0.0, -1.0 };

@@ -28,8 +28,12 @@ glm::dvec3 ColorTable::map(double value) const
 }
 
 glm::dvec3 shade(const Material& material, const glm::dvec3& color, const glm::dvec3& hitPoint,
-  const glm::dvec3& unitNormal, const glm::dvec3& viewDirection, const glm::dvec3& lightPosition)
+  const glm::dvec3& unitNormal, const glm::dvec3& viewDirection, const Lighting& lighting)
 {
+  if (lighting.lights.empty())
+  {
+    return (material.ambient + material.diffuse) * color; // unlit, as VTK's lighting off
+  }
   glm::dvec3 n = unitNormal;
   if (glm::dot(n, n) == 0.0)
   {
@@ -39,20 +43,46 @@ glm::dvec3 shade(const Material& material, const glm::dvec3& color, const glm::d
   {
     n = -n;
   }
-  const glm::dvec3 toLight = glm::normalize(lightPosition - hitPoint);
-  const double diffuse = std::max(0.0, glm::dot(n, toLight));
-  const glm::dvec3 reflected = glm::reflect(-toLight, n);
-  const double specular = diffuse > 0.0
-    ? std::pow(std::max(0.0, glm::dot(reflected, -viewDirection)), material.specularPower)
-    : 0.0;
-  return (material.ambient + material.diffuse * diffuse) * color +
-    glm::dvec3(material.specular * specular);
+  glm::dvec3 diffuse(0.0), specular(0.0);
+  if (lighting.headlightOnly)
+  {
+    // VTK's headlight model: the light comes from the viewer; both terms use n . v.
+    const Light& light = lighting.lights[0];
+    const double facing = std::max(1e-6, -glm::dot(n, light.direction));
+    diffuse = facing * light.color;
+    specular = std::pow(facing, material.specularPower) * light.color;
+  }
+  else
+  {
+    const glm::dvec3 toViewer =
+      lighting.hasEye ? unitVector(lighting.eye - hitPoint) : -viewDirection;
+    for (const Light& light : lighting.lights)
+    {
+      const glm::dvec3 travel =
+        light.positional ? unitVector(hitPoint - light.position) : light.direction;
+      const double facing = std::max(0.0, -glm::dot(n, travel));
+      diffuse += facing * light.color;
+      if (facing > 0.0)
+      {
+        const double highlight = std::max(0.0, glm::dot(glm::reflect(travel, n), toViewer));
+        specular += std::pow(highlight, material.specularPower) * light.color;
+      }
+    }
+  }
+  return material.ambient * color + material.diffuse * diffuse * color +
+    material.specular * specular * material.specularColor;
 }
 
 Renderer::Renderer(const Scene& scene, const Camera& camera, const IsoValues& isoValues,
   const RenderSettings& settings, const ImageView& image)
+  : Renderer(scene, RayGenerator(camera, image.width, image.height), isoValues, settings, image)
+{
+}
+
+Renderer::Renderer(const Scene& scene, const RayGenerator& rays, const IsoValues& isoValues,
+  const RenderSettings& settings, const ImageView& image)
   : Scene_(scene)
-  , Rays_(camera, image.width, image.height)
+  , Rays_(rays)
   , IsoValues_(isoValues)
   , Settings_(settings)
   , Image_(image)
@@ -162,6 +192,17 @@ double Renderer::colorValue(NodeId cellId, const glm::dvec3& point) const
   return std::sqrt(sum);
 }
 
+glm::dvec3 Renderer::directColor(NodeId cellId, const glm::dvec3& point) const
+{
+  const ColorByArray& by = Settings_.colorBy;
+  glm::dvec3 color(0.0);
+  for (int c = 0; c < std::min(3, by.components); ++c)
+  {
+    color[c] = std::clamp(Scene_.interpolate(cellId, point, by.values, by.components, c) / 255.0, 0.0, 1.0);
+  }
+  return by.components < 3 ? glm::dvec3(color[0]) : color; // grey levels from one component
+}
+
 bool Renderer::capAt(const Ray& ray, double t, int plane, std::size_t pixel) const
 {
   const glm::dvec3 point = ray.origin + t * ray.direction;
@@ -196,7 +237,7 @@ bool Renderer::capAt(const Ray& ray, double t, int plane, std::size_t pixel) con
     Nearest_[pixel] = { color, 1.0, glm::dvec3(0.0), 0.0 };
   }
   writePixel(pixel,
-    shade(Settings_.material, color, point, normal, ray.direction, Settings_.lightPosition), 1.0);
+    shade(Settings_.material, color, point, normal, ray.direction, Settings_.lighting), 1.0);
   return true;
 }
 
@@ -237,13 +278,17 @@ void Renderer::renderPixel(int i, int j) const
     const SurfaceStyle& style = SortedStyles_[hit.isoIndex];
     double value = std::numeric_limits<double>::quiet_NaN();
     glm::dvec3 base = style.color;
-    if (Settings_.colorBy.values)
+    if (Settings_.colorBy.values && Settings_.colorBy.directColors)
+    {
+      base = directColor(hit.cellId, point);
+    }
+    else if (Settings_.colorBy.values)
     {
       value = colorValue(hit.cellId, point);
       base = Settings_.colorTable.map(value);
     }
     const glm::dvec3 shaded =
-      shade(Settings_.material, base, point, unitNormal, ray.direction, Settings_.lightPosition);
+      shade(Settings_.material, base, point, unitNormal, ray.direction, Settings_.lighting);
     if (layer == 0)
     {
       Image_.depth[pixel] = hit.t;
@@ -375,7 +420,7 @@ void Renderer::shadeFromDepth(NodeId tileBegin, NodeId tileEnd) const
     const NearestLayer& nearest = Nearest_[pixel];
     const glm::dvec3 shaded = shade(Settings_.material, nearest.color,
       ray.origin + Image_.depth[pixel] * ray.direction, normal, ray.direction,
-      Settings_.lightPosition);
+      Settings_.lighting);
     writePixel(pixel, nearest.opacity * shaded + (1.0 - nearest.opacity) * nearest.behindColor,
       nearest.opacity + (1.0 - nearest.opacity) * nearest.behindOpacity);
   });

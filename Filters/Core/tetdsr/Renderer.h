@@ -14,11 +14,35 @@ namespace tetdsr
 
 struct Material
 {
-  glm::dvec3 color{ 1.0, 1.0, 1.0 };
+  glm::dvec3 color{ 1.0, 1.0, 1.0 }; ///< ambient and diffuse colour, unless colour-mapped
+  glm::dvec3 specularColor{ 1.0, 1.0, 1.0 };
   double ambient = 0.1;
   double diffuse = 0.7;
   double specular = 0.2;
   double specularPower = 30.0;
+};
+
+/// A light as VTK's polygon shaders use it: a colour (diffuse colour x intensity) and either a
+/// direction (the way the light travels) or a position (a point light, no attenuation).
+struct Light
+{
+  glm::dvec3 color{ 1.0, 1.0, 1.0 };
+  bool positional = false;
+  glm::dvec3 direction{ 0.0, 0.0, -1.0 }; ///< unit; directional lights
+  glm::dvec3 position{ 0.0, 0.0, 1.0 };   ///< positional lights
+};
+
+/// The lights of a scene, with VTK's three lighting models (vtkOpenGLPolyDataMapper): no light
+/// (colour = (ambient + diffuse) x colour), a lone headlight (diffuse = n . v, specular =
+/// (n . v)^power, v towards the viewer), and any others (Phong per light).
+struct Lighting
+{
+  std::vector<Light> lights;
+  bool headlightOnly = false; ///< lights[0] is a headlight and the only light
+  /// Where the viewer is, for the Phong model's view vector (VTK: the camera position, in
+  /// parallel projection too); when unset, the view vector is the ray's.
+  bool hasEye = false;
+  glm::dvec3 eye{ 0.0 };
 };
 
 /// How the surface normal at a hit is obtained (the paper's section 2.5, and the exact one).
@@ -59,6 +83,9 @@ struct ColorByArray
   const double* values = nullptr; ///< `components` values per point; null: no such colouring
   int components = 1;
   int component = 0; ///< -1: the magnitude of the interpolated vector
+  /// The array holds colours, not values: components 0-2 (0-255) interpolated and used as red,
+  /// green, blue without a colour table (VTK's direct scalars).
+  bool directColors = false;
 };
 
 /// Keeps the half-space n . (x - origin) >= 0: the normal points to the side that stays, as for
@@ -89,7 +116,7 @@ struct SurfaceStyle
 struct RenderSettings
 {
   Material material;
-  glm::dvec3 lightPosition{ 0.0, 0.0, 1.0 };
+  Lighting lighting;
   NormalSettings normals;
   /// Per iso-value, in the order the values were given to IsoValues; a value without an entry
   /// gets material.color, opaque. With any opacity below 1 the crossings along each ray are
@@ -118,16 +145,20 @@ struct ImageView
   double* colorValues = nullptr;
 };
 
-/// Phong shading of a hit seen along `viewDirection` (unit, camera to hit). The normal is flipped
-/// towards the viewer, so the visible side of the surface is the lit one whatever the field's sign.
+/// Shading of a hit seen along `viewDirection` (unit, camera to hit) with `color` as ambient and
+/// diffuse colour. The normal is flipped towards the viewer, so the visible side of the surface
+/// is the lit one whatever the field's sign.
 glm::dvec3 shade(const Material& material, const glm::dvec3& color, const glm::dvec3& hitPoint,
-  const glm::dvec3& unitNormal, const glm::dvec3& viewDirection, const glm::dvec3& lightPosition);
+  const glm::dvec3& unitNormal, const glm::dvec3& viewDirection, const Lighting& lighting);
 
 class Renderer
 {
 public:
   /// NodalInterpolation needs scene.computeNodalGradients() to have run.
   Renderer(const Scene& scene, const Camera& camera, const IsoValues& isoValues,
+    const RenderSettings& settings, const ImageView& image);
+  /// With any rays (e.g. from an inverse projection); `rays` must be for image's size.
+  Renderer(const Scene& scene, const RayGenerator& rays, const IsoValues& isoValues,
     const RenderSettings& settings, const ImageView& image);
 
   /// Square tiles of kTileSize pixels a side (clipped at the image's edges), row-major from the
@@ -165,6 +196,7 @@ private:
   bool capAt(const Ray& ray, double t, int plane, std::size_t pixel) const;
   glm::dvec3 normalAt(const SurfaceHit& hit, const glm::dvec3& point) const;
   double colorValue(NodeId cellId, const glm::dvec3& point) const;
+  glm::dvec3 directColor(NodeId cellId, const glm::dvec3& point) const;
   void writePixel(std::size_t pixel, const glm::dvec3& premultiplied, double opacity) const;
   void writeMiss(std::size_t pixel) const;
 
