@@ -76,6 +76,16 @@ struct Stamp
 };
 } // namespace
 
+vtkMTimeType MeshModifiedTime(vtkUnstructuredGrid* grid)
+{
+  vtkMTimeType time = 0;
+  for (const auto& part : Stamp::Of(grid, nullptr).parts)
+  {
+    time = std::max(time, part.second);
+  }
+  return time;
+}
+
 struct PreparedMesh::Internals
 {
   Stamp BuiltFrom;

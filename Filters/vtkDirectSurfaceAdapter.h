@@ -85,6 +85,10 @@ private:
   std::unique_ptr<Internals> Internal;
 };
 
+/// The latest modification time of a mesh: the grid's own, and its points', cell arrays',
+/// types' (vtkUnstructuredGrid::GetMTime does not follow edits of its cell arrays).
+TETDSRFILTERS_EXPORT vtkMTimeType MeshModifiedTime(vtkUnstructuredGrid* grid);
+
 /// Per-iso-value colours and opacities, as the filter and the mapper let users set them: index i
 /// is the i-th iso-value as given; unset entries fall back to the surface colour and opacity 1.
 class TETDSRFILTERS_EXPORT IsoValueStyles

@@ -1,0 +1,707 @@
+#include "vtkDirectSurfaceMapper.h"
+
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkCollectionIterator.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkContourValues.h"
+#include "vtkDataArray.h"
+#include "vtkDataSetAttributes.h"
+#include "vtkInformation.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLQuadHelper.h"
+#include "vtkOpenGLRenderUtilities.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLShaderCache.h"
+#include "vtkOpenGLState.h"
+#include "vtkPlane.h"
+#include "vtkPlaneCollection.h"
+#include "vtkProperty.h"
+#include "vtkRenderWindowInteractor.h"
+#include "vtkRenderer.h"
+#include "vtkSMPTools.h"
+#include "vtkScalarsToColors.h"
+#include "vtkShaderProgram.h"
+#include "vtkSmartPointer.h"
+#include "vtkTextureObject.h"
+#include "vtkTimerLog.h"
+#include "vtkUnstructuredGrid.h"
+
+#include "vtkDirectSurfaceAdapter.h"
+
+#include <glm/gtc/matrix_access.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <vector>
+
+vtkStandardNewMacro(vtkDirectSurfaceMapper);
+
+namespace
+{
+namespace adapter = tetdsr::vtkadapter;
+
+/// Row-major vtkMatrix4x4 to glm's column-major matrix.
+glm::dmat4 ToGlm(const vtkMatrix4x4* matrix)
+{
+  glm::dmat4 result;
+  for (int row = 0; row < 4; ++row)
+  {
+    for (int column = 0; column < 4; ++column)
+    {
+      result[column][row] = matrix->GetElement(row, column);
+    }
+  }
+  return result;
+}
+
+/// The colour and depth images drawn by a full-screen quad: colour as RGBA8, window depth as
+/// R32F; a depth of 1 (a miss) is discarded.
+const char* const kQuadDeclarations = "uniform sampler2D colorTexture;\n"
+                                      "uniform sampler2D depthTexture;\n";
+const char* const kQuadImplementation =
+  "  float depth = texture(depthTexture, texCoord).r;\n"
+  "  if (depth >= 1.0) { discard; }\n"
+  "  gl_FragDepth = depth;\n"
+  "  gl_FragData[0] = texture(colorTexture, texCoord);\n";
+}
+
+/// Per-render state: the prepared meshes (one per block), the last image and its signature, and
+/// the OpenGL resources.
+struct vtkDirectSurfaceMapper::Internals
+{
+  adapter::IsoValueStyles Styles;
+  std::map<unsigned int, std::unique_ptr<adapter::PreparedMesh>> Meshes; ///< by block index
+
+  // The last cast: what it depended on, and how long it took at which sample distance.
+  std::vector<double> Signature;
+  double SampleDistance = 1.0;
+  double LastCastSeconds = 0.0;
+
+  // CPU images of the last cast (cast size), merged over blocks.
+  std::vector<std::uint8_t> Colors;
+  std::vector<double> Depth;
+  std::vector<double> Normals;
+  std::vector<tetdsr::NodeId> CellIds;
+  std::vector<float> WindowDepth;
+  // A block's own image, when there are several.
+  std::vector<std::uint8_t> BlockColors;
+  std::vector<double> BlockDepth;
+
+  vtkSmartPointer<vtkTextureObject> ColorTexture;
+  vtkSmartPointer<vtkTextureObject> DepthTexture;
+  std::unique_ptr<vtkOpenGLQuadHelper> Quad;
+  bool TexturesValid = false;
+
+  adapter::PreparedMesh& MeshOf(unsigned int block)
+  {
+    auto& mesh = this->Meshes[block];
+    if (!mesh)
+    {
+      mesh.reset(new adapter::PreparedMesh);
+    }
+    return *mesh;
+  }
+
+  void Resize(std::size_t pixels)
+  {
+    this->Colors.resize(4 * pixels);
+    this->Depth.resize(pixels);
+    this->Normals.resize(3 * pixels);
+    this->CellIds.resize(pixels);
+    this->WindowDepth.resize(pixels);
+  }
+
+  void Upload(vtkOpenGLRenderWindow* window, int width, int height)
+  {
+    for (auto* texture : { &this->ColorTexture, &this->DepthTexture })
+    {
+      if (!*texture)
+      {
+        *texture = vtkSmartPointer<vtkTextureObject>::New();
+        (*texture)->SetMinificationFilter(vtkTextureObject::Nearest);
+        (*texture)->SetMagnificationFilter(vtkTextureObject::Nearest);
+        (*texture)->SetWrapS(vtkTextureObject::ClampToEdge);
+        (*texture)->SetWrapT(vtkTextureObject::ClampToEdge);
+      }
+      (*texture)->SetContext(window);
+    }
+    this->ColorTexture->Create2DFromRaw(width, height, 4, VTK_UNSIGNED_CHAR, this->Colors.data());
+    this->DepthTexture->Create2DFromRaw(width, height, 1, VTK_FLOAT, this->WindowDepth.data());
+    this->TexturesValid = true;
+  }
+
+  bool Draw(vtkOpenGLRenderWindow* window)
+  {
+    if (!this->Quad)
+    {
+      std::string fragment = vtkOpenGLRenderUtilities::GetFullScreenQuadFragmentShaderTemplate();
+      vtkShaderProgram::Substitute(fragment, "//VTK::FSQ::Decl", kQuadDeclarations);
+      vtkShaderProgram::Substitute(fragment, "//VTK::FSQ::Impl", kQuadImplementation);
+      this->Quad.reset(new vtkOpenGLQuadHelper(window,
+        vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), fragment.c_str(), ""));
+    }
+    else
+    {
+      window->GetShaderCache()->ReadyShaderProgram(this->Quad->Program);
+    }
+    if (!this->Quad->Program || !this->Quad->Program->GetCompiled())
+    {
+      return false;
+    }
+    vtkOpenGLState* state = window->GetState();
+    vtkOpenGLState::ScopedglDepthFunc savedDepthFunc(state);
+    vtkOpenGLState::ScopedglDepthMask savedDepthMask(state);
+    vtkOpenGLState::ScopedglEnableDisable savedDepthTest(state, GL_DEPTH_TEST);
+    state->vtkglEnable(GL_DEPTH_TEST);
+    state->vtkglDepthFunc(GL_LEQUAL);
+    state->vtkglDepthMask(GL_TRUE);
+    this->ColorTexture->Activate();
+    this->DepthTexture->Activate();
+    this->Quad->Program->SetUniformi("colorTexture", this->ColorTexture->GetTextureUnit());
+    this->Quad->Program->SetUniformi("depthTexture", this->DepthTexture->GetTextureUnit());
+    this->Quad->Render();
+    this->DepthTexture->Deactivate();
+    this->ColorTexture->Deactivate();
+    return true;
+  }
+};
+
+//------------------------------------------------------------------------------
+vtkDirectSurfaceMapper::vtkDirectSurfaceMapper()
+  : ContourValues(vtkContourValues::New())
+  , Internal(new Internals)
+{
+  this->SetInputArrayToProcess(
+    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+}
+
+vtkDirectSurfaceMapper::~vtkDirectSurfaceMapper()
+{
+  this->ContourValues->Delete();
+}
+
+int vtkDirectSurfaceMapper::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkUnstructuredGrid");
+  info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceMapper::SetInputData(vtkDataObject* input)
+{
+  this->SetInputDataInternal(0, input);
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceMapper::SetValue(int i, double value)
+{
+  this->ContourValues->SetValue(i, value);
+}
+double vtkDirectSurfaceMapper::GetValue(int i)
+{
+  return this->ContourValues->GetValue(i);
+}
+double* vtkDirectSurfaceMapper::GetValues()
+{
+  return this->ContourValues->GetValues();
+}
+void vtkDirectSurfaceMapper::GetValues(double* contourValues)
+{
+  this->ContourValues->GetValues(contourValues);
+}
+void vtkDirectSurfaceMapper::SetNumberOfContours(int number)
+{
+  this->ContourValues->SetNumberOfContours(number);
+}
+vtkIdType vtkDirectSurfaceMapper::GetNumberOfContours()
+{
+  return this->ContourValues->GetNumberOfContours();
+}
+void vtkDirectSurfaceMapper::GenerateValues(int numContours, double range[2])
+{
+  this->ContourValues->GenerateValues(numContours, range);
+}
+void vtkDirectSurfaceMapper::GenerateValues(int numContours, double rangeStart, double rangeEnd)
+{
+  this->ContourValues->GenerateValues(numContours, rangeStart, rangeEnd);
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceMapper::SetIsoValueColor(int i, double red, double green, double blue)
+{
+  adapter::Messages messages;
+  if (this->Internal->Styles.SetColor(i, red, green, blue, messages))
+  {
+    this->Modified();
+  }
+  for (const std::string& text : messages.errors)
+  {
+    vtkErrorMacro(<< text);
+  }
+}
+
+void vtkDirectSurfaceMapper::GetIsoValueColor(int i, double color[3])
+{
+  const double white[3] = { 1.0, 1.0, 1.0 };
+  this->Internal->Styles.GetColor(i, white, color);
+}
+
+void vtkDirectSurfaceMapper::RemoveAllIsoValueColors()
+{
+  if (this->Internal->Styles.RemoveAllColors())
+  {
+    this->Modified();
+  }
+}
+
+void vtkDirectSurfaceMapper::SetIsoValueOpacity(int i, double opacity)
+{
+  adapter::Messages messages;
+  if (this->Internal->Styles.SetOpacity(i, opacity, messages))
+  {
+    this->Modified();
+  }
+  for (const std::string& text : messages.errors)
+  {
+    vtkErrorMacro(<< text);
+  }
+}
+
+double vtkDirectSurfaceMapper::GetIsoValueOpacity(int i)
+{
+  return this->Internal->Styles.GetOpacity(i);
+}
+
+void vtkDirectSurfaceMapper::RemoveAllIsoValueOpacities()
+{
+  if (this->Internal->Styles.RemoveAllOpacities())
+  {
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkMTimeType vtkDirectSurfaceMapper::GetMTime()
+{
+  vtkMTimeType time = std::max(this->Superclass::GetMTime(), this->ContourValues->GetMTime());
+  if (this->ClippingPlanes)
+  {
+    for (int k = 0; k < this->ClippingPlanes->GetNumberOfItems(); ++k)
+    {
+      time = std::max(time, this->ClippingPlanes->GetItem(k)->GetMTime());
+    }
+  }
+  return time;
+}
+
+double* vtkDirectSurfaceMapper::GetBounds()
+{
+  vtkMath::UninitializeBounds(this->Bounds);
+  if (!this->GetNumberOfInputConnections(0) && !this->GetInputDataObject(0, 0))
+  {
+    return this->Bounds;
+  }
+  if (!this->Static)
+  {
+    this->Update();
+  }
+  vtkDataObject* input = this->GetInputDataObject(0, 0);
+  if (auto* dataSet = vtkDataSet::SafeDownCast(input))
+  {
+    dataSet->GetBounds(this->Bounds);
+  }
+  else if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
+  {
+    composite->GetBounds(this->Bounds);
+  }
+  return this->Bounds;
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceMapper::ReleaseGraphicsResources(vtkWindow* window)
+{
+  Internals& in = *this->Internal;
+  if (in.Quad)
+  {
+    in.Quad->ReleaseGraphicsResources(window);
+    in.Quad.reset();
+  }
+  for (auto* texture : { &in.ColorTexture, &in.DepthTexture })
+  {
+    if (*texture)
+    {
+      (*texture)->ReleaseGraphicsResources(window);
+      *texture = nullptr;
+    }
+  }
+  in.TexturesValid = false;
+  in.Signature.clear();
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceMapper::Render(vtkRenderer* renderer, vtkActor* actor)
+{
+  vtkTimerLog* timer = vtkTimerLog::New();
+  timer->StartTimer();
+  Internals& in = *this->Internal;
+  auto* window = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
+  if (!window || renderer->GetSelector())
+  {
+    timer->Delete();
+    return; // no OpenGL window, or a hardware-selection pass: nothing to draw
+  }
+  if (!this->Static)
+  {
+    this->Update();
+  }
+  vtkDataObject* input = this->GetInputDataObject(0, 0);
+
+  // The blocks to render.
+  std::vector<std::pair<unsigned int, vtkUnstructuredGrid*>> blocks;
+  if (auto* grid = vtkUnstructuredGrid::SafeDownCast(input))
+  {
+    blocks.emplace_back(0, grid);
+  }
+  else if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      if (auto* block = vtkUnstructuredGrid::SafeDownCast(it->GetCurrentDataObject()))
+      {
+        blocks.emplace_back(it->GetCurrentFlatIndex(), block);
+      }
+    }
+  }
+  if (blocks.empty())
+  {
+    vtkErrorMacro("The input is neither a vtkUnstructuredGrid nor a composite dataset of them.");
+    timer->Delete();
+    return;
+  }
+
+  // Level of detail: a reduced image while the camera moves, sized to the allocated time.
+  vtkRenderWindowInteractor* interactor = window->GetInteractor();
+  const double stillRate = interactor ? interactor->GetStillUpdateRate() : 0.0001;
+  const bool interacting = window->GetDesiredUpdateRate() > stillRate;
+  double distance = 1.0;
+  if (interacting && !this->AutoAdjustSampleDistances)
+  {
+    distance = this->InteractiveImageSampleDistance;
+  }
+  else if (interacting)
+  {
+    const double allocated = actor->GetAllocatedRenderTime();
+    distance = in.SampleDistance;
+    if (allocated > 0.0 && in.LastCastSeconds > 0.0)
+    {
+      // The cast's time goes as its number of rays, 1 / distance^2.
+      distance *= std::sqrt(in.LastCastSeconds / allocated);
+    }
+    distance = vtkMath::ClampValue(distance, 1.0, this->MaximumImageSampleDistance);
+  }
+  int width, height, originX, originY;
+  renderer->GetTiledSizeAndOrigin(&width, &height, &originX, &originY);
+  if (width <= 0 || height <= 0)
+  {
+    timer->Delete();
+    return;
+  }
+  const int castWidth = std::max(1, static_cast<int>(std::ceil(width / distance)));
+  const int castHeight = std::max(1, static_cast<int>(std::ceil(height / distance)));
+
+  // Model to normalised device coordinates: the camera's composite projection (as the GL
+  // matrices use it) times the actor's matrix. Rays are cast in model coordinates.
+  vtkCamera* camera = renderer->GetActiveCamera();
+  const glm::dmat4 worldToNdc = ToGlm(
+    camera->GetCompositeProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1.0, 1.0));
+  const bool identity = actor->GetIsIdentity() != 0;
+  const glm::dmat4 modelToWorld = identity ? glm::dmat4(1.0) : ToGlm(actor->GetMatrix());
+  const glm::dmat4 worldToModel = glm::inverse(modelToWorld);
+  const glm::dmat4 modelToNdc = worldToNdc * modelToWorld;
+  const glm::dmat4 ndcToModel = glm::inverse(modelToNdc);
+  auto toModelPoint = [&](const double p[3]) {
+    return glm::dvec3(worldToModel * glm::dvec4(p[0], p[1], p[2], 1.0));
+  };
+  auto toModelDirection = [&](const glm::dvec3& d) {
+    return tetdsr::unitVector(glm::dvec3(worldToModel * glm::dvec4(d, 0.0)));
+  };
+
+  // Lights, as vtkOpenGLRenderer hands them to the polygon shaders.
+  vtkProperty* property = actor->GetProperty();
+  tetdsr::Lighting lighting;
+  double eye[3];
+  camera->GetPosition(eye);
+  lighting.hasEye = true;
+  lighting.eye = toModelPoint(eye);
+  std::vector<double> lightState;
+  if (property->GetLighting())
+  {
+    vtkLightCollection* lights = renderer->GetLights();
+    vtkCollectionSimpleIterator it;
+    lights->InitTraversal(it);
+    int count = 0;
+    bool headlight = false;
+    while (vtkLight* light = lights->GetNextLight(it))
+    {
+      if (!light->GetSwitch())
+      {
+        continue;
+      }
+      ++count;
+      headlight = light->LightTypeIsHeadlight();
+      tetdsr::Light entry;
+      double color[3], position[3], focalPoint[3];
+      light->GetDiffuseColor(color);
+      light->GetTransformedPosition(position);
+      light->GetTransformedFocalPoint(focalPoint);
+      entry.color = light->GetIntensity() * glm::dvec3(color[0], color[1], color[2]);
+      entry.positional = light->GetPositional() != 0;
+      entry.position = toModelPoint(position);
+      entry.direction = toModelDirection(glm::dvec3(focalPoint[0] - position[0],
+        focalPoint[1] - position[1], focalPoint[2] - position[2]));
+      lighting.lights.push_back(entry);
+      lightState.insert(lightState.end(),
+        { entry.color.x, entry.color.y, entry.color.z, entry.direction.x, entry.direction.y,
+          entry.direction.z, entry.position.x, entry.position.y, entry.position.z,
+          entry.positional ? 1.0 : 0.0 });
+    }
+    lighting.headlightOnly = count == 1 && headlight;
+  }
+
+  // Re-use the last image when nothing it depends on changed.
+  std::vector<double> signature(&modelToNdc[0][0], &modelToNdc[0][0] + 16);
+  signature.insert(signature.end(),
+    { static_cast<double>(castWidth), static_cast<double>(castHeight),
+      static_cast<double>(this->GetMTime()), static_cast<double>(property->GetMTime()),
+      static_cast<double>(input->GetMTime()), lighting.headlightOnly ? 1.0 : 0.0 });
+  signature.insert(signature.end(), lightState.begin(), lightState.end());
+  for (const auto& block : blocks)
+  {
+    signature.push_back(static_cast<double>(adapter::MeshModifiedTime(block.second)));
+  }
+  this->LastRenderReusedImage = in.TexturesValid && signature == in.Signature;
+  if (this->LastRenderReusedImage)
+  {
+    in.Draw(window);
+    timer->StopTimer();
+    this->TimeToDraw = timer->GetElapsedTime();
+    timer->Delete();
+    return;
+  }
+
+  // Settings common to every block.
+  adapter::Messages messages;
+  std::vector<double> values;
+  std::vector<tetdsr::ClipPlane> clipPlanes;
+  if (!adapter::ConvertIsoValues(this->ContourValues, values, messages) ||
+    !adapter::ConvertClipPlanes(this->ClippingPlanes, 6, clipPlanes, messages))
+  {
+    for (const std::string& text : messages.errors)
+    {
+      vtkErrorMacro(<< text);
+    }
+    timer->Delete();
+    return;
+  }
+  if (!identity)
+  {
+    // World planes n . (x - o) >= 0 become n' . (x_m - o') >= 0 with o' = M^-1 o, n' = M^T n.
+    for (tetdsr::ClipPlane& plane : clipPlanes)
+    {
+      plane.origin = glm::dvec3(worldToModel * glm::dvec4(plane.origin, 1.0));
+      plane.normal = glm::transpose(glm::dmat3(modelToWorld)) * plane.normal;
+    }
+  }
+  tetdsr::RenderSettings settings;
+  double diffuseColor[3], specularColor[3];
+  property->GetDiffuseColor(diffuseColor);
+  property->GetSpecularColor(specularColor);
+  settings.material.color = glm::dvec3(diffuseColor[0], diffuseColor[1], diffuseColor[2]);
+  settings.material.specularColor = glm::dvec3(specularColor[0], specularColor[1], specularColor[2]);
+  settings.material.ambient = property->GetAmbient();
+  settings.material.diffuse = property->GetDiffuse();
+  settings.material.specular = property->GetSpecular();
+  settings.material.specularPower = property->GetSpecularPower();
+  settings.lighting = lighting;
+  settings.clipPlanes = clipPlanes;
+  settings.isoStyles = in.Styles.Styles(values.size(), diffuseColor, property->GetOpacity());
+  const tetdsr::IsoValues isoValues(values);
+  const tetdsr::RayGenerator rays(ndcToModel, castWidth, castHeight);
+
+  const std::size_t pixels = static_cast<std::size_t>(castWidth) * castHeight;
+  in.Resize(pixels);
+  const bool several = blocks.size() > 1;
+  if (several)
+  {
+    std::fill(in.Depth.begin(), in.Depth.end(), std::numeric_limits<double>::infinity());
+    std::fill(in.Colors.begin(), in.Colors.end(), 0);
+    in.BlockColors.resize(4 * pixels);
+    in.BlockDepth.resize(pixels);
+  }
+  std::vector<tetdsr::NodeId> blockCellIds(several ? pixels : 0);
+  this->NumberOfRenderedCells = 0;
+  bool aborted = false;
+  for (const auto& block : blocks)
+  {
+    vtkUnstructuredGrid* grid = block.second;
+    int association = -1;
+    vtkDataArray* field = this->GetInputArrayToProcess(0, grid, association);
+    int component = 0;
+    if (!field)
+    {
+      messages.errors.push_back("No scalar field: choose a point array with "
+                                "SetInputArrayToProcess(0, 0, 0, FIELD_ASSOCIATION_POINTS, name).");
+    }
+    adapter::PreparedMesh& prepared = in.MeshOf(block.first);
+    if (!field ||
+      !adapter::CheckPointArray(field, association, -1, false, "the field's component", component,
+        messages) ||
+      !prepared.Prepare(grid, field, component, tetdsr::TransverseTest(), this->NumberOfThreads,
+        messages))
+    {
+      continue;
+    }
+    this->NumberOfRenderedCells += prepared.GetSummary().validCells;
+
+    // Colour: the mapper's scalars, as a polygon mapper would map them.
+    settings.colorBy = tetdsr::ColorByArray();
+    int cellFlag = 0;
+    vtkDataArray* colors = this->ScalarVisibility
+      ? vtkAbstractMapper::GetScalars(grid, this->ScalarMode, this->ArrayAccessMode, this->ArrayId,
+          this->ArrayName, cellFlag)
+      : nullptr;
+    if (colors && cellFlag != 0)
+    {
+      messages.warnings.push_back(std::string("Cell array '") +
+        (colors->GetName() ? colors->GetName() : "") +
+        "' cannot colour the surface: it needs a point array; drawn in the actor's colour.");
+      colors = nullptr;
+    }
+    if (colors)
+    {
+      vtkScalarsToColors* table = this->GetLookupTable();
+      const bool direct = this->ColorMode == VTK_COLOR_MODE_DIRECT_SCALARS ||
+        (this->ColorMode == VTK_COLOR_MODE_DEFAULT && colors->GetDataType() == VTK_UNSIGNED_CHAR);
+      int colorComponent = table->GetVectorMode() == vtkScalarsToColors::COMPONENT
+        ? table->GetVectorComponent()
+        : -1;
+      if (colors->GetNumberOfComponents() == 1)
+      {
+        colorComponent = 0;
+      }
+      const double* colorValues = prepared.PointArrayValues(colors, "colour array", messages);
+      if (colorValues && colorComponent < colors->GetNumberOfComponents())
+      {
+        settings.colorBy.values = colorValues;
+        settings.colorBy.components = colors->GetNumberOfComponents();
+        settings.colorBy.component = colorComponent;
+        settings.colorBy.directColors = direct;
+        if (!direct)
+        {
+          const double* range =
+            this->UseLookupTableScalarRange ? table->GetRange() : this->ScalarRange;
+          table->Build();
+          settings.colorTable = adapter::SampleColorTable(table, range[0], range[1]);
+        }
+      }
+    }
+
+    tetdsr::ImageView image;
+    image.width = castWidth;
+    image.height = castHeight;
+    image.colors = several ? in.BlockColors.data() : in.Colors.data();
+    image.depth = several ? in.BlockDepth.data() : in.Depth.data();
+    image.normals = in.Normals.data();
+    image.cellIds = several ? blockCellIds.data() : in.CellIds.data();
+    const tetdsr::Renderer caster(*prepared.GetScene(), rays, isoValues, settings, image);
+    const tetdsr::NodeId done = adapter::Cast(caster, false, this->NumberOfThreads,
+      [window]() { return window->CheckAbortStatus() != 0; }, [](double) {});
+    if (done < caster.numberOfTiles())
+    {
+      aborted = true;
+      break;
+    }
+    if (several)
+    {
+      // Keep, per pixel, the nearest block's surface.
+      for (std::size_t p = 0; p < pixels; ++p)
+      {
+        if (in.BlockDepth[p] < in.Depth[p])
+        {
+          in.Depth[p] = in.BlockDepth[p];
+          in.CellIds[p] = blockCellIds[p];
+          std::copy_n(&in.BlockColors[4 * p], 4, &in.Colors[4 * p]);
+        }
+      }
+    }
+  }
+  for (const std::string& text : messages.warnings)
+  {
+    vtkWarningMacro(<< text);
+  }
+  for (const std::string& text : messages.errors)
+  {
+    vtkErrorMacro(<< text);
+  }
+  if (aborted || this->NumberOfRenderedCells == 0)
+  {
+    timer->Delete();
+    return;
+  }
+
+  // Window depth of each hit: 0.5 z/w + 0.5 of its model point through the composite matrix.
+  vtkSMPTools::For(0, castHeight, [&](vtkIdType rowBegin, vtkIdType rowEnd) {
+    for (int j = static_cast<int>(rowBegin); j < static_cast<int>(rowEnd); ++j)
+    {
+      for (int i = 0; i < castWidth; ++i)
+      {
+        const std::size_t p = static_cast<std::size_t>(j) * castWidth + i;
+        float depth = 1.0f;
+        if (std::isfinite(in.Depth[p]))
+        {
+          const tetdsr::Ray ray = rays.pixelRay(i, j);
+          const glm::dvec4 clip = modelToNdc * glm::dvec4(ray.origin + in.Depth[p] * ray.direction, 1.0);
+          depth = static_cast<float>(std::min(1.0, std::max(0.0, 0.5 * clip.z / clip.w + 0.5)));
+        }
+        in.WindowDepth[p] = depth;
+      }
+    }
+  });
+  in.Upload(window, castWidth, castHeight);
+  in.Draw(window);
+  in.Signature = signature;
+  timer->StopTimer();
+  in.LastCastSeconds = timer->GetElapsedTime();
+  in.SampleDistance = distance;
+  this->TimeToDraw = in.LastCastSeconds;
+  this->LastImageSampleDistance = distance;
+  this->LastCastSize[0] = castWidth;
+  this->LastCastSize[1] = castHeight;
+  timer->Delete();
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  this->ContourValues->PrintSelf(os, indent.GetNextIndent());
+  os << indent << "Iso-value " << this->Internal->Styles.Describe() << "\n";
+  os << indent << "AutoAdjustSampleDistances: " << this->AutoAdjustSampleDistances << "\n";
+  os << indent << "MaximumImageSampleDistance: " << this->MaximumImageSampleDistance << "\n";
+  os << indent << "InteractiveImageSampleDistance: " << this->InteractiveImageSampleDistance << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "LastImageSampleDistance: " << this->LastImageSampleDistance << "\n";
+  os << indent << "LastRenderReusedImage: " << this->LastRenderReusedImage << "\n";
+  os << indent << "LastCastSize: " << this->LastCastSize[0] << " x " << this->LastCastSize[1] << "\n";
+  os << indent << "NumberOfRenderedCells: " << this->NumberOfRenderedCells << "\n";
+}

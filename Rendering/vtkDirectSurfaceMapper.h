@@ -1,0 +1,169 @@
+/**
+ * @class   vtkDirectSurfaceMapper
+ * @brief   Renders the exact isosurfaces of a quadratic tetrahedral field into a render window.
+ *
+ * A vtkMapper for a vtkUnstructuredGrid of VTK_QUADRATIC_TETRA (and VTK_TETRA) cells, or a
+ * composite dataset of them. On each render it takes the renderer's active camera and the
+ * viewport's tiled size and origin, builds one ray per pixel from the inverse of the camera's
+ * composite projection (so explicit and tiled projections work), ray casts the exact isosurface
+ * of the quadratic field (the same core and adapter as vtkDirectSurfaceRayCaster), and draws
+ * colour and window depth (0.5 z_ndc + 0.5 of each exact hit, through gl_FragDepth) with a
+ * full-screen quad in the opaque pass: it composites by depth with every other prop.
+ *
+ * Used like any mapper:
+ * @code
+ * mapper->SetInputData(grid);
+ * mapper->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "f");
+ * mapper->SetValue(0, 0.5);
+ * actor->SetMapper(mapper);
+ * @endcode
+ * Colour follows the standard mapper API (ScalarVisibility, SetScalarModeToUsePointFieldData +
+ * SelectColorArray, SetLookupTable, SetScalarRange / UseLookupTableScalarRange, ColorMode); the
+ * actor's vtkProperty gives colour, opacity, ambient / diffuse / specular; the renderer's lights
+ * light it as vtkOpenGLPolyDataMapper lights polygons (no light, a lone headlight, or Phong per
+ * light); the mapper's clipping planes (at most 6) cut it.
+ *
+ * Level of detail: while the render window's desired update rate is above its interactor's
+ * still update rate (the camera is being moved), the image is cast at a reduced resolution
+ * (ImageSampleDistance) chosen to meet the actor's allocated render time, and upscaled; a still
+ * render is always at full resolution. A render with unchanged camera, viewport, data and
+ * settings re-uses the last image. Abort requests are honoured (CheckAbortStatus).
+ *
+ * @warning The prepared scene (validation and hierarchy) is built once per mesh and field and
+ * kept. Iso-value opacities below 1 (or the actor's opacity) composite this mapper's own
+ * surfaces front to back; the result is drawn in the opaque pass, so it blends over props drawn
+ * before it but hides props drawn after it and behind it. Positional lights are point lights
+ * without attenuation or cone. Hardware selection (picking) does not see the surface.
+ *
+ * @sa vtkDirectSurfaceRayCaster
+ */
+#ifndef vtkDirectSurfaceMapper_h
+#define vtkDirectSurfaceMapper_h
+
+#include "TetDSRRenderingModule.h" // for export macro
+#include "vtkMapper.h"
+
+#include <memory> // for std::unique_ptr
+
+class vtkContourValues;
+
+class TETDSRRENDERING_EXPORT vtkDirectSurfaceMapper : public vtkMapper
+{
+public:
+  static vtkDirectSurfaceMapper* New();
+  vtkTypeMacro(vtkDirectSurfaceMapper, vtkMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * The mesh: a vtkUnstructuredGrid, or a composite dataset of them (or use SetInputConnection).
+   */
+  void SetInputData(vtkDataObject* input);
+
+  ///@{
+  /**
+   * Iso-values, as on vtkContourFilter (default: one, 0).
+   */
+  void SetValue(int i, double value);
+  double GetValue(int i);
+  double* GetValues();
+  void GetValues(double* contourValues);
+  void SetNumberOfContours(int number);
+  vtkIdType GetNumberOfContours();
+  void GenerateValues(int numContours, double range[2]);
+  void GenerateValues(int numContours, double rangeStart, double rangeEnd);
+  ///@}
+
+  ///@{
+  /**
+   * Colour and opacity of the i-th iso-value's surface. Unset colours take the actor's colour
+   * (when not colour-mapped); unset opacities are 1; each is multiplied by the actor's opacity.
+   * Indices outside [0, 2^20) are refused with an error.
+   */
+  void SetIsoValueColor(int i, double red, double green, double blue);
+  void GetIsoValueColor(int i, double color[3]);
+  void RemoveAllIsoValueColors();
+  void SetIsoValueOpacity(int i, double opacity);
+  double GetIsoValueOpacity(int i);
+  void RemoveAllIsoValueOpacities();
+  ///@}
+
+  ///@{
+  /**
+   * Level of detail while interacting. With AutoAdjustSampleDistances (default on) each
+   * interactive frame casts one ray per ImageSampleDistance x ImageSampleDistance pixels, the
+   * distance adjusted from the last frame's time to meet the actor's allocated render time,
+   * within [1, MaximumImageSampleDistance] (default 8). Off: InteractiveImageSampleDistance
+   * (default 2) while interacting. Still renders always use 1.
+   */
+  vtkSetMacro(AutoAdjustSampleDistances, bool);
+  vtkGetMacro(AutoAdjustSampleDistances, bool);
+  vtkBooleanMacro(AutoAdjustSampleDistances, bool);
+  vtkSetClampMacro(MaximumImageSampleDistance, double, 1.0, 64.0);
+  vtkGetMacro(MaximumImageSampleDistance, double);
+  vtkSetClampMacro(InteractiveImageSampleDistance, double, 1.0, 64.0);
+  vtkGetMacro(InteractiveImageSampleDistance, double);
+  ///@}
+
+  ///@{
+  /**
+   * What the last render did: the sample distance used (1: full resolution), whether it
+   * re-used the previous image, and the cast's size in rays.
+   */
+  vtkGetMacro(LastImageSampleDistance, double);
+  vtkGetMacro(LastRenderReusedImage, bool);
+  vtkGetVector2Macro(LastCastSize, int);
+  ///@}
+
+  ///@{
+  /**
+   * Threads for preprocessing and casting (0, the default: all cores).
+   */
+  vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
+  vtkGetMacro(NumberOfThreads, int);
+  ///@}
+
+  /**
+   * Cells of the last render's input that are rendered (the rest were skipped with warnings).
+   */
+  vtkGetMacro(NumberOfRenderedCells, vtkIdType);
+
+  void Render(vtkRenderer* renderer, vtkActor* actor) override;
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
+  ///@{
+  /**
+   * The input's bounds (a composite input: the union of its blocks'), so that ResetCamera and
+   * the clipping ranges see the mesh.
+   */
+  double* GetBounds() override;
+  void GetBounds(double bounds[6]) override { this->Superclass::GetBounds(bounds); }
+  ///@}
+
+  vtkMTimeType GetMTime() override;
+
+protected:
+  vtkDirectSurfaceMapper();
+  ~vtkDirectSurfaceMapper() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  vtkContourValues* ContourValues;
+  bool AutoAdjustSampleDistances = true;
+  double MaximumImageSampleDistance = 8.0;
+  double InteractiveImageSampleDistance = 2.0;
+  int NumberOfThreads = 0;
+
+  double LastImageSampleDistance = 1.0;
+  bool LastRenderReusedImage = false;
+  int LastCastSize[2] = { 0, 0 };
+  vtkIdType NumberOfRenderedCells = 0;
+
+private:
+  vtkDirectSurfaceMapper(const vtkDirectSurfaceMapper&) = delete;
+  void operator=(const vtkDirectSurfaceMapper&) = delete;
+
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
+};
+
+#endif
