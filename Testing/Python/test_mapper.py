@@ -1,0 +1,361 @@
+"""vtkDirectSurfaceMapper in a real render window (Xvfb, OpenGL), against independent truth:
+the exact ray/sphere intersection of a field held exactly by the cells, the filter's depth for
+the same camera, a polygon surface lit by the same lights, and the lookup table's colours."""
+import itertools
+import unittest
+
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkFloatArray, vtkPoints, vtkUnsignedCharArray
+from vtkmodules.vtkCommonDataModel import (VTK_QUADRATIC_TETRA, vtkCellArray, vtkPlane,
+                                           vtkUnstructuredGrid)
+from vtkmodules.vtkCommonCore import vtkLookupTable
+from vtkmodules.vtkFiltersSources import vtkPlaneSource
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkLightKit, vtkPolyDataMapper, vtkRenderer,
+                                         vtkRenderWindow, vtkRenderWindowInteractor)
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
+
+from tetdsr import vtkDirectSurfaceMapper, vtkDirectSurfaceRayCaster
+
+W, H = 160, 120
+RADIUS2 = 0.5  # iso-value of |x|^2: a sphere of radius sqrt(0.5), held exactly by the cells
+# Depth tolerance: the colour and depth images travel as float (24-bit mantissa) into a depth
+# buffer of 24 or 32 bits; 4 units of 2^-24 covers both roundings.
+DEPTH_TOLERANCE = 4 * 2.0 ** -24
+EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
+
+
+def lattice(n, lo=-1.0, hi=1.0):
+    """[lo, hi]^3 as n^3 cubes of 6 quadratic tets (Kuhn), VTK node order."""
+    m = 2 * n + 1
+    g = np.linspace(lo, hi, m)
+    points = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
+    index = lambda v: (v[0] * m + v[1]) * m + v[2]  # noqa: E731
+    cells = []
+    for corner in itertools.product(range(n), repeat=3):
+        for order in itertools.permutations(range(3)):
+            v = [2 * np.array(corner)]
+            for axis in order:
+                step = v[-1].copy()
+                step[axis] += 2
+                v.append(step)
+            if np.linalg.det(np.array([points[index(x)] for x in v[1:]]) - points[index(v[0])]) < 0:
+                v[1], v[2] = v[2], v[1]
+            cells.append([index(x) for x in v] + [index((v[a] + v[b]) // 2) for a, b in EDGES])
+    return points, np.array(cells, dtype=np.int64)
+
+
+def grid(n=3, fields=None):
+    points, cells = lattice(n)
+    ug = vtkUnstructuredGrid()
+    p = vtkPoints()
+    p.SetData(numpy_to_vtk(points, deep=1))
+    ug.SetPoints(p)
+    ca = vtkCellArray()
+    ca.SetData(numpy_to_vtkIdTypeArray(np.arange(0, 10 * len(cells) + 1, 10), deep=1),
+               numpy_to_vtkIdTypeArray(cells.ravel(), deep=1))
+    ug.SetCells(numpy_to_vtk(np.full(len(cells), VTK_QUADRATIC_TETRA, np.uint8), deep=1), ca)
+    fields = fields or {"f": lambda x: np.sum(x ** 2, axis=1)}
+    for k, (name, function) in enumerate(fields.items()):
+        a = numpy_to_vtk(np.ascontiguousarray(function(points)), deep=1)
+        a.SetName(name)
+        ug.GetPointData().AddArray(a)
+        if k == 0:
+            ug.GetPointData().SetActiveScalars(name)
+    return ug
+
+
+def scene(mesh, iso=RADIUS2, parallel=False, configure=None):
+    mapper = vtkDirectSurfaceMapper()
+    mapper.SetInputData(mesh)
+    mapper.SetValue(0, iso)
+    mapper.ScalarVisibilityOff()
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    renderer = vtkRenderer()
+    renderer.AddActor(actor)
+    window = vtkRenderWindow()
+    window.SetSize(W, H)
+    window.OffScreenRenderingOn()
+    window.AddRenderer(renderer)
+    camera = renderer.GetActiveCamera()
+    camera.SetPosition(2.2, 1.6, 3.0)
+    camera.SetFocalPoint(0.05, -0.03, 0.02)
+    camera.SetViewUp(0, 1, 0)
+    camera.SetViewAngle(30)
+    if parallel:
+        camera.ParallelProjectionOn()
+        camera.SetParallelScale(0.9)
+    if configure:
+        configure(mapper, actor, renderer)
+    renderer.ResetCameraClippingRange()
+    return window, renderer, mapper, actor
+
+
+def zbuffer(window):
+    z = vtkFloatArray()
+    window.GetZbufferData(0, 0, W - 1, H - 1, z)
+    return vtk_to_numpy(z).reshape(H, W).astype(float)
+
+
+def rgba(window):
+    c = vtkUnsignedCharArray()
+    window.GetRGBACharPixelData(0, 0, W - 1, H - 1, 1, c)
+    return vtk_to_numpy(c).reshape(H, W, 4).astype(int)
+
+
+def matrix(renderer):
+    m = renderer.GetActiveCamera().GetCompositeProjectionTransformMatrix(renderer.GetTiledAspectRatio(), -1, 1)
+    return np.array([[m.GetElement(r, c) for c in range(4)] for r in range(4)])
+
+
+def window_depth(composite, points):
+    clip = np.c_[points, np.ones(len(points))] @ composite.T
+    return 0.5 * clip[:, 2] / clip[:, 3] + 0.5
+
+
+def pixel_rays(composite):
+    """Rays through pixel centres from the inverse composite projection (near to far plane)."""
+    inverse = np.linalg.inv(composite)
+    i, j = np.meshgrid(np.arange(W), np.arange(H))
+    x = (2 * (i.ravel() + 0.5) / W - 1)
+    y = (2 * (j.ravel() + 0.5) / H - 1)
+    def unproject(z):
+        p = np.c_[x, y, np.full_like(x, z), np.ones_like(x)] @ inverse.T
+        return p[:, :3] / p[:, 3:]
+    near = unproject(-1.0)
+    direction = unproject(1.0) - near
+    return near, direction / np.linalg.norm(direction, axis=1)[:, None]
+
+
+def sphere_truth(composite, radius2=RADIUS2):
+    """Exact first hit of each pixel ray with |x|^2 = radius2, as window depth (1 on a miss),
+    and each ray's margin: how far from grazing (|discriminant| / radius^2)."""
+    origin, direction = pixel_rays(composite)
+    b = np.sum(origin * direction, axis=1)
+    c = np.sum(origin * origin, axis=1) - radius2
+    disc = b * b - c
+    t = -b - np.sqrt(np.maximum(disc, 0))
+    hit = disc >= 0
+    depth = np.ones(len(t))
+    depth[hit] = window_depth(composite, origin[hit] + t[hit, None] * direction[hit])
+    return depth.reshape(H, W), np.abs(disc).reshape(H, W) / radius2
+
+
+class Mapper(unittest.TestCase):
+    mesh = grid()
+
+    def check_against_sphere(self, parallel):
+        window, renderer, mapper, _ = scene(self.mesh, parallel=parallel)
+        window.Render()
+        z = zbuffer(window)
+        truth, margin = sphere_truth(matrix(renderer))
+        covered, expected = z < 1, truth < 1
+        clear = margin > 1e-6  # rays not grazing the silhouette
+        self.assertGreater(expected.sum(), 0.2 * W * H)
+        self.assertEqual(int((covered != expected)[clear].sum()), 0, "missed or false pixels")
+        both = covered & expected
+        error = np.abs(z - truth)[both].max()
+        print("%s: %d pixels, max |depth - exact| = %.2e (tolerance %.2e)"
+              % ("parallel" if parallel else "perspective", both.sum(), error, DEPTH_TOLERANCE))
+        self.assertLess(error, DEPTH_TOLERANCE)
+
+    def test_depth_equals_exact_sphere_perspective(self):
+        self.check_against_sphere(False)
+
+    def test_depth_equals_exact_sphere_parallel(self):
+        self.check_against_sphere(True)
+
+    def check_against_filter(self, parallel):
+        window, renderer, mapper, _ = scene(self.mesh, parallel=parallel)
+        window.Render()
+        z = zbuffer(window)
+        camera = renderer.GetActiveCamera()
+        caster = vtkDirectSurfaceRayCaster()
+        caster.SetInputData(self.mesh)
+        caster.SetValue(0, RADIUS2)
+        caster.SetImageSize(W, H)
+        caster.SetCamera(camera)
+        caster.Update()
+        t = vtk_to_numpy(caster.GetOutput().GetPointData().GetArray("Depth"))
+        # The filter's rays (see tetdsr/Camera.h): from the camera position (perspective) or
+        # its plane (parallel); the hit point, then its window depth.
+        position = np.array(camera.GetPosition())
+        forward = np.array(camera.GetFocalPoint()) - position
+        forward /= np.linalg.norm(forward)
+        right = np.cross(forward, camera.GetViewUp())
+        right /= np.linalg.norm(right)
+        up = np.cross(right, forward)
+        half_h = camera.GetParallelScale() if parallel else np.tan(np.radians(camera.GetViewAngle() / 2))
+        half_w = half_h * W / H
+        i, j = np.meshgrid(np.arange(W), np.arange(H))
+        x = (2 * (i.ravel() + 0.5) / W - 1)[:, None]
+        y = (2 * (j.ravel() + 0.5) / H - 1)[:, None]
+        offset = x * half_w * right + y * half_h * up
+        if parallel:
+            origin, direction = position + offset, np.tile(forward, (W * H, 1))
+        else:
+            direction = forward + offset
+            direction /= np.linalg.norm(direction, axis=1)[:, None]
+            origin = np.tile(position, (W * H, 1))
+        hit = np.isfinite(t)
+        filter_depth = np.ones(W * H)
+        filter_depth[hit] = window_depth(matrix(renderer), origin[hit] + t[hit, None] * direction[hit])
+        filter_depth = filter_depth.reshape(H, W)
+        both = (z < 1) & (filter_depth < 1)
+        differ = int(((z < 1) != (filter_depth < 1)).sum())
+        error = np.abs(z - filter_depth)[both].max()
+        print("%s: mapper vs filter depth on %d pixels: max difference %.2e; coverage differs on %d"
+              % ("parallel" if parallel else "perspective", both.sum(), error, differ))
+        self.assertLess(error, DEPTH_TOLERANCE)
+        self.assertLessEqual(differ, 0.002 * both.sum(), "silhouette pixels only")
+
+    def test_depth_equals_filter_perspective(self):
+        self.check_against_filter(False)
+
+    def test_depth_equals_filter_parallel(self):
+        self.check_against_filter(True)
+
+    def test_lighting_matches_a_polygon_surface(self):
+        # f = x + 2y + 3z: its iso-surface 0.4 is a plane, drawn once by the mapper and once as a
+        # polygon (vtkPlaneSource over the same plane) with the same property and lights.
+        plane_mesh = grid(fields={"g": lambda x: x[:, 0] + 2 * x[:, 1] + 3 * x[:, 2]})
+        for lights in ("headlight", "light kit", "check"):
+            def style(actor, renderer):
+                p = actor.GetProperty()
+                p.SetColor(0.9, 0.6, 0.3)
+                p.SetAmbient(0.1)
+                p.SetDiffuse(0.7)
+                p.SetSpecular(0.4)
+                p.SetSpecularPower(15)
+                if lights != "headlight":
+                    renderer.AutomaticLightCreationOff()
+                    vtkLightKit().AddLightsToRenderer(renderer)
+            window, renderer, mapper, actor = scene(
+                plane_mesh, iso=0.4, configure=lambda m, a, r: style(a, r))
+            window.Render()
+            surface = rgba(window)
+            covered = zbuffer(window) < 1
+            source = vtkPlaneSource()
+            # Three points of x + 2y + 3z = 0.4 spanning the cube's section.
+            source.SetOrigin(-1.0, -1.0, (0.4 + 3) / 3)
+            source.SetPoint1(1.0, -1.0, (0.4 + 1) / 3)
+            source.SetPoint2(-1.0, 1.0, (0.4 - 1) / 3)
+            polygon_mapper = vtkPolyDataMapper()
+            polygon_mapper.SetInputConnection(source.GetOutputPort())
+            actor.SetMapper(polygon_mapper)
+            if lights == "check":
+                actor.GetProperty().SetSpecular(0.0)
+            window.Render()
+            polygon = rgba(window)
+            inside = covered & (zbuffer(window) < 1)
+            # Away from the cube's edges, where the two outlines differ.
+            inside[:2, :] = inside[-2:, :] = inside[:, :2] = inside[:, -2:] = False
+            inside &= np.roll(inside, 1, 0) & np.roll(inside, -1, 0) & np.roll(inside, 1, 1) & np.roll(inside, -1, 1)
+            difference = np.abs(surface - polygon)[inside][:, :3]
+            print("%s: %d pixels, max colour difference %d, mean %.2f"
+                  % (lights, inside.sum(), difference.max(), difference.mean()))
+            self.assertGreater(inside.sum(), 1000)
+            if lights != "headlight":  # (VTK's headlight shades a plane uniformly)
+                spread = np.ptp(surface[inside][:, :3], axis=0).max()
+                self.assertGreater(spread, 10, "the highlight varies the colour")
+            if lights == "check":  # a different specular must show: the comparison can fail
+                self.assertGreater(difference.max(), 10)
+            else:
+                self.assertLessEqual(difference.max(), 3, lights)
+
+    def test_lookup_table_colours_and_clipping_planes(self):
+        mesh = grid(fields={"f": lambda x: np.sum(x ** 2, axis=1), "x": lambda x: x[:, 0].copy()})
+        table = vtkLookupTable()
+        table.SetHueRange(0.66, 0.0)
+        table.Build()
+        def configure(mapper, actor, renderer):
+            mapper.ScalarVisibilityOn()
+            mapper.SetScalarModeToUsePointFieldData()
+            mapper.SelectColorArray("x")
+            mapper.SetLookupTable(table)
+            mapper.SetScalarRange(-0.7, 0.7)
+            actor.GetProperty().SetAmbient(1.0)  # unlit colour: exactly the table's
+            actor.GetProperty().SetDiffuse(0.0)
+            actor.GetProperty().SetSpecular(0.0)
+            plane = vtkPlane()
+            plane.SetOrigin(-0.2, 0, 0)
+            plane.SetNormal(1, 0, 0)  # keeps x >= -0.2
+            mapper.AddClippingPlane(plane)
+        window, renderer, mapper, actor = scene(mesh, configure=configure)
+        window.Render()
+        z, colours = zbuffer(window), rgba(window)
+        covered = z < 1
+        # Each covered pixel's point: unproject its window depth.
+        inverse = np.linalg.inv(matrix(renderer))
+        i, j = np.meshgrid(np.arange(W), np.arange(H))
+        ndc = np.c_[2 * (i[covered] + 0.5) / W - 1, 2 * (j[covered] + 0.5) / H - 1, 2 * z[covered] - 1,
+                    np.ones(covered.sum())]
+        p = ndc @ inverse.T
+        x = p[:, 0] / p[:, 3]
+        self.assertGreater(covered.sum(), 1000)
+        self.assertGreater(x.min(), -0.2 - 1e-4, "clipped away: x < -0.2")
+        table.SetRange(-0.7, 0.7)
+        def colour(value):
+            rgb = [0.0, 0.0, 0.0]
+            table.GetColor(value, rgb)
+            return rgb
+        # The table is discrete (256 entries over the range): a value within one entry's width
+        # (or the depth buffer's rounding) may take the neighbouring entry.
+        step = 1.4 / table.GetNumberOfTableValues()
+        error = np.min([np.abs(colours[covered][:, :3] - np.array([colour(v + d) for v in x]) * 255).max(axis=1)
+                        for d in (-step, 0.0, step)], axis=0)
+        print("lookup table: %d pixels, max colour error %.1f" % (covered.sum(), error.max()))
+        self.assertLessEqual(error.max(), 3.0)  # 8-bit rounding of the table and of the image
+
+    def test_level_of_detail_and_image_reuse(self):
+        window, renderer, mapper, actor = scene(self.mesh)
+        interactor = vtkRenderWindowInteractor()
+        interactor.SetRenderWindow(window)
+        interactor.SetStillUpdateRate(0.0001)
+        window.SetDesiredUpdateRate(0.0001)
+        window.Render()
+        self.assertEqual(tuple(mapper.GetLastCastSize()), (W, H))
+        window.Render()
+        self.assertTrue(mapper.GetLastRenderReusedImage(), "an unchanged render re-uses the image")
+        camera = renderer.GetActiveCamera()
+        # Interaction: a fixed reduced resolution, then one adjusted to a tiny allotted time.
+        mapper.AutoAdjustSampleDistancesOff()
+        mapper.SetInteractiveImageSampleDistance(4)
+        window.SetDesiredUpdateRate(15)
+        camera.Azimuth(5)
+        window.Render()
+        self.assertEqual(tuple(mapper.GetLastCastSize()), (W // 4, H // 4))
+        mapper.AutoAdjustSampleDistancesOn()
+        window.SetDesiredUpdateRate(100000)  # 10 microseconds per frame: as coarse as allowed
+        for _ in range(3):
+            camera.Azimuth(5)
+            window.Render()
+        self.assertGreater(mapper.GetLastImageSampleDistance(), 2.0)
+        self.assertLess(mapper.GetLastCastSize()[0], W // 2)
+        # Still again: full resolution, identical to a fresh render of the same view.
+        window.SetDesiredUpdateRate(0.0001)
+        window.Render()
+        self.assertEqual(tuple(mapper.GetLastCastSize()), (W, H))
+        still_z, still_rgba = zbuffer(window), rgba(window)
+        fresh_window, fresh_renderer, _, _ = scene(self.mesh)
+        fresh_renderer.GetActiveCamera().DeepCopy(camera)
+        fresh_renderer.ResetCameraClippingRange()
+        fresh_renderer.GetActiveCamera().SetClippingRange(camera.GetClippingRange())
+        fresh_window.Render()
+        np.testing.assert_array_equal(still_z, zbuffer(fresh_window))
+        np.testing.assert_array_equal(still_rgba, rgba(fresh_window))
+
+    def test_bad_input_is_reported_not_rendered(self):
+        window, renderer, mapper, actor = scene(self.mesh)
+        mapper.SetInputArrayToProcess(0, 0, 0, 0, "no such array")
+        errors = []
+        from vtkmodules.vtkCommonCore import vtkCommand
+        mapper.AddObserver(vtkCommand.ErrorEvent, lambda *a: errors.append(1))
+        window.Render()
+        self.assertTrue(errors)
+        self.assertTrue((zbuffer(window) == 1).all())
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
