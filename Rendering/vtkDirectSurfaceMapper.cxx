@@ -30,6 +30,8 @@
 #include "vtkSmartPointer.h"
 #include "vtkTextureObject.h"
 #include "vtkTimerLog.h"
+#include "vtkWeakPointer.h"
+#include "vtkCommand.h"
 #include "vtkUnstructuredGrid.h"
 
 #include "vtkDirectSurfaceAdapter.h"
@@ -94,6 +96,13 @@ struct vtkDirectSurfaceMapper::Internals
   std::vector<std::uint8_t> BlockColors;
   std::vector<double> BlockDepth;
 
+  // Translucent surfaces wait for the renderer's EndEvent.
+  vtkWeakPointer<vtkRenderer> ObservedRenderer;
+  unsigned long ObserverTag = 0;
+  vtkWeakPointer<vtkActor> PendingActor;
+  std::vector<float> OpaqueDepth;
+  std::vector<double> RayLimits;
+
   vtkSmartPointer<vtkTextureObject> ColorTexture;
   vtkSmartPointer<vtkTextureObject> DepthTexture;
   std::unique_ptr<vtkOpenGLQuadHelper> Quad;
@@ -137,7 +146,7 @@ struct vtkDirectSurfaceMapper::Internals
     this->TexturesValid = true;
   }
 
-  bool Draw(vtkOpenGLRenderWindow* window)
+  bool Draw(vtkOpenGLRenderWindow* window, bool translucent, const int viewport[4])
   {
     if (!this->Quad)
     {
@@ -159,9 +168,28 @@ struct vtkDirectSurfaceMapper::Internals
     vtkOpenGLState::ScopedglDepthFunc savedDepthFunc(state);
     vtkOpenGLState::ScopedglDepthMask savedDepthMask(state);
     vtkOpenGLState::ScopedglEnableDisable savedDepthTest(state, GL_DEPTH_TEST);
-    state->vtkglEnable(GL_DEPTH_TEST);
-    state->vtkglDepthFunc(GL_LEQUAL);
-    state->vtkglDepthMask(GL_TRUE);
+    vtkOpenGLState::ScopedglEnableDisable savedBlend(state, GL_BLEND);
+    vtkOpenGLState::ScopedglBlendFuncSeparate savedBlendFunction(state);
+    vtkOpenGLState::ScopedglViewport savedViewport(state);
+    vtkOpenGLState::ScopedglEnableDisable savedScissor(state, GL_SCISSOR_TEST);
+    if (translucent)
+    {
+      // Over the finished frame: already limited to the opaque depth, blended, no depth write.
+      state->vtkglViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+      state->vtkglDisable(GL_SCISSOR_TEST);
+      state->vtkglDisable(GL_DEPTH_TEST);
+      state->vtkglDepthMask(GL_FALSE);
+      state->vtkglEnable(GL_BLEND);
+      state->vtkglBlendFuncSeparate(
+        GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    }
+    else
+    {
+      // In the opaque pass: depth-tested against, and written for, every other prop.
+      state->vtkglEnable(GL_DEPTH_TEST);
+      state->vtkglDepthFunc(GL_LEQUAL);
+      state->vtkglDepthMask(GL_TRUE);
+    }
     this->ColorTexture->Activate();
     this->DepthTexture->Activate();
     this->Quad->Program->SetUniformi("colorTexture", this->ColorTexture->GetTextureUnit());
@@ -184,7 +212,48 @@ vtkDirectSurfaceMapper::vtkDirectSurfaceMapper()
 
 vtkDirectSurfaceMapper::~vtkDirectSurfaceMapper()
 {
+  if (this->Internal->ObservedRenderer)
+  {
+    this->Internal->ObservedRenderer->RemoveObserver(this->Internal->ObserverTag);
+  }
   this->ContourValues->Delete();
+}
+
+//------------------------------------------------------------------------------
+bool vtkDirectSurfaceMapper::IsTranslucent(vtkActor* actor)
+{
+  if (actor && actor->GetProperty()->GetOpacity() < 1.0)
+  {
+    return true;
+  }
+  for (int i = 0; i < this->ContourValues->GetNumberOfContours(); ++i)
+  {
+    if (this->Internal->Styles.GetOpacity(i) < 1.0)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+bool vtkDirectSurfaceMapper::HasOpaqueGeometry()
+{
+  return !this->IsTranslucent(nullptr);
+}
+
+bool vtkDirectSurfaceMapper::HasTranslucentPolygonalGeometry()
+{
+  return this->IsTranslucent(nullptr);
+}
+
+void vtkDirectSurfaceMapper::DrawDeferred(vtkObject* renderer, unsigned long, void*)
+{
+  vtkActor* actor = this->Internal->PendingActor;
+  this->Internal->PendingActor = nullptr;
+  if (actor)
+  {
+    this->Draw(static_cast<vtkRenderer*>(renderer), actor, true);
+  }
 }
 
 int vtkDirectSurfaceMapper::FillInputPortInformation(int, vtkInformation* info)
@@ -349,6 +418,30 @@ void vtkDirectSurfaceMapper::ReleaseGraphicsResources(vtkWindow* window)
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceMapper::Render(vtkRenderer* renderer, vtkActor* actor)
 {
+  if (!this->IsTranslucent(actor))
+  {
+    this->Draw(renderer, actor, false);
+    return;
+  }
+  // Translucent: drawn once, after the renderer's passes (depth peeling and order-independent
+  // translucency would otherwise call this in each of their passes with their own buffers).
+  Internals& in = *this->Internal;
+  if (in.ObservedRenderer != renderer)
+  {
+    if (in.ObservedRenderer)
+    {
+      in.ObservedRenderer->RemoveObserver(in.ObserverTag);
+    }
+    in.ObservedRenderer = renderer;
+    in.ObserverTag = renderer->AddObserver(
+      vtkCommand::EndEvent, this, &vtkDirectSurfaceMapper::DrawDeferred, 1.0);
+  }
+  in.PendingActor = actor;
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool translucent)
+{
   vtkTimerLog* timer = vtkTimerLog::New();
   timer->StartTimer();
   Internals& in = *this->Internal;
@@ -489,10 +582,27 @@ void vtkDirectSurfaceMapper::Render(vtkRenderer* renderer, vtkActor* actor)
   {
     signature.push_back(static_cast<double>(adapter::MeshModifiedTime(block.second)));
   }
+  const int viewport[4] = { originX, originY, width, height };
+  if (translucent)
+  {
+    // What the opaque geometry left in the depth buffer bounds the rays (and the re-use).
+    in.OpaqueDepth.resize(static_cast<std::size_t>(width) * height);
+    {
+      vtkOpenGLState::ScopedglEnableDisable savedScissor(window->GetState(), GL_SCISSOR_TEST);
+      window->GetZbufferData(
+        originX, originY, originX + width - 1, originY + height - 1, in.OpaqueDepth.data());
+    }
+    double sum = 0.0;
+    for (float z : in.OpaqueDepth)
+    {
+      sum = sum * 1.000001 + z; // order-sensitive: a moved prop changes it
+    }
+    signature.push_back(sum);
+  }
   this->LastRenderReusedImage = in.TexturesValid && signature == in.Signature;
   if (this->LastRenderReusedImage)
   {
-    in.Draw(window);
+    in.Draw(window, translucent, viewport);
     timer->StopTimer();
     this->TimeToDraw = timer->GetElapsedTime();
     timer->Delete();
@@ -540,6 +650,32 @@ void vtkDirectSurfaceMapper::Render(vtkRenderer* renderer, vtkActor* actor)
 
   const std::size_t pixels = static_cast<std::size_t>(castWidth) * castHeight;
   in.Resize(pixels);
+  if (translucent)
+  {
+    // Per cast pixel, the ray parameter of the opaque depth at its full-resolution pixel.
+    in.RayLimits.resize(pixels);
+    vtkSMPTools::For(0, castHeight, [&](vtkIdType rowBegin, vtkIdType rowEnd) {
+      for (int j = static_cast<int>(rowBegin); j < static_cast<int>(rowEnd); ++j)
+      {
+        const int fullJ = std::min(height - 1, static_cast<int>((j + 0.5) * height / castHeight));
+        for (int i = 0; i < castWidth; ++i)
+        {
+          const int fullI = std::min(width - 1, static_cast<int>((i + 0.5) * width / castWidth));
+          const double z = in.OpaqueDepth[static_cast<std::size_t>(fullJ) * width + fullI];
+          double limit = std::numeric_limits<double>::infinity();
+          if (z < 1.0)
+          {
+            const tetdsr::Ray ray = rays.pixelRay(i, j);
+            const glm::dvec4 ndc(2.0 * (i + 0.5) / castWidth - 1.0,
+              2.0 * (j + 0.5) / castHeight - 1.0, 2.0 * z - 1.0, 1.0);
+            const glm::dvec4 point = ndcToModel * ndc;
+            limit = glm::dot(glm::dvec3(point) / point.w - ray.origin, ray.direction);
+          }
+          in.RayLimits[static_cast<std::size_t>(j) * castWidth + i] = limit;
+        }
+      }
+    });
+  }
   const bool several = blocks.size() > 1;
   if (several)
   {
@@ -623,6 +759,7 @@ void vtkDirectSurfaceMapper::Render(vtkRenderer* renderer, vtkActor* actor)
     image.depth = several ? in.BlockDepth.data() : in.Depth.data();
     image.normals = in.Normals.data();
     image.cellIds = several ? blockCellIds.data() : in.CellIds.data();
+    image.rayLimits = translucent ? in.RayLimits.data() : nullptr;
     const tetdsr::Renderer caster(*prepared.GetScene(), rays, isoValues, settings, image);
     const tetdsr::NodeId done = adapter::Cast(caster, false, this->NumberOfThreads,
       [window]() { return window->CheckAbortStatus() != 0; }, [](double) {});
@@ -678,7 +815,7 @@ void vtkDirectSurfaceMapper::Render(vtkRenderer* renderer, vtkActor* actor)
     }
   });
   in.Upload(window, castWidth, castHeight);
-  in.Draw(window);
+  in.Draw(window, translucent, viewport);
   in.Signature = signature;
   timer->StopTimer();
   in.LastCastSeconds = timer->GetElapsedTime();

@@ -31,9 +31,11 @@
  *
  * @warning The prepared scene (validation and hierarchy) is built once per mesh and field and
  * kept. Iso-value opacities below 1 (or the actor's opacity) composite this mapper's own
- * surfaces front to back; the result is drawn in the opaque pass, so it blends over props drawn
- * before it but hides props drawn after it and behind it. Positional lights are point lights
- * without attenuation or cone. Hardware selection (picking) does not see the surface.
+ * surfaces front to back, up to the opaque geometry's depth, and the result is blended over the
+ * finished frame: correct with opaque props, with plain blending, order-independent
+ * translucency and depth peeling alike; other translucent props are seen behind it, never in
+ * front. Positional lights are point lights without attenuation or cone. Hardware selection
+ * (picking) does not see the surface.
  *
  * @sa vtkDirectSurfaceRayCaster
  */
@@ -128,6 +130,17 @@ public:
   vtkGetMacro(NumberOfRenderedCells, vtkIdType);
 
   void Render(vtkRenderer* renderer, vtkActor* actor) override;
+
+  ///@{
+  /**
+   * Translucent surfaces (an iso-value opacity, or the actor's, below 1) are drawn once per
+   * frame after the renderer's passes (on its EndEvent): cast up to the opaque geometry's depth
+   * read from the frame buffer, composited front to back, and blended over the finished frame.
+   * Opaque ones are drawn in the opaque pass with their depth.
+   */
+  bool HasOpaqueGeometry() override;
+  bool HasTranslucentPolygonalGeometry() override;
+  ///@}
   void ReleaseGraphicsResources(vtkWindow* window) override;
 
   ///@{
@@ -161,6 +174,12 @@ protected:
 private:
   vtkDirectSurfaceMapper(const vtkDirectSurfaceMapper&) = delete;
   void operator=(const vtkDirectSurfaceMapper&) = delete;
+
+  /// Casts and draws: opaque surfaces with depth, or translucent ones blended over the frame.
+  void Draw(vtkRenderer* renderer, vtkActor* actor, bool translucent);
+  /// The renderer's EndEvent: draws the translucent surfaces a render asked for.
+  void DrawDeferred(vtkObject* renderer, unsigned long event, void* data);
+  bool IsTranslucent(vtkActor* actor);
 
   struct Internals;
   std::unique_ptr<Internals> Internal;

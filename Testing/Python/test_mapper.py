@@ -346,6 +346,57 @@ class Mapper(unittest.TestCase):
         np.testing.assert_array_equal(still_z, zbuffer(fresh_window))
         np.testing.assert_array_equal(still_rgba, rgba(fresh_window))
 
+    def test_translucent_surfaces_blend_over_opaque_geometry(self):
+        # A translucent sphere (opacity a, two crossings per ray: front and back) in front of an
+        # opaque plane, on a black background: where both are seen the colour must be
+        # C = C_sphere_alone + (1 - a)^2 C_plane_alone, for plain blending, order-independent
+        # translucency (actor opacity) and depth peeling alike; the sphere writes no depth.
+        a = 0.4
+        position = np.array([2.2, 1.6, 3.0])
+        u = position / np.linalg.norm(position)
+        side = np.cross(u, [0, 1, 0])
+        side /= np.linalg.norm(side)
+        up = np.cross(side, u)
+        source = vtkPlaneSource()  # perpendicular to the view, behind the sphere, half of it
+        centre = -1.2 * u
+        source.SetOrigin(*(centre - 2.0 * up))
+        source.SetPoint1(*(centre - 2.0 * up + 4.0 * side))
+        source.SetPoint2(*(centre + 0.0 * up))
+        for mode in ("iso-value opacity", "actor opacity", "actor opacity, depth peeling"):
+            images = {}
+            for content in ("sphere", "plane", "both"):
+                def configure(mapper, actor, renderer):
+                    renderer.SetBackground(0, 0, 0)
+                    if mode == "iso-value opacity":
+                        mapper.SetIsoValueOpacity(0, a)
+                    else:
+                        actor.GetProperty().SetOpacity(a)
+                    if "peeling" in mode:
+                        renderer.UseDepthPeelingOn()
+                    plane_mapper = vtkPolyDataMapper()
+                    plane_mapper.SetInputConnection(source.GetOutputPort())
+                    plane_actor = vtkActor()
+                    plane_actor.SetMapper(plane_mapper)
+                    plane_actor.GetProperty().SetColor(0.2, 0.4, 1.0)
+                    renderer.AddActor(plane_actor)
+                    actor.SetVisibility(content != "plane")
+                    plane_actor.SetVisibility(content != "sphere")
+                window, renderer, mapper, actor = scene(self.mesh, configure=configure)
+                window.Render()
+                images[content] = (rgba(window)[..., :3], zbuffer(window))
+            sphere, plane, both = images["sphere"][0], images["plane"][0], images["both"][0]
+            seen = (sphere.sum(axis=2) > 0) & (plane.sum(axis=2) > 0)
+            # Not on either outline (a polygon's edge pixels may rasterise differently).
+            for axis in (0, 1):
+                for shift in (1, -1):
+                    seen &= np.roll(seen, shift, axis)
+            self.assertGreater(seen.sum(), 500, mode)
+            expected = sphere + (1 - a) ** 2 * plane
+            error = np.abs(both - expected)[seen].max()
+            print("%s: %d pixels, max |C - (C_sphere + (1-a)^2 C_plane)| = %.1f" % (mode, seen.sum(), error))
+            self.assertLessEqual(error, 3.0, mode)
+            self.assertTrue((images["sphere"][1] == 1).all(), "translucent surfaces write no depth")
+
     def test_bad_input_is_reported_not_rendered(self):
         window, renderer, mapper, actor = scene(self.mesh)
         mapper.SetInputArrayToProcess(0, 0, 0, 0, "no such array")

@@ -247,7 +247,13 @@ void Renderer::renderPixel(int i, int j) const
   const Ray ray = Rays_.pixelRay(i, j);
   double tMin, tMax;
   int enteringPlane;
-  if (!clipInterval(ray, tMin, tMax, enteringPlane))
+  bool visible = clipInterval(ray, tMin, tMax, enteringPlane);
+  if (visible && Image_.rayLimits)
+  {
+    tMax = std::min(tMax, Image_.rayLimits[pixel]);
+    visible = tMin <= tMax;
+  }
+  if (!visible)
   {
     writeMiss(pixel);
     return;

@@ -143,6 +143,9 @@ struct ImageView
   /// Optional: the value that was colour-mapped (colour array, or the field on a cap); NaN where
   /// none was.
   double* colorValues = nullptr;
+  /// Optional input: per pixel, the ray parameter beyond which nothing is seen (opaque geometry
+  /// drawn by others); +inf where nothing limits the ray.
+  const double* rayLimits = nullptr;
 };
 
 /// Shading of a hit seen along `viewDirection` (unit, camera to hit) with `color` as ambient and
