@@ -45,8 +45,10 @@ def lattice(n, lo=-1.0, hi=1.0):
     return points, np.array(cells, dtype=np.int64)
 
 
-def grid(n=3, fields=None):
+def grid(n=3, fields=None, cell_range=None):
     points, cells = lattice(n)
+    if cell_range:
+        cells = cells[cell_range[0]:cell_range[1]]
     ug = vtkUnstructuredGrid()
     p = vtkPoints()
     p.SetData(numpy_to_vtk(points, deep=1))
@@ -396,6 +398,35 @@ class Mapper(unittest.TestCase):
             print("%s: %d pixels, max |C - (C_sphere + (1-a)^2 C_plane)| = %.1f" % (mode, seen.sum(), error))
             self.assertLessEqual(error, 3.0, mode)
             self.assertTrue((images["sphere"][1] == 1).all(), "translucent surfaces write no depth")
+
+    def test_composite_input_equals_one_grid(self):
+        # The mesh split into two blocks of a multiblock dataset: the same picture.
+        from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet
+        blocks = vtkMultiBlockDataSet()
+        cells = self.mesh.GetNumberOfCells()
+        for b, (first, last) in enumerate([(0, cells // 2), (cells // 2, cells)]):
+            block = grid(cell_range=(first, last))
+            blocks.SetBlock(b, block)
+        pictures = []
+        for data in (self.mesh, blocks):
+            window, renderer, mapper, actor = scene(data)
+            window.Render()
+            pictures.append((zbuffer(window), rgba(window)))
+        self.assertEqual(mapper.GetNumberOfRenderedCells(), cells)
+        np.testing.assert_array_equal(pictures[0][0], pictures[1][0])
+        np.testing.assert_array_equal(pictures[0][1], pictures[1][1])
+
+    def test_abort_is_honoured(self):
+        from vtkmodules.vtkCommonCore import vtkCommand
+        window, renderer, mapper, actor = scene(self.mesh)
+        tag = window.AddObserver(vtkCommand.AbortCheckEvent, lambda w, e: w.SetAbortRender(1))
+        window.Render()
+        self.assertTrue((zbuffer(window) == 1).all(), "an aborted cast draws nothing")
+        window.RemoveObserver(tag)
+        renderer.GetActiveCamera().Azimuth(1)
+        window.Render()
+        self.assertFalse(mapper.GetLastRenderReusedImage())
+        self.assertGreater((zbuffer(window) < 1).sum(), 1000)
 
     def test_bad_input_is_reported_not_rendered(self):
         window, renderer, mapper, actor = scene(self.mesh)
