@@ -193,6 +193,7 @@ bool PreparedMesh::Prepare(vtkUnstructuredGrid* input, vtkDataArray* scalars, in
   }
   Internals& current = *this->Internal;
   current.Valid = false;
+  const std::size_t warningsBefore = messages.warnings.size();
 
   const PreprocessSummary& summary = current.TheScene->summary();
   if (current.UnsupportedCells > 0)
@@ -235,6 +236,10 @@ bool PreparedMesh::Prepare(vtkUnstructuredGrid* input, vtkDataArray* scalars, in
   {
     messages.warnings.push_back(Text("Skipped ", summary.invalidIdCells,
       " cells with node ids outside [0, ", current.NumberOfPoints, ")."));
+  }
+  if (same)
+  {
+    messages.warnings.resize(warningsBefore); // told when the scene was built: not every render
   }
   if (summary.validCells == 0)
   {

@@ -53,7 +53,8 @@ public:
   /// Makes the scene current for `input` and its point array `scalars` (one `component`):
   /// re-uses the last one when none of them changed, else checks every size the input claims
   /// and builds it on `numberOfThreads` threads (0: all cores). False, with errors, when
-  /// nothing can be rendered; warnings count the cells skipped.
+  /// nothing can be rendered; warnings count the cells skipped, once, when the scene is built
+  /// (a mapper re-uses it every frame).
   bool Prepare(vtkUnstructuredGrid* input, vtkDataArray* scalars, int component,
     const TransverseTest& transverse, int numberOfThreads, Messages& messages);
 
