@@ -85,6 +85,8 @@ struct vtkDirectSurfaceMapper::Internals
   std::vector<double> Signature;
   double SampleDistance = 1.0;
   double LastCastSeconds = 0.0;
+  double LastRenderStart = 0.0; ///< wall-clock start of the last render (not re-used)
+  bool LastWasInteractive = false;
 
   // CPU images of the last cast (cast size), merged over blocks.
   std::vector<std::uint8_t> Colors;
@@ -483,6 +485,7 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   }
 
   // Level of detail: a reduced image while the camera moves, sized to the allocated time.
+  const double now = vtkTimerLog::GetUniversalTime();
   vtkRenderWindowInteractor* interactor = window->GetInteractor();
   const double stillRate = interactor ? interactor->GetStillUpdateRate() : 0.0001;
   const bool interacting = window->GetDesiredUpdateRate() > stillRate;
@@ -493,15 +496,25 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   }
   else if (interacting)
   {
+    // The frame must fit the actor's allocated time; what the rest of the last frame took
+    // (other props, clearing, the window's swap: the time between two renders minus the cast)
+    // is not the cast's to spend. A quarter of the allocation is always left to it.
     const double allocated = actor->GetAllocatedRenderTime();
+    const double period = now - in.LastRenderStart;
+    const double others = in.LastWasInteractive && period < 1.0
+      ? std::max(0.0, period - in.LastCastSeconds)
+      : 0.0;
+    const double budget = std::max(allocated - others, 0.25 * allocated);
     distance = in.SampleDistance;
-    if (allocated > 0.0 && in.LastCastSeconds > 0.0)
+    if (budget > 0.0 && in.LastCastSeconds > 0.0)
     {
       // The cast's time goes as its number of rays, 1 / distance^2.
-      distance *= std::sqrt(in.LastCastSeconds / allocated);
+      distance *= std::sqrt(in.LastCastSeconds / budget);
     }
     distance = vtkMath::ClampValue(distance, 1.0, this->MaximumImageSampleDistance);
   }
+  in.LastRenderStart = now;
+  in.LastWasInteractive = interacting;
   int width, height, originX, originY;
   renderer->GetTiledSizeAndOrigin(&width, &height, &originX, &originY);
   if (width <= 0 || height <= 0)

@@ -25,8 +25,9 @@
  *
  * Level of detail: while the render window's desired update rate is above its interactor's
  * still update rate (the camera is being moved), the image is cast at a reduced resolution
- * (ImageSampleDistance) chosen to meet the actor's allocated render time, and upscaled; a still
- * render is always at full resolution. A render with unchanged camera, viewport, data and
+ * (ImageSampleDistance) chosen so that the frame meets the actor's allocated render time (the
+ * time the rest of the last frame took, between two renders, is not the cast's to spend), and
+ * upscaled; a still render is always at full resolution. A render with unchanged camera, viewport, data and
  * settings re-uses the last image. Abort requests are honoured (CheckAbortStatus).
  *
  * @warning The prepared scene (validation and hierarchy) is built once per mesh and field and
