@@ -1,0 +1,289 @@
+#!/usr/bin/env python3
+"""Interactive viewer of the exact isosurfaces of a quadratic tetrahedral mesh (vtkDirectSurfaceMapper).
+
+  PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Examples/interactive_viewer.py
+  PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Examples/interactive_viewer.py \
+      mesh.vtu --array f --iso 0.3 0.5 --color-by g --size 1200 900
+  ... --screenshot out.png      (render one frame offscreen, write it, exit: works headless
+                                 under xvfb-run -a)
+
+Without a mesh it opens Data/expansion_flow.vtu at speed = 0.25, coloured by pressure. The
+surface is ray cast exactly per frame (reduced resolution while the camera moves, full resolution
+when it stops); the mesh's bounding box is drawn as an outline.
+
+Keys: Up / Down move the selected iso-value by 2% of the field's range (the new value is
+printed), Tab selects the next iso-value (marked > <), the slider at the bottom sets the selected iso-value;
+the usual VTK trackball camera (left drag rotates, right drag / wheel zooms, middle drag pans,
+r resets the camera, q quits).
+"""
+import argparse
+import os
+import sys
+
+from vtkmodules.vtkCommonCore import vtkCommand, vtkLookupTable
+from vtkmodules.vtkCommonDataModel import vtkDataObject
+from vtkmodules.vtkFiltersModeling import vtkOutlineFilter
+from vtkmodules.vtkInteractionWidgets import vtkSliderRepresentation2D, vtkSliderWidget
+from vtkmodules.vtkInteractionStyle import vtkInteractorStyleTrackballCamera
+from vtkmodules.vtkIOImage import vtkPNGWriter
+from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkColorTransferFunction, vtkPolyDataMapper,
+                                         vtkRenderWindow, vtkRenderWindowInteractor, vtkRenderer,
+                                         vtkTextActor, vtkWindowToImageFilter)
+import vtkmodules.vtkRenderingFreeType  # noqa: F401 (text)
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
+import vtkmodules.vtkRenderingUI  # noqa: F401 (the platform's interactor)
+
+from tetdsr import vtkDirectSurfaceMapper
+
+DEFAULT_MESH = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data",
+                            "expansion_flow.vtu")
+# Colours of the iso-values' surfaces when not colour-mapped.
+SURFACE_COLORS = [(0.90, 0.75, 0.55), (0.55, 0.75, 0.95), (0.60, 0.90, 0.60), (0.95, 0.60, 0.60)]
+
+
+def color_map(name, value_range):
+    """ParaView's "Cool to Warm" (diverging) transfer function, or a rainbow lookup table."""
+    if name == "cool-to-warm":
+        ctf = vtkColorTransferFunction()
+        ctf.SetColorSpaceToDiverging()
+        ctf.AddRGBPoint(value_range[0], 0.231373, 0.298039, 0.752941)
+        ctf.AddRGBPoint(0.5 * (value_range[0] + value_range[1]), 0.865003, 0.865003, 0.865003)
+        ctf.AddRGBPoint(value_range[1], 0.705882, 0.0156863, 0.14902)
+        ctf.SetVectorModeToMagnitude()
+        return ctf
+    lut = vtkLookupTable()
+    lut.SetTableRange(value_range)
+    if name == "grayscale":
+        lut.SetHueRange(0.0, 0.0)
+        lut.SetSaturationRange(0.0, 0.0)
+        lut.SetValueRange(0.1, 1.0)
+    else:  # rainbow, blue to red
+        lut.SetHueRange(0.667, 0.0)
+    lut.SetVectorModeToMagnitude()
+    lut.Build()
+    return lut
+
+
+def array_range(array):
+    """The range of a scalar array, or of a vector array's magnitude."""
+    return array.GetRange(0) if array.GetNumberOfComponents() == 1 else array.GetRange(-1)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0],
+                                     formatter_class=argparse.RawDescriptionHelpFormatter,
+                                     epilog="\n".join(__doc__.splitlines()[1:]))
+    parser.add_argument("mesh", nargs="?", help="a .vtu of VTK_QUADRATIC_TETRA cells "
+                        "(default: Data/expansion_flow.vtu, speed = 0.25 coloured by pressure)")
+    parser.add_argument("--array", help="point array whose isosurface is drawn "
+                        "(default: the active scalars, else the first point array)")
+    parser.add_argument("--iso", type=float, nargs="+", help="iso-value(s) (default: mid-range)")
+    parser.add_argument("--color-by", metavar="ARRAY",
+                        help="colour the surface by this point array (vectors: magnitude)")
+    parser.add_argument("--color-map", choices=["cool-to-warm", "rainbow", "grayscale"],
+                        default="cool-to-warm")
+    parser.add_argument("--opacity", type=float, nargs="+", metavar="A",
+                        help="opacity per iso-value (default: 1 for one iso-value, 0.6 for several, "
+                        "so that nested surfaces show)")
+    parser.add_argument("--size", type=int, nargs=2, default=[1000, 800], metavar=("W", "H"))
+    parser.add_argument("--screenshot", metavar="PNG",
+                        help="render one frame offscreen, write it to this PNG and exit")
+    parser.add_argument("--press", nargs="+", default=[], metavar="KEYSYM",
+                        help="with --screenshot: press these keys first (e.g. Up Up Tab Down)")
+    args = parser.parse_args()
+
+    if args.mesh is None:
+        args.mesh = DEFAULT_MESH
+        args.array = args.array or "speed"
+        args.iso = args.iso or [0.25]
+        args.color_by = args.color_by or "pressure"
+    if not os.path.isfile(args.mesh):
+        sys.exit(f"no such file: {args.mesh}")
+    reader = vtkXMLUnstructuredGridReader()
+    reader.SetFileName(args.mesh)
+    reader.Update()
+    grid = reader.GetOutput()
+    point_data = grid.GetPointData()
+    if grid.GetNumberOfCells() == 0 or point_data.GetNumberOfArrays() == 0:
+        sys.exit(f"{args.mesh}: no cells or no point arrays")
+    names = [point_data.GetArrayName(i) for i in range(point_data.GetNumberOfArrays())]
+    if args.array is None:
+        scalars = point_data.GetScalars()
+        args.array = scalars.GetName() if scalars is not None and scalars.GetName() else names[0]
+    field = point_data.GetArray(args.array)
+    if field is None:
+        sys.exit(f"no point array '{args.array}' (point arrays: {', '.join(names)})")
+    field_range = array_range(field)
+    span = field_range[1] - field_range[0] or 1.0
+    isos = list(args.iso) if args.iso else [0.5 * (field_range[0] + field_range[1])]
+
+    mapper = vtkDirectSurfaceMapper()
+    mapper.SetInputConnection(reader.GetOutputPort())
+    mapper.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS, args.array)
+    for i, value in enumerate(isos):
+        mapper.SetValue(i, value)
+    opacities = args.opacity or ([1.0] if len(isos) == 1 else [0.6])
+    for i in range(len(isos)):
+        mapper.SetIsoValueOpacity(i, opacities[min(i, len(opacities) - 1)])
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetSpecular(0.3)
+    actor.GetProperty().SetSpecularPower(30.0)
+
+    renderer = vtkRenderer()
+    renderer.SetBackground(0.32, 0.34, 0.43)
+    renderer.AddActor(actor)
+
+    if args.color_by:
+        color_array = point_data.GetArray(args.color_by)
+        if color_array is None:
+            sys.exit(f"no point array '{args.color_by}' (point arrays: {', '.join(names)})")
+        color_range = array_range(color_array)
+        lut = color_map(args.color_map, color_range)
+        mapper.ScalarVisibilityOn()
+        mapper.SetScalarModeToUsePointFieldData()
+        mapper.SelectColorArray(args.color_by)
+        mapper.SetLookupTable(lut)
+        mapper.SetScalarRange(color_range)
+        bar = vtkScalarBarActor()
+        bar.SetLookupTable(lut)
+        bar.SetTitle(args.color_by)
+        bar.SetNumberOfLabels(5)
+        bar.SetMaximumWidthInPixels(90)
+        bar.GetPositionCoordinate().SetValue(0.9, 0.25)
+        bar.SetWidth(0.09)
+        bar.SetHeight(0.6)
+        renderer.AddActor2D(bar)
+    else:
+        mapper.ScalarVisibilityOff()
+        actor.GetProperty().SetColor(*SURFACE_COLORS[0])
+        if len(isos) > 1:
+            for i in range(len(isos)):
+                mapper.SetIsoValueColor(i, *SURFACE_COLORS[i % len(SURFACE_COLORS)])
+
+    outline = vtkOutlineFilter()
+    outline.SetInputConnection(reader.GetOutputPort())
+    outline_mapper = vtkPolyDataMapper()
+    outline_mapper.SetInputConnection(outline.GetOutputPort())
+    outline_actor = vtkActor()
+    outline_actor.SetMapper(outline_mapper)
+    outline_actor.GetProperty().SetColor(1.0, 1.0, 1.0)
+    outline_actor.GetProperty().SetLineWidth(1.5)
+    renderer.AddActor(outline_actor)
+
+    text = vtkTextActor()
+    text.GetTextProperty().SetFontSize(18)
+    text.GetTextProperty().SetColor(1.0, 1.0, 1.0)
+    text.GetTextProperty().SetVerticalJustificationToTop()
+    text.GetPositionCoordinate().SetCoordinateSystemToNormalizedDisplay()
+    text.GetPositionCoordinate().SetValue(0.015, 0.98)
+    renderer.AddActor2D(text)
+
+    window = vtkRenderWindow()
+    window.SetSize(*args.size)
+    window.SetWindowName(f"TetDSR: {os.path.basename(args.mesh)}")
+    window.AddRenderer(renderer)
+    if args.screenshot:
+        window.SetOffScreenRendering(1)
+    interactor = vtkRenderWindowInteractor()
+    interactor.SetRenderWindow(window)
+    interactor.SetInteractorStyle(vtkInteractorStyleTrackballCamera())
+
+    camera = renderer.GetActiveCamera()
+    renderer.ResetCamera()
+    camera.Azimuth(30.0)
+    camera.Elevation(25.0)
+    camera.OrthogonalizeViewUp()
+    renderer.ResetCamera()
+    if args.color_by:  # room for the scalar bar on the right
+        camera.Zoom(0.95)
+        camera.SetWindowCenter(0.08, 0.0)
+
+    # The slider sets the selected iso-value.
+    slider_rep = vtkSliderRepresentation2D()
+    slider_rep.SetMinimumValue(field_range[0])
+    slider_rep.SetMaximumValue(field_range[1])
+    slider_rep.SetTitleText(f"{args.array} iso-value")
+    slider_rep.GetPoint1Coordinate().SetCoordinateSystemToNormalizedDisplay()
+    slider_rep.GetPoint1Coordinate().SetValue(0.30, 0.07)
+    slider_rep.GetPoint2Coordinate().SetCoordinateSystemToNormalizedDisplay()
+    slider_rep.GetPoint2Coordinate().SetValue(0.80, 0.07)
+    slider_rep.SetSliderLength(0.02)
+    slider_rep.SetSliderWidth(0.03)
+    slider_rep.SetTubeWidth(0.005)
+    slider_rep.SetLabelHeight(0.025)
+    slider_rep.SetTitleHeight(0.025)
+    slider_rep.SetLabelFormat("%.4g")
+    slider = vtkSliderWidget()
+    slider.SetInteractor(interactor)
+    slider.SetRepresentation(slider_rep)
+    slider.SetAnimationModeToJump()
+
+    state = {"selected": 0}
+
+    def update(announce=True):
+        i = state["selected"]
+        values = ", ".join(("> %.4g <" if k == i and len(isos) > 1 else "%.4g") % v
+                           for k, v in enumerate(isos))
+        text.SetInput(f"{args.array} = {values}\nUp/Down: +/-2% of range"
+                      + (", Tab: next iso-value" if len(isos) > 1 else ""))
+        slider_rep.SetValue(isos[i])
+        if announce:
+            print(f"iso-value {i}: {args.array} = {isos[i]:.6g}", flush=True)
+
+    def set_iso(value):
+        i = state["selected"]
+        isos[i] = min(max(value, field_range[0]), field_range[1])
+        mapper.SetValue(i, isos[i])
+        update()
+        window.Render()
+
+    def on_key(caller, event):
+        key = caller.GetKeySym()
+        step = 0.02 * span
+        if key == "Up":
+            set_iso(isos[state["selected"]] + step)
+        elif key == "Down":
+            set_iso(isos[state["selected"]] - step)
+        elif key == "Tab" and len(isos) > 1:
+            state["selected"] = (state["selected"] + 1) % len(isos)
+            update()
+            window.Render()
+
+    def on_slider(caller, event):
+        set_iso(caller.GetRepresentation().GetValue())
+
+    interactor.AddObserver(vtkCommand.KeyPressEvent, on_key)
+    slider.AddObserver(vtkCommand.InteractionEvent, on_slider)
+    update(announce=False)
+    slider.EnabledOn()
+
+    if args.screenshot:
+        window.Render()
+        for key in args.press:  # as the interactor delivers a key press
+            interactor.SetKeySym(key)
+            interactor.InvokeEvent(vtkCommand.KeyPressEvent)
+        grab = vtkWindowToImageFilter()
+        grab.SetInput(window)
+        grab.ReadFrontBufferOff()
+        grab.Update()
+        writer = vtkPNGWriter()
+        writer.SetFileName(args.screenshot)
+        writer.SetInputConnection(grab.GetOutputPort())
+        writer.Write()
+        print(f"wrote {args.screenshot} ({args.size[0]} x {args.size[1]}; "
+              f"{mapper.GetNumberOfRenderedCells()} cells, {args.array} = "
+              f"{', '.join('%.4g' % v for v in isos)})")
+        return 0
+
+    print(f"{args.mesh}: {grid.GetNumberOfCells()} cells; {args.array} in "
+          f"[{field_range[0]:.6g}, {field_range[1]:.6g}]; Up/Down step {0.02 * span:.6g}")
+    window.Render()
+    interactor.Start()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,364 @@
+#!/usr/bin/env python3
+"""Benchmark (not a test): vtkDirectSurfaceMapper in a render window over a 36-frame camera orbit
+(azimuth 10 degrees per frame), against vtkContourFilter + vtkPolyDataMapper, in one 1024 x 1024
+offscreen window. Prints a Markdown table. Needs an X display (run_mapper_orbit.sh: xvfb-run).
+
+  PYTHONPATH=build/lib/python3/dist-packages xvfb-run -a /usr/bin/python3 \
+      Testing/Benchmark/mapper_orbit.py [--size 1024] [--lattice 61] [--frames 36]
+
+Datasets: the 1.36 M-cell lattice of tetdsr_benchmark.cxx (n = 61: n^3 cubes of 6 quadratic tets
+over [0,1]^3, built here with numpy exactly as MakeMesh builds it) with its "wave" field at
+iso 0.3, and Data/expansion_flow.vtu ('speed', iso 0.25).
+
+Per dataset, in the same window:
+- first frame: the mapper's first (still) render, which prepares the scene (validation and
+  hierarchy) and casts at full resolution;
+- interacting: what VTK's interactor styles do while the mouse drags (StartInteraction sets the
+  window's DesiredUpdateRate to the interactor's DesiredUpdateRate, 15; StillUpdateRate 0.0001),
+  and ParaView's rates (5.0 / 0.002); a vtkRenderWindowInteractor is attached to the window (no
+  Start()), so the mapper sees the still rate and casts at a reduced resolution sized to the
+  actor's allocated render time;
+- still: DesiredUpdateRate = the still rate (a still render: full resolution), the camera moving
+  every frame, so no frame re-uses the last image;
+- vtkContourFilter (once, timed separately) + vtkPolyDataMapper over the same orbit.
+Every frame ends with glFinish (WaitForCompletion), so its time includes the GL work.
+"""
+import argparse
+import os
+import re
+import statistics
+import sys
+import time
+
+import numpy as np
+from vtkmodules.util import numpy_support
+from vtkmodules.vtkCommonCore import vtkPoints
+from vtkmodules.vtkCommonDataModel import (VTK_QUADRATIC_TETRA, vtkCellArray, vtkDataObject,
+                                           vtkUnstructuredGrid)
+from vtkmodules.vtkFiltersCore import vtkContourFilter
+from vtkmodules.vtkIOImage import vtkPNGWriter
+from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderWindow,
+                                         vtkRenderWindowInteractor, vtkRenderer,
+                                         vtkWindowToImageFilter)
+import vtkmodules.vtkInteractionStyle  # noqa: F401 (the interactor's default style)
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
+import vtkmodules.vtkRenderingUI  # noqa: F401 (the platform's vtkRenderWindowInteractor)
+
+from tetdsr import vtkDirectSurfaceMapper
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+
+
+def lattice(n):
+    """tetdsr_benchmark.cxx's MakeMesh(n), vectorised: n^3 cubes over [0,1]^3, 6 positively
+    oriented quadratic tets each (the cube's 6 monotone paths from corner to corner), nodes on the
+    half-step lattice with point id i + m (j + m k), m = 2 n + 1; cells in the order k, j, i,
+    path. Point arrays "wave" (active scalars) and "quadric"."""
+    m = 2 * n + 1
+    t = np.arange(m) / (m - 1.0)
+    z, y, x = np.meshgrid(t, t, t, indexing="ij")  # x varies fastest: id = i + m (j + m k)
+    points = np.column_stack([x.ravel(), y.ravel(), z.ravel()])
+    wave = np.sin(7.0 * x) * np.cos(5.0 * y) + np.sin(6.0 * z + 1.0)
+    quadric = (x - 0.5) ** 2 + (y - 0.45) ** 2 + (z - 0.52) ** 2
+
+    permutations = [(0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)]
+    odd = [False, True, True, False, False, True]
+    edges = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
+    k, j, i = np.meshgrid(np.arange(n), np.arange(n), np.arange(n), indexing="ij")
+    corner = np.stack([2 * i.ravel(), 2 * j.ravel(), 2 * k.ravel()], axis=-1)  # (n^3, 3) in i, j, k
+    ids = np.empty((n ** 3, 6, 10), dtype=np.int64)
+    for p, perm in enumerate(permutations):
+        v = [corner]
+        for s in range(3):
+            step = np.zeros(3, dtype=np.int64)
+            step[perm[s]] = 2
+            v.append(v[-1] + step)
+        if odd[p]:
+            v[1], v[2] = v[2], v[1]
+        node = lambda c: c[:, 0] + m * (c[:, 1] + m * c[:, 2])  # noqa: E731
+        for c in range(4):
+            ids[:, p, c] = node(v[c])
+        for e, (a, b) in enumerate(edges):
+            ids[:, p, 4 + e] = node((v[a] + v[b]) // 2)
+    cells = 6 * n ** 3
+    connectivity = numpy_support.numpy_to_vtkIdTypeArray(ids.reshape(-1), deep=True)
+    offsets = numpy_support.numpy_to_vtkIdTypeArray(
+        np.arange(0, 10 * cells + 1, 10, dtype=np.int64), deep=True)
+    cell_array = vtkCellArray()
+    cell_array.SetData(offsets, connectivity)
+    grid = vtkUnstructuredGrid()
+    vtk_points = vtkPoints()
+    vtk_points.SetData(numpy_support.numpy_to_vtk(points, deep=True))
+    grid.SetPoints(vtk_points)
+    grid.SetCells(VTK_QUADRATIC_TETRA, cell_array)
+    for name, values in (("wave", wave), ("quadric", quadric)):
+        array = numpy_support.numpy_to_vtk(values.ravel(), deep=True)
+        array.SetName(name)
+        grid.GetPointData().AddArray(array)
+    grid.GetPointData().SetActiveScalars("wave")
+    return grid
+
+
+def read_vtu(path):
+    reader = vtkXMLUnstructuredGridReader()
+    reader.SetFileName(path)
+    reader.Update()
+    return reader.GetOutput()
+
+
+def machine(window):
+    cpu = "unknown CPU"
+    for line in open("/proc/cpuinfo"):
+        if line.startswith("model name"):
+            cpu = line.split(":", 1)[1].strip()
+            break
+    caps = window.ReportCapabilities() or ""
+    renderer = re.search(r"OpenGL renderer string:\s*(.*)", caps)
+    version = re.search(r"OpenGL version string:\s*(.*)", caps)
+    gl = renderer.group(1).strip() if renderer else "unknown OpenGL renderer"
+    if version:
+        gl += ", OpenGL " + version.group(1).strip()
+    return f"{os.cpu_count()} cores ({cpu}), OpenGL renderer: {gl}"
+
+
+def load():
+    """The 1-minute load average: other processes competing for the cores skew the timings."""
+    return open("/proc/loadavg").read().split()[0]
+
+
+class Bench:
+    def __init__(self, size, snapshots=None):
+        self.snapshots = snapshots
+        self.window = vtkRenderWindow()
+        self.window.SetOffScreenRendering(1)
+        self.window.SetSize(size, size)
+        self.renderer = vtkRenderer()
+        self.renderer.SetBackground(1.0, 1.0, 1.0)
+        self.window.AddRenderer(self.renderer)
+        self.interactor = vtkRenderWindowInteractor()
+        self.interactor.SetRenderWindow(self.window)  # no Start(): only its StillUpdateRate counts
+
+    def frame(self):
+        start = time.perf_counter()
+        self.window.Render()
+        self.window.WaitForCompletion()
+        return time.perf_counter() - start
+
+    def orbit(self, frames, on_frame=None):
+        """frames renders, the camera turned 10 degrees about the view up before each; returns
+        the per-frame seconds."""
+        camera = self.renderer.GetActiveCamera()
+        times = []
+        for _ in range(frames):
+            camera.Azimuth(10.0)
+            self.renderer.ResetCameraClippingRange()  # as the interactor styles do
+            times.append(self.frame())
+            if on_frame:
+                on_frame()
+        return times
+
+    def snapshot(self, name):
+        """The last frame as it is in the window (not re-rendered), to look at (--snapshots)."""
+        if not self.snapshots:
+            return
+        os.makedirs(self.snapshots, exist_ok=True)
+        grab = vtkWindowToImageFilter()
+        grab.SetInput(self.window)
+        grab.ShouldRerenderOff()
+        grab.ReadFrontBufferOff()
+        grab.Update()
+        writer = vtkPNGWriter()
+        writer.SetFileName(os.path.join(self.snapshots, re.sub(r"[^A-Za-z0-9]+", "_", name) + ".png"))
+        writer.SetInputConnection(grab.GetOutputPort())
+        writer.Write()
+
+    def set_rates(self, desired, still):
+        self.interactor.SetStillUpdateRate(still)
+        self.window.SetDesiredUpdateRate(desired)  # also sets each renderer's allocated time
+
+
+def run_dataset(bench, label, grid, array, iso, view, frames, rows):
+    renderer, camera = bench.renderer, bench.renderer.GetActiveCamera()
+
+    def reset_view():
+        if view == "lattice":  # tetdsr_benchmark.cxx's camera
+            camera.SetFocalPoint(0.5, 0.5, 0.5)
+            camera.SetPosition(2.1, 1.6, 3.0)
+            camera.SetViewUp(0.0, 1.0, 0.0)
+            camera.SetViewAngle(30.0)
+        else:  # the whole mesh from an oblique direction (the mesh's bounds, not the props':
+            # the contour's are smaller)
+            camera.SetFocalPoint(0.0, 0.0, 0.0)
+            camera.SetPosition(*view)
+            camera.SetViewUp(0.0, 1.0, 0.0)
+            camera.SetViewAngle(30.0)
+            renderer.ResetCamera(grid.GetBounds())
+        renderer.ResetCameraClippingRange()
+
+    mapper = vtkDirectSurfaceMapper()
+    mapper.SetInputData(grid)
+    mapper.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS, array)
+    mapper.SetValue(0, iso)
+    mapper.ScalarVisibilityOff()
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetColor(0.9, 0.75, 0.55)
+    renderer.AddActor(actor)
+    reset_view()
+
+    still_rate = 0.0001
+    bench.set_rates(still_rate, still_rate)
+    first = bench.frame()
+    # A second still render of the same view: re-uses the image (checks the re-use path).
+    reused = bench.frame()
+    reuse_ok = mapper.GetLastRenderReusedImage()
+
+    base = {"dataset": label, "cells": grid.GetNumberOfCells(), "first": first}
+    for name, desired, still in (("interacting, VTK rates (15 / 0.0001)", 15.0, 0.0001),
+                                 ("interacting, ParaView rates (5 / 0.002)", 5.0, 0.002)):
+        reset_view()
+        bench.set_rates(still, still)
+        bench.frame()  # the still frame the interaction starts from
+        bench.set_rates(desired, still)  # StartInteraction
+        distances, casts, draws, allocated, reuses = [], [], [], [], 0
+
+        def record():
+            nonlocal reuses
+            distances.append(mapper.GetLastImageSampleDistance())
+            casts.append(mapper.GetLastCastSize())
+            draws.append(mapper.GetTimeToDraw())
+            allocated.append(actor.GetAllocatedRenderTime())
+            reuses += mapper.GetLastRenderReusedImage()
+
+        times = bench.orbit(frames, record)
+        bench.snapshot(f"{label} {name}")
+        bench.set_rates(still, still)  # EndInteraction: one still frame
+        end_still = bench.frame()
+        rows.append(dict(base, mode=f"TetDSR mapper, {name}", target=1.0 / desired, times=times,
+                         distance=statistics.mean(distances), dmin=min(distances),
+                         dmax=max(distances), cast=casts[len(casts) // 2], reuses=reuses,
+                         end_still=end_still, allocated=statistics.mean(allocated),
+                         draw=statistics.mean(draws)))
+
+    reset_view()
+    bench.set_rates(still_rate, still_rate)
+    bench.frame()
+    distances, draws, reuses = [], [], 0
+
+    def record_still():
+        nonlocal reuses
+        distances.append(mapper.GetLastImageSampleDistance())
+        draws.append(mapper.GetTimeToDraw())
+        reuses += mapper.GetLastRenderReusedImage()
+
+    times = bench.orbit(frames, record_still)
+    bench.snapshot(f"{label} still")
+    rows.append(dict(base, mode="TetDSR mapper, still (full resolution)", times=times,
+                     distance=statistics.mean(distances), dmin=min(distances), dmax=max(distances),
+                     cast=mapper.GetLastCastSize(), reuses=reuses, draw=statistics.mean(draws)))
+    renderer.RemoveActor(actor)
+    mapper.ReleaseGraphicsResources(bench.window)
+
+    # What a VTK user runs today: contour once, then render the triangles.
+    contour = vtkContourFilter()
+    contour.SetInputData(grid)
+    contour.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS, array)
+    contour.SetValue(0, iso)
+    start = time.perf_counter()
+    contour.Update()
+    contour_s = time.perf_counter() - start
+    poly_mapper = vtkPolyDataMapper()
+    poly_mapper.SetInputConnection(contour.GetOutputPort())
+    poly_mapper.ScalarVisibilityOff()
+    poly_actor = vtkActor()
+    poly_actor.SetMapper(poly_mapper)
+    poly_actor.GetProperty().SetColor(0.9, 0.75, 0.55)
+    renderer.AddActor(poly_actor)
+    reset_view()
+    first_poly = bench.frame()
+    times = bench.orbit(frames)
+    bench.snapshot(f"{label} contour")
+    rows.append(dict(base, mode="vtkContourFilter + vtkPolyDataMapper (still)", times=times,
+                     first=contour_s + first_poly, contour=contour_s,
+                     triangles=contour.GetOutput().GetNumberOfCells()))
+    renderer.RemoveActor(poly_actor)
+    poly_mapper.ReleaseGraphicsResources(bench.window)
+    return reused, reuse_ok
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--size", type=int, default=1024)
+    parser.add_argument("--lattice", type=int, default=61, help="lattice n (6 n^3 cells)")
+    parser.add_argument("--frames", type=int, default=36)
+    parser.add_argument("--snapshots", metavar="DIR",
+                        help="also write each mode's last orbit frame as a PNG into DIR")
+    args = parser.parse_args()
+
+    load_before = load()
+    bench = Bench(args.size, args.snapshots)
+    bench.frame()  # create the GL context
+    host = machine(bench.window)
+    rows, notes = [], []
+
+    start = time.perf_counter()
+    grid = lattice(args.lattice)
+    build_s = time.perf_counter() - start
+    reused, ok = run_dataset(bench, f"lattice n={args.lattice}, wave = 0.3", grid, "wave", 0.3,
+                             "lattice", args.frames, rows)
+    notes.append(f"lattice built with numpy in {build_s:.2f} s; unchanged re-render "
+                 f"{reused * 1e3:.1f} ms (re-used image: {bool(ok)})")
+    del grid
+
+    flow = read_vtu(os.path.join(ROOT, "Data", "expansion_flow.vtu"))
+    reused, ok = run_dataset(bench, "expansion_flow, speed = 0.25", flow, "speed", 0.25,
+                             (3.0, 2.0, 4.0), args.frames, rows)
+    notes.append(f"expansion_flow: unchanged re-render {reused * 1e3:.1f} ms "
+                 f"(re-used image: {bool(ok)})")
+
+    print(f"machine: {host}; load average before / after: {load_before} / {load()}")
+    print(f"window: {args.size} x {args.size} offscreen; orbit: {args.frames} frames, azimuth 10 "
+          f"degrees each; every frame timed to glFinish")
+    print()
+    print("| dataset | cells | renderer / mode | first frame s | fps (mean) | frame s median / max "
+          "| mapper s mean | LOD sample distance mean (min-max) | cast size | frames re-used |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for row in rows:
+        times = row["times"]
+        fps = len(times) / sum(times)
+        if "contour" in row:
+            first = f"{row['first']:.3f} (contour {row['contour']:.3f}, {row['triangles']:,} triangles)"
+            lod = cast = reuse = draw = "-"
+        else:
+            first = f"{row['first']:.3f}"
+            lod = f"{row['distance']:.2f} ({row['dmin']:.2f}-{row['dmax']:.2f})"
+            cast = f"{row['cast'][0]} x {row['cast'][1]}"
+            reuse = str(row["reuses"])
+            draw = f"{row['draw']:.3f}"
+        print(f"| {row['dataset']} | {row['cells']:,} | {row['mode']} | {first} | {fps:.1f} | "
+              f"{statistics.median(times):.3f} / {max(times):.3f} | {draw} | {lod} | {cast} | {reuse} |")
+    print()
+    print("Targets: interacting >= 10 fps on 2 cores; still frame <= 1 s.")
+    for row in rows:
+        if "target" in row:
+            fps = len(row["times"]) / sum(row["times"])
+            print(f"- {row['dataset']}, {row['mode']}: {fps:.1f} fps "
+                  f"({'meets' if fps >= 10 else 'misses'} 10 fps; the rate asks for "
+                  f"{1 / row['target']:.0f} fps, actor's allocated time {row['allocated']:.3f} s, "
+                  f"mapper's own time {row['draw']:.3f} s of {statistics.mean(row['times']):.3f} s "
+                  f"per frame); "
+                  f"still frame after release {row['end_still']:.3f} s")
+        elif "contour" not in row:
+            worst = max(row["times"])
+            print(f"- {row['dataset']}, still: slowest frame {worst:.3f} s "
+                  f"({'meets' if worst <= 1.0 else 'misses'} <= 1 s)")
+    notes.append("vtkContourFilter (VTK 9.2) contours quadratic tets on one thread; the mapper "
+                 "uses all cores (STDThread backend)")
+    for note in notes:
+        print(f"- {note}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
