@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # Set-up and build (Scripts/setup.sh), then run every test: core, C++ image tests, Python,
-# ParaView plugin (pvpython and pvbatch). Xvfb provides the X display rendering code may ask for.
+# ParaView plugin (pvpython and pvbatch); then all but the speed-vs-error smoke test again in the
+# sanitizer build (Scripts/sanitize.sh). Xvfb provides the X display rendering code may ask for.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash Scripts/setup.sh
 xvfb-run -a ctest --test-dir build --output-on-failure
+# Then the same code with AddressSanitizer + UBSan (build-asan/): any report fails the run.
+bash Scripts/sanitize.sh

@@ -342,21 +342,26 @@ glm::dvec3 Renderer::normalAt(const SurfaceHit& hit, const glm::dvec3& point) co
     case NormalMode::CentralDifferences:
     {
       // Paper's eq. 11: each sample is evaluated in the cell that contains it; a sample outside
-      // the mesh takes the hit cell's polynomial.
-      const double step = Settings_.normals.relativeStep * Scene_.cellSize(hit.cellId);
+      // the mesh takes the hit cell's polynomial. The step is at least 1024 ulps of the point's
+      // coordinates, so that point +- step differs from the point however far it is from the
+      // origin. Only the direction is used: the differences are not divided by 2 step (which
+      // could overflow for a field near the largest double).
+      const double magnitude = std::max({ std::abs(point.x), std::abs(point.y), std::abs(point.z) });
+      const double step = std::max(Settings_.normals.relativeStep * Scene_.cellSize(hit.cellId),
+        1024.0 * std::numeric_limits<double>::epsilon() * magnitude);
       const double* field = Scene_.mesh().values;
       auto sample = [&](const glm::dvec3& q) {
         NodeId cellId;
         return Scene_.interpolate(Scene_.locate(q, cellId) ? cellId : hit.cellId, q, field);
       };
-      glm::dvec3 gradient;
+      glm::dvec3 difference;
       for (int axis = 0; axis < 3; ++axis)
       {
         glm::dvec3 offset(0.0);
         offset[axis] = step;
-        gradient[axis] = (sample(point + offset) - sample(point - offset)) / (2.0 * step);
+        difference[axis] = sample(point + offset) - sample(point - offset);
       }
-      return gradient;
+      return difference;
     }
     case NormalMode::NodalInterpolation:
       return Scene_.interpolateNodalGradient(hit.cellId, point);

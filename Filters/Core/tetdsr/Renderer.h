@@ -197,6 +197,7 @@ private:
   void renderPixel(int i, int j) const;
   bool clipInterval(const Ray& ray, double& tMin, double& tMax, int& enteringPlane) const;
   bool capAt(const Ray& ray, double t, int plane, std::size_t pixel) const;
+  /// A vector along the field's gradient at the hit (only its direction is used).
   glm::dvec3 normalAt(const SurfaceHit& hit, const glm::dvec3& point) const;
   double colorValue(NodeId cellId, const glm::dvec3& point) const;
   glm::dvec3 directColor(NodeId cellId, const glm::dvec3& point) const;

@@ -64,6 +64,22 @@ inline bool rayBox(const glm::dvec3& origin, const glm::dvec3& inverse, const fl
   return tLo <= tHi;
 }
 
+/// A power of two that brings the largest magnitude of `values` (10 nodal values) near 1; 1 for
+/// zero or non-finite values. Clamped so the factor itself stays a normal double.
+double unitScale(const double values[10])
+{
+  double largest = 0.0;
+  for (int n = 0; n < 10; ++n)
+  {
+    largest = std::max(largest, std::abs(values[n]));
+  }
+  if (!(largest > 0.0) || !std::isfinite(largest))
+  {
+    return 1.0;
+  }
+  return std::ldexp(1.0, -std::clamp(std::ilogb(largest), -1020, 1020));
+}
+
 glm::dvec3 rayInverse(const glm::dvec3& direction)
 {
   glm::dvec3 inverse;
@@ -308,10 +324,13 @@ std::uint8_t Scene::validate(NodeId cell, BuildItem& item) const
       return kNonFinite;
     }
   }
-  for (int k = 0; k < 4; ++k)
+  for (int n = 0; n < 10; ++n)
   {
-    if (!std::isfinite(vertices[k].x) || !std::isfinite(vertices[k].y) ||
-      !std::isfinite(vertices[k].z))
+    // Every node's coordinates, mid-edge ones too (they are not used: cells render
+    // straight-sided; but a NaN there is as broken an input as at a vertex).
+    if (ids[n] >= 0 &&
+      !isFinite(glm::dvec3(Mesh_.points[3 * ids[n]], Mesh_.points[3 * ids[n] + 1],
+        Mesh_.points[3 * ids[n] + 2])))
     {
       return kNonFinite;
     }
@@ -675,30 +694,38 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
     return false;
   }
 
+  // Scale the field by a power of two (exact) so that its largest nodal magnitude is about 1:
+  // the products in the quadratic's coefficients and its discriminant (field^2) then neither
+  // overflow nor underflow, whatever the field's scale within double range.
+  const double scale = unitScale(values);
+  for (double& value : values)
+  {
+    value *= scale;
+  }
+  const BernsteinForm form = BernsteinForm::fromNodeValues(values);
+
   // A field constant over the cell (to rounding) and equal to an iso-value: the whole cell is on
   // the "surface"; the ray meets it where it enters, with no gradient. Rounding would otherwise
-  // scatter the roots of a quadratic whose coefficients are all noise.
-  const double magnitude = std::max(std::abs(cellLo), std::abs(cellHi));
-  if (cellHi - cellLo <= 8.0 * std::numeric_limits<double>::epsilon() * magnitude)
+  // scatter the roots of a quadratic whose coefficients are all noise. (The Bernstein bound, a
+  // true bound whatever the transverse test.)
+  double boundLo, boundHi;
+  form.range(boundLo, boundHi);
+  if (boundHi - boundLo <= 8.0 * std::numeric_limits<double>::epsilon() *
+      std::max(std::abs(boundLo), std::abs(boundHi)))
   {
-    hit.isoIndex = first;
+    const auto it = std::lower_bound(sorted.begin(), sorted.end(), boundLo / scale);
+    if (it == sorted.end() || *it > boundHi / scale)
+    {
+      return false;
+    }
+    hit.isoIndex = static_cast<std::size_t>(it - sorted.begin());
     hit.t = tCentre + sEntry;
     hit.cellId = cellId;
     hit.gradient = glm::dvec3(0.0);
     return true;
   }
 
-  // Scale the field by a power of two (exact) so that its largest nodal magnitude is about 1:
-  // the products in the quadratic's coefficients and its discriminant (field^2) then neither
-  // overflow nor underflow, whatever the field's scale within double range.
-  // (Clamped so the factor itself stays a normal double for subnormal fields.)
-  const double scale = std::ldexp(1.0, -std::clamp(std::ilogb(magnitude), -1020, 1020));
-  for (double& value : values)
-  {
-    value *= scale;
-  }
   // The field along the ray, exactly: f(s) = a s^2 + b s + c (see QuadraticTet.h).
-  const BernsteinForm form = BernsteinForm::fromNodeValues(values);
   const double a = form.bilinear(dL, dL);
   const double b = 2.0 * form.bilinear(L, dL);
   const double c = form.bilinear(L, L);
@@ -726,7 +753,10 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
   }
   hit.t = tCentre + sHit;
   hit.cellId = cellId;
-  hit.gradient = fieldGradient(form, frame, LHit) / scale; // exact: scale is a power of two
+  // Unscaled exactly (a power of two), unless that overflows (a field near the largest double):
+  // then the scaled gradient, whose direction is the same.
+  const glm::dvec3 gradient = fieldGradient(form, frame, LHit);
+  hit.gradient = isFinite(gradient / scale) ? gradient / scale : gradient;
   return true;
 }
 
@@ -815,7 +845,14 @@ double Scene::interpolate(NodeId cellId, const glm::dvec3& point, const double* 
   TetFrame::fromVertices(vertices, frame); // valid cells only reach here
   double L[4];
   frame.barycentricOfOffsets(point - vertices[0], point - vertices[1], L);
-  return BernsteinForm::fromNodeValues(values).bilinear(L, L);
+  // Scaled (exactly) so that the Bernstein coefficients cannot overflow for values near the
+  // largest double; the result is unscaled, and overflows only if the value itself does.
+  const double scale = unitScale(values);
+  for (double& value : values)
+  {
+    value *= scale;
+  }
+  return BernsteinForm::fromNodeValues(values).bilinear(L, L) / scale;
 }
 
 double Scene::cellSize(NodeId cellId) const
@@ -921,11 +958,25 @@ void Scene::computeNodalGradients()
   }
   std::vector<glm::dvec3> sum(static_cast<std::size_t>(Mesh_.numberOfPoints), glm::dvec3(0.0));
   std::vector<std::uint32_t> count(static_cast<std::size_t>(Mesh_.numberOfPoints), 0);
+  // One power of two for the whole field (from the cells' value bounds), so that gradients of a
+  // field near the largest double do not overflow: only their directions are used.
+  double largest = 0.0;
+  for (const float bound : SlotRange_)
+  {
+    largest = std::max(largest, std::abs(static_cast<double>(bound)));
+  }
+  const double scale = largest > 0.0 && std::isfinite(largest)
+    ? std::ldexp(1.0, -std::clamp(std::ilogb(largest), -1020, 1020))
+    : std::ldexp(1.0, -1020); // a float bound overflowed: the field reaches beyond 3e38
   for (const std::uint32_t cell : SlotCell_)
   {
     glm::dvec3 vertices[4];
     double values[10];
     loadCell(cell, vertices, values);
+    for (double& value : values)
+    {
+      value *= scale;
+    }
     TetFrame frame;
     TetFrame::fromVertices(vertices, frame);
     const BernsteinForm form = BernsteinForm::fromNodeValues(values);

@@ -102,7 +102,9 @@ struct SurfaceHit
 {
   double t = 0.0; ///< ray parameter (distance along the unit direction)
   NodeId cellId = -1;
-  glm::dvec3 gradient{ 0.0 }; ///< exact field gradient at the hit
+  /// Exact field gradient at the hit; for a field so large that it overflows, the gradient
+  /// scaled down by a power of two (the same direction).
+  glm::dvec3 gradient{ 0.0 };
   std::size_t isoIndex = 0;   ///< which iso-value was crossed, in IsoValues::sorted() order
 };
 
@@ -163,7 +165,8 @@ public:
   double cellSize(NodeId cellId) const;
 
   /// Nodal gradients (the paper's "nodal normals"): at each node, the mean of the exact
-  /// gradients there of the valid cells that use it. Computed once, on the first call; the
+  /// gradients there of the valid cells that use it, for the whole field scaled by one power of
+  /// two (directions exact; magnitudes finite for any field in double range). Computed once, on the first call; the
   /// interpolation below needs them.
   void computeNodalGradients();
   bool hasNodalGradients() const { return !NodalGradients_.empty(); }
