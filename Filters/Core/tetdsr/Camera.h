@@ -60,6 +60,10 @@ inline bool isFinite(const glm::dvec3& v)
 /// up to the largest double, down to subnormals); 0 for a zero or non-finite vector.
 inline glm::dvec3 unitVector(const glm::dvec3& v)
 {
+  if (!isFinite(v))
+  {
+    return glm::dvec3(0.0); // (std::max below would not see a NaN component)
+  }
   const double largest = std::max({ std::abs(v.x), std::abs(v.y), std::abs(v.z) });
   if (!(largest > 0.0) || !std::isfinite(largest))
   {
@@ -174,7 +178,9 @@ public:
     }
     const glm::dvec3 forward = unitVector(camera.focalPoint - camera.position);
     const glm::dvec3 right = glm::cross(forward, unitVector(camera.viewUp));
-    if (!(glm::length(right) > 1e-12)) // sine of the angle between view up and direction
+    // The sine of the angle between view up and direction: below 1e-6 the image's orientation
+    // depends on rounding (a change of 1e-10 in the vectors turns it visibly).
+    if (!(glm::length(right) > 1e-6))
     {
       return CameraProblem::ViewUpParallel;
     }

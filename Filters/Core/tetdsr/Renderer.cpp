@@ -361,7 +361,9 @@ glm::dvec3 Renderer::normalAt(const SurfaceHit& hit, const glm::dvec3& point) co
         offset[axis] = step;
         difference[axis] = sample(point + offset) - sample(point - offset);
       }
-      return difference;
+      // Differences that vanish or overflow where the field varies (samples in neighbouring
+      // constant cells, a field near the largest double): the exact gradient instead.
+      return unitVector(difference) != glm::dvec3(0.0) ? difference : hit.gradient;
     }
     case NormalMode::NodalInterpolation:
       return Scene_.interpolateNodalGradient(hit.cellId, point);
