@@ -958,16 +958,22 @@ void Scene::computeNodalGradients()
   }
   std::vector<glm::dvec3> sum(static_cast<std::size_t>(Mesh_.numberOfPoints), glm::dvec3(0.0));
   std::vector<std::uint32_t> count(static_cast<std::size_t>(Mesh_.numberOfPoints), 0);
-  // One power of two for the whole field (from the cells' value bounds), so that gradients of a
-  // field near the largest double do not overflow: only their directions are used.
+  // One power of two for the whole field (from the valid cells' nodal values), so that
+  // gradients of a field near the largest double do not overflow: only directions are used.
   double largest = 0.0;
-  for (const float bound : SlotRange_)
+  for (const std::uint32_t cell : SlotCell_)
   {
-    largest = std::max(largest, std::abs(static_cast<double>(bound)));
+    glm::dvec3 vertices[4];
+    double values[10];
+    loadCell(cell, vertices, values);
+    for (const double value : values)
+    {
+      largest = std::max(largest, std::abs(value));
+    }
   }
-  const double scale = largest > 0.0 && std::isfinite(largest)
+  const double scale = largest > 0.0
     ? std::ldexp(1.0, -std::clamp(std::ilogb(largest), -1020, 1020))
-    : std::ldexp(1.0, -1020); // a float bound overflowed: the field reaches beyond 3e38
+    : 1.0;
   for (const std::uint32_t cell : SlotCell_)
   {
     glm::dvec3 vertices[4];
