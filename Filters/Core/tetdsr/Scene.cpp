@@ -64,8 +64,18 @@ inline bool rayBox(const glm::dvec3& origin, const glm::dvec3& inverse, const fl
   return tLo <= tHi;
 }
 
-/// A power of two that brings the largest magnitude of `values` (10 nodal values) near 1; 1 for
-/// zero or non-finite values. Clamped so the factor itself stays a normal double.
+/// A power of two that brings `largest` (a magnitude) near 1; 1 for zero or non-finite.
+/// Clamped so the factor itself stays a normal double.
+double scaleFor(double largest)
+{
+  if (!(largest > 0.0) || !std::isfinite(largest))
+  {
+    return 1.0;
+  }
+  return std::ldexp(1.0, -std::clamp(std::ilogb(largest), -1020, 1020));
+}
+
+/// scaleFor the largest magnitude of 10 nodal values.
 double unitScale(const double values[10])
 {
   double largest = 0.0;
@@ -73,11 +83,7 @@ double unitScale(const double values[10])
   {
     largest = std::max(largest, std::abs(values[n]));
   }
-  if (!(largest > 0.0) || !std::isfinite(largest))
-  {
-    return 1.0;
-  }
-  return std::ldexp(1.0, -std::clamp(std::ilogb(largest), -1020, 1020));
+  return scaleFor(largest);
 }
 
 glm::dvec3 rayInverse(const glm::dvec3& direction)
@@ -254,7 +260,7 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
       }
     }
   }
-  BoxScale_ = extent > 0.0 ? std::ldexp(1.0, -std::clamp(std::ilogb(extent), -1020, 1020)) : 1.0;
+  BoxScale_ = scaleFor(extent);
 
   // Validate every cell in parallel, each writing only its own slot...
   std::vector<BuildItem> items(static_cast<std::size_t>(mesh.numberOfCells));
@@ -971,9 +977,7 @@ void Scene::computeNodalGradients()
       largest = std::max(largest, std::abs(value));
     }
   }
-  const double scale = largest > 0.0
-    ? std::ldexp(1.0, -std::clamp(std::ilogb(largest), -1020, 1020))
-    : 1.0;
+  const double scale = scaleFor(largest);
   for (const std::uint32_t cell : SlotCell_)
   {
     glm::dvec3 vertices[4];
