@@ -2,7 +2,6 @@
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
-#include "vtkCollectionIterator.h"
 #include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkContourValues.h"
@@ -36,7 +35,6 @@
 
 #include "vtkDirectSurfaceAdapter.h"
 
-#include <glm/gtc/matrix_access.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -476,6 +474,13 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
         blocks.emplace_back(it->GetCurrentFlatIndex(), block);
       }
     }
+  }
+  // Scenes of blocks the input no longer has are dropped (they view arrays that may be gone).
+  for (auto it = in.Meshes.begin(); it != in.Meshes.end();)
+  {
+    const bool kept = std::any_of(blocks.begin(), blocks.end(),
+      [&](const std::pair<unsigned int, vtkUnstructuredGrid*>& block) { return block.first == it->first; });
+    it = kept ? std::next(it) : in.Meshes.erase(it);
   }
   if (blocks.empty())
   {
