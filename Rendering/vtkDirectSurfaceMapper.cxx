@@ -475,7 +475,7 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
       }
     }
   }
-  // Scenes of blocks the input no longer has are dropped (they view arrays that may be gone).
+  // Scenes of blocks the input no longer has are dropped, with the arrays they keep alive.
   for (auto it = in.Meshes.begin(); it != in.Meshes.end();)
   {
     const bool kept = std::any_of(blocks.begin(), blocks.end(),
