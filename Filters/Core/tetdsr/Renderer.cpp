@@ -213,8 +213,13 @@ bool Renderer::capAt(const Ray& ray, double t, int plane, std::size_t pixel) con
   }
   const double field = Scene_.interpolate(cellId, point, Scene_.mesh().values);
   const std::vector<double>& iso = IsoValues_.sorted();
-  const bool inside = Settings_.cap == CapRegion::BelowIsoValue ? field < iso.back()
-                                                                : field > iso.front();
+  // A point where the field equals the iso-value to rounding is on the surface, not inside it:
+  // the cap's edge must not depend on how the interpolation rounds (e.g. a constant field).
+  const double level = Settings_.cap == CapRegion::BelowIsoValue ? iso.back() : iso.front();
+  const double tolerance =
+    8.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(field), std::abs(level));
+  const bool inside = Settings_.cap == CapRegion::BelowIsoValue ? field < level - tolerance
+                                                                : field > level + tolerance;
   if (!inside)
   {
     return false;
