@@ -4,6 +4,7 @@
 #include "vtkCellArray.h"
 #include "vtkCellType.h"
 #include "vtkColorTransferFunction.h"
+#include "vtkCommunicator.h"
 #include "vtkContourValues.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -12,6 +13,8 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
+#include "vtkMultiProcessController.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPlane.h"
 #include "vtkPlaneCollection.h"
@@ -28,6 +31,8 @@
 #include <algorithm>
 #include <cstdlib>
 #include <functional>
+#include <limits>
+#include <numeric>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -39,6 +44,7 @@ vtkStandardNewMacro(vtkDirectSurfaceRayCaster);
 vtkCxxSetObjectMacro(vtkDirectSurfaceRayCaster, Camera, vtkCamera);
 vtkCxxSetObjectMacro(vtkDirectSurfaceRayCaster, LookupTable, vtkScalarsToColors);
 vtkCxxSetObjectMacro(vtkDirectSurfaceRayCaster, ClippingPlanes, vtkPlaneCollection);
+vtkCxxSetObjectMacro(vtkDirectSurfaceRayCaster, Controller, vtkMultiProcessController);
 
 /// The prepared mesh (see vtkDirectSurfaceAdapter.h), kept across updates.
 struct vtkDirectSurfaceRayCaster::Cache
@@ -88,6 +94,313 @@ vtkSmartPointer<vtkScalarsToColors> BuiltInColorMap(int which)
   return map;
 }
 
+/// The arrays of an output image: Colors (the scalars), Depth, Normals, CellId and, when
+/// colour-mapping, ColorValues.
+struct ImageArrays
+{
+  vtkNew<vtkUnsignedCharArray> Colors;
+  vtkNew<vtkDoubleArray> Depth;
+  vtkNew<vtkDoubleArray> Normals;
+  vtkNew<vtkIdTypeArray> CellIds;
+  vtkSmartPointer<vtkDoubleArray> ColorValues; ///< null unless colour-mapping
+
+  explicit ImageArrays(bool colorMapped)
+  {
+    this->Colors->SetName("Colors");
+    this->Colors->SetNumberOfComponents(4);
+    this->Depth->SetName("Depth");
+    this->Normals->SetName("Normals");
+    this->Normals->SetNumberOfComponents(3);
+    this->CellIds->SetName("CellId");
+    if (colorMapped)
+    {
+      this->ColorValues = vtkSmartPointer<vtkDoubleArray>::New();
+      this->ColorValues->SetName("ColorValues");
+    }
+  }
+
+  /// Sizes every array to `pixels` tuples; false when memory is short.
+  bool Allocate(vtkIdType pixels)
+  {
+    for (vtkDataArray* array : this->Arrays())
+    {
+      if (!array->Allocate(pixels * array->GetNumberOfComponents()))
+      {
+        return false;
+      }
+      array->SetNumberOfTuples(pixels);
+    }
+    return true;
+  }
+
+  /// The background (what the core writes on a miss) everywhere.
+  void FillMisses()
+  {
+    this->Colors->FillValue(0);
+    this->Depth->FillValue(std::numeric_limits<double>::infinity());
+    this->Normals->FillValue(0.0);
+    this->CellIds->FillValue(-1);
+    if (this->ColorValues)
+    {
+      this->ColorValues->FillValue(std::numeric_limits<double>::quiet_NaN());
+    }
+  }
+
+  void AddTo(vtkPointData* pointData) const
+  {
+    pointData->SetScalars(this->Colors);
+    pointData->AddArray(this->Depth);
+    pointData->SetNormals(this->Normals);
+    pointData->AddArray(this->CellIds);
+    if (this->ColorValues)
+    {
+      pointData->AddArray(this->ColorValues);
+    }
+  }
+
+  std::vector<vtkDataArray*> Arrays() const
+  {
+    std::vector<vtkDataArray*> arrays{ this->Colors, this->Depth, this->Normals, this->CellIds };
+    if (this->ColorValues)
+    {
+      arrays.push_back(this->ColorValues);
+    }
+    return arrays;
+  }
+};
+
+/// The processes the input is distributed over. With one process (or no controller) every step
+/// is local; with several, each is a collective operation every process must call.
+class Processes
+{
+public:
+  explicit Processes(vtkMultiProcessController* controller)
+    : Controller(controller && controller->GetNumberOfProcesses() > 1 ? controller : nullptr)
+  {
+  }
+
+  bool Distributed() const { return this->Controller != nullptr; }
+
+  /// Whether `value` holds on every process / on some process.
+  bool All(bool value) const { return this->Reduce(value ? 1 : 0, vtkCommunicator::MIN_OP) != 0; }
+  bool Any(bool value) const { return this->Reduce(value ? 1 : 0, vtkCommunicator::MAX_OP) != 0; }
+
+  /// A box (xmin, xmax, ...) or a range that any other one contains after UniteBoxes/Ranges.
+  static void EmptyBox(double box[6])
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      box[2 * a] = VTK_DOUBLE_MAX;
+      box[2 * a + 1] = -VTK_DOUBLE_MAX;
+    }
+  }
+  static void EmptyRange(double range[2])
+  {
+    range[0] = VTK_DOUBLE_MAX;
+    range[1] = -VTK_DOUBLE_MAX;
+  }
+
+  /// The union of every process's box, on every process.
+  void UniteBoxes(double box[6]) const
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      this->UniteRanges(box + 2 * a);
+    }
+  }
+  void UniteRanges(double range[2]) const
+  {
+    if (this->Controller)
+    {
+      const double local[2] = { range[0], -range[1] };
+      double united[2];
+      this->Controller->AllReduce(local, united, 2, vtkCommunicator::MIN_OP);
+      range[0] = united[0];
+      range[1] = -united[1];
+    }
+  }
+
+  /// The number of cells of the processes before this one.
+  vtkIdType CellsBefore(vtkIdType localCells) const
+  {
+    if (!this->Controller)
+    {
+      return 0;
+    }
+    std::vector<vtkIdType> counts(this->Controller->GetNumberOfProcesses());
+    this->Controller->AllGather(&localCells, counts.data(), 1);
+    const int self = this->Controller->GetLocalProcessId();
+    return std::accumulate(counts.begin(), counts.begin() + self, vtkIdType(0));
+  }
+
+  /// Composites every process's whole image (width pixels a row) by depth into this process's
+  /// `extent` of it (within the image): per pixel, the nearest process's depth, normal, cell and
+  /// colour value, and the colours composited front to back in the order of each process's
+  /// nearest crossing (RGBA not premultiplied, as the core writes them). False, on every
+  /// process, when one could not allocate its part.
+  bool CompositeByDepth(
+    const ImageArrays& image, int width, const int extent[6], ImageArrays& composited) const
+  {
+    const int processes = this->Controller->GetNumberOfProcesses();
+    std::vector<int> extents(6 * static_cast<std::size_t>(processes));
+    this->Controller->AllGather(extent, extents.data(), 6);
+
+    // Each process sends each other the hits inside its extent, as records of kRecord doubles:
+    // the pixel's index in the receiver's extent, depth, normal (3), cell id, colour value, RGBA.
+    constexpr int kRecord = 11;
+    const double* depth = image.Depth->GetPointer(0);
+    const double* normals = image.Normals->GetPointer(0);
+    const vtkIdType* cellIds = image.CellIds->GetPointer(0);
+    const unsigned char* colors = image.Colors->GetPointer(0);
+    const double* colorValues = image.ColorValues ? image.ColorValues->GetPointer(0) : nullptr;
+    std::vector<double> received; // this process's extent, from every process in process order
+    for (int destination = 0; destination < processes; ++destination)
+    {
+      const Block block(&extents[6 * static_cast<std::size_t>(destination)]);
+      std::vector<double> records;
+      for (int j = block.jBegin; j < block.jEnd; ++j)
+      {
+        for (int i = block.iBegin; i < block.iEnd; ++i)
+        {
+          const vtkIdType p = i + static_cast<vtkIdType>(j) * width;
+          if (!std::isfinite(depth[p]))
+          {
+            continue; // a miss: nothing to composite
+          }
+          records.insert(records.end(),
+            { static_cast<double>(block.Index(i, j)), depth[p], normals[3 * p],
+              normals[3 * p + 1], normals[3 * p + 2], static_cast<double>(cellIds[p]),
+              colorValues ? colorValues[p] : std::numeric_limits<double>::quiet_NaN(),
+              static_cast<double>(colors[4 * p]), static_cast<double>(colors[4 * p + 1]),
+              static_cast<double>(colors[4 * p + 2]), static_cast<double>(colors[4 * p + 3]) });
+        }
+      }
+      const vtkIdType length = static_cast<vtkIdType>(records.size());
+      std::vector<vtkIdType> lengths(processes), offsets(processes);
+      this->Controller->Gather(&length, lengths.data(), 1, destination);
+      std::partial_sum(lengths.begin(), lengths.end() - 1, offsets.begin() + 1);
+      if (destination == this->Controller->GetLocalProcessId())
+      {
+        received.resize(static_cast<std::size_t>(offsets.back() + lengths.back()));
+      }
+      this->Controller->GatherV(
+        records.data(), received.data(), length, lengths.data(), offsets.data(), destination);
+    }
+
+    const Block own(extent);
+    if (!this->All(composited.Allocate(own.Pixels())))
+    {
+      return false;
+    }
+    composited.FillMisses();
+    // Per pixel, its records nearest first (a stable sort: equal depths stay in process order).
+    const std::size_t count = received.size() / kRecord;
+    std::vector<std::size_t> order(count);
+    std::iota(order.begin(), order.end(), 0);
+    const auto record = [&](std::size_t r) { return &received[kRecord * r]; };
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      const double *first = record(a), *second = record(b);
+      return first[0] < second[0] || (first[0] == second[0] && first[1] < second[1]);
+    });
+    for (std::size_t first = 0; first < count;)
+    {
+      const double* nearest = record(order[first]);
+      std::size_t last = first + 1;
+      while (last < count && record(order[last])[0] == nearest[0])
+      {
+        ++last;
+      }
+      const vtkIdType p = static_cast<vtkIdType>(nearest[0]);
+      composited.Depth->SetValue(p, nearest[1]);
+      composited.Normals->SetTypedTuple(p, nearest + 2);
+      composited.CellIds->SetValue(p, static_cast<vtkIdType>(nearest[5]));
+      if (composited.ColorValues)
+      {
+        composited.ColorValues->SetValue(p, nearest[6]);
+      }
+      unsigned char* rgba = composited.Colors->GetPointer(4 * p);
+      if (last - first == 1 || nearest[10] == 255.0)
+      {
+        // One surface, or an opaque one in front: its colour as the core wrote it.
+        for (int c = 0; c < 4; ++c)
+        {
+          rgba[c] = static_cast<unsigned char>(nearest[7 + c]);
+        }
+      }
+      else
+      {
+        // Front to back, as the core composites crossings: colour += (1 - opacity) * alpha *
+        // colour_k, opacity += (1 - opacity) * alpha.
+        double premultiplied[3] = { 0.0, 0.0, 0.0 };
+        double opacity = 0.0;
+        for (std::size_t k = first; k < last; ++k)
+        {
+          const double* layer = record(order[k]);
+          const double alpha = layer[10] / 255.0;
+          for (int c = 0; c < 3; ++c)
+          {
+            premultiplied[c] += (1.0 - opacity) * alpha * layer[7 + c] / 255.0;
+          }
+          opacity += (1.0 - opacity) * alpha;
+        }
+        for (int c = 0; c < 3; ++c)
+        {
+          rgba[c] = ToByte(premultiplied[c] / opacity);
+        }
+        rgba[3] = ToByte(opacity);
+      }
+      first = last;
+    }
+    return true;
+  }
+
+private:
+  /// The pixels of an extent of the image (within it), and their indices in the extent.
+  struct Block
+  {
+    int iBegin, iEnd, jBegin, jEnd; ///< empty when there is no pixel
+    explicit Block(const int extent[6])
+      : iBegin(extent[0])
+      , iEnd(extent[1] + 1)
+      , jBegin(extent[2])
+      , jEnd(extent[3] + 1)
+    {
+      if (iEnd <= iBegin || jEnd <= jBegin || extent[5] < extent[4])
+      {
+        iEnd = iBegin;
+        jEnd = jBegin;
+      }
+    }
+    vtkIdType Index(int i, int j) const
+    {
+      const vtkIdType rowLength = this->iEnd - this->iBegin;
+      return (i - this->iBegin) + (j - this->jBegin) * rowLength;
+    }
+    vtkIdType Pixels() const
+    {
+      return static_cast<vtkIdType>(this->iEnd - this->iBegin) * (this->jEnd - this->jBegin);
+    }
+  };
+
+  /// [0, 1] to a byte, rounded to nearest, as the core writes colours.
+  static unsigned char ToByte(double x)
+  {
+    return x > 0.0 ? static_cast<unsigned char>(std::min(x, 1.0) * 255.0 + 0.5) : 0;
+  }
+
+  int Reduce(int value, int operation) const
+  {
+    int result = value;
+    if (this->Controller)
+    {
+      this->Controller->AllReduce(&value, &result, 1, operation);
+    }
+    return result;
+  }
+
+  vtkMultiProcessController* Controller; ///< null unless there are several processes
+};
+
 /// Reports the adapter's messages through this algorithm's error and warning macros.
 #define REPORT_MESSAGES(messages)                                                                  \
   do                                                                                               \
@@ -113,6 +426,7 @@ vtkDirectSurfaceRayCaster::vtkDirectSurfaceRayCaster()
   this->SetNumberOfOutputPorts(1);
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS,
     vtkDataSetAttributes::SCALARS);
+  this->SetController(vtkMultiProcessController::GetGlobalController());
 }
 
 //------------------------------------------------------------------------------
@@ -122,6 +436,7 @@ vtkDirectSurfaceRayCaster::~vtkDirectSurfaceRayCaster()
   this->SetCamera(nullptr);
   this->SetLookupTable(nullptr);
   this->SetClippingPlanes(nullptr);
+  this->SetController(nullptr);
 }
 
 //------------------------------------------------------------------------------
@@ -166,6 +481,47 @@ double vtkDirectSurfaceRayCaster::GetIsoValueOpacity(int i)
 void vtkDirectSurfaceRayCaster::RemoveAllIsoValueOpacities()
 {
   if (this->Prepared->Styles.RemoveAllOpacities())
+  {
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+/// A clamped setter that refuses NaN (vtkSetClampMacro lets it through).
+bool ClampedUnlessNaN(double value, double lo, double hi, double& member)
+{
+  if (std::isnan(value))
+  {
+    return false;
+  }
+  value = std::min(std::max(value, lo), hi);
+  const bool changed = value != member;
+  member = value;
+  return changed;
+}
+}
+
+void vtkDirectSurfaceRayCaster::SetCentralDifferenceStep(double step)
+{
+  if (std::isnan(step))
+  {
+    vtkErrorMacro("CentralDifferenceStep must be a number, got NaN.");
+  }
+  else if (ClampedUnlessNaN(step, 1e-12, 1.0, this->CentralDifferenceStep))
+  {
+    this->Modified();
+  }
+}
+
+void vtkDirectSurfaceRayCaster::SetNodalRangeWidening(double widening)
+{
+  if (std::isnan(widening))
+  {
+    vtkErrorMacro("NodalRangeWidening must be a number, got NaN.");
+  }
+  else if (ClampedUnlessNaN(widening, 0.0, VTK_DOUBLE_MAX, this->NodalRangeWidening))
   {
     this->Modified();
   }
@@ -281,6 +637,8 @@ int vtkDirectSurfaceRayCaster::RequestInformation(
   outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
   outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
   vtkDataObject::SetPointDataActiveScalarInfo(outInfo, VTK_UNSIGNED_CHAR, 4);
+  // Any block of the image can be asked for: distributed, each process outputs its own.
+  outInfo->Set(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT(), 1);
   return 1;
 }
 
@@ -324,42 +682,42 @@ int vtkDirectSurfaceRayCaster::RequestData(
   const int width = this->ImageSize[0]; // RequestInformation checked the size
   const int height = this->ImageSize[1];
   adapter::Messages messages;
-  if (!input || input->GetNumberOfCells() == 0 || input->GetNumberOfPoints() == 0)
+  // Distributed, every process takes part in each collective step below (Processes::All and
+  // the rest), so that none returns while another waits for it.
+  const Processes processes(this->Controller);
+  const bool hasPiece = input && input->GetNumberOfCells() > 0 && input->GetNumberOfPoints() > 0;
+  if (!processes.Any(hasPiece))
   {
     vtkErrorMacro("The input mesh is empty: it has no cells or no points.");
     return 0;
   }
 
-  // The field, its iso-values, the colour array and the clipping planes.
+  // The field, its iso-values, the colour array and the clipping planes (a process with an
+  // empty piece checks only the settings).
   int association = -1;
-  vtkDataArray* scalars = this->GetPointArray(0, inputVector, association);
+  vtkDataArray* scalars = hasPiece ? this->GetPointArray(0, inputVector, association) : nullptr;
   int component = 0;
   std::vector<double> values;
-  if (!scalars ||
-    !adapter::CheckPointArray(
-      scalars, association, this->ArrayComponent, false, "ArrayComponent", component, messages) ||
-    !adapter::ConvertIsoValues(this->ContourValues, values, messages))
-  {
-    REPORT_MESSAGES(messages);
-    return 0;
-  }
+  bool ok = (!hasPiece ||
+              (scalars &&
+                adapter::CheckPointArray(scalars, association, this->ArrayComponent, false,
+                  "ArrayComponent", component, messages))) &&
+    adapter::ConvertIsoValues(this->ContourValues, values, messages);
   vtkDataArray* colorArray = nullptr;
   int colorComponent = -1;
-  if (this->ColorByArray)
+  if (ok && this->ColorByArray && hasPiece)
   {
     int colorAssociation = -1;
     colorArray = this->GetPointArray(1, inputVector, colorAssociation);
-    if (!colorArray ||
-      !adapter::CheckPointArray(colorArray, colorAssociation, this->ColorArrayComponent, true,
-        "ColorArrayComponent", colorComponent, messages))
-    {
-      REPORT_MESSAGES(messages);
-      return 0;
-    }
+    ok = colorArray &&
+      adapter::CheckPointArray(colorArray, colorAssociation, this->ColorArrayComponent, true,
+        "ColorArrayComponent", colorComponent, messages);
   }
   std::vector<tetdsr::ClipPlane> clipPlanes;
-  if (!adapter::ConvertClipPlanes(
-        this->ClippingPlanes, MaximumNumberOfClippingPlanes, clipPlanes, messages))
+  ok = ok &&
+    adapter::ConvertClipPlanes(
+      this->ClippingPlanes, MaximumNumberOfClippingPlanes, clipPlanes, messages);
+  if (!processes.All(ok))
   {
     REPORT_MESSAGES(messages);
     return 0;
@@ -372,9 +730,10 @@ int vtkDirectSurfaceRayCaster::RequestData(
     : tetdsr::TransverseTest::Mode::BernsteinBound;
   transverse.widening = this->NodalRangeWidening;
   adapter::PreparedMesh& prepared = this->Prepared->Mesh;
-  const bool ready =
+  const bool ready = hasPiece &&
     prepared.Prepare(input, scalars, component, transverse, this->NumberOfThreads, messages);
-  const tetdsr::PreprocessSummary& summary = prepared.GetSummary();
+  const tetdsr::PreprocessSummary summary =
+    hasPiece ? prepared.GetSummary() : tetdsr::PreprocessSummary();
   this->NumberOfRenderedCells = ready ? summary.validCells : 0;
   this->NumberOfInvertedCells = summary.invertedCells;
   this->NumberOfCurvedCells = summary.curvedCells;
@@ -382,20 +741,21 @@ int vtkDirectSurfaceRayCaster::RequestData(
   this->NumberOfOutOfScaleCells = summary.outOfScaleCells;
   this->NumberOfNonFiniteCells = summary.nonFiniteCells;
   this->NumberOfInvalidIdCells = summary.invalidIdCells;
-  this->NumberOfUnsupportedCells = prepared.GetUnsupportedCells();
-  this->NumberOfMalformedCells = prepared.GetMalformedCells();
+  this->NumberOfUnsupportedCells = hasPiece ? prepared.GetUnsupportedCells() : 0;
+  this->NumberOfMalformedCells = hasPiece ? prepared.GetMalformedCells() : 0;
   const double* colorValues = colorArray && ready
     ? prepared.PointArrayValues(colorArray, "colour array", messages)
     : nullptr;
-  if (!messages.ok() || !ready)
+  if (!processes.All(messages.ok() && (ready || !hasPiece)))
   {
     REPORT_MESSAGES(messages);
     return 0;
   }
   REPORT_MESSAGES(messages); // the warnings
-  tetdsr::Scene& scene = *prepared.GetScene();
+  tetdsr::Scene* scene = ready ? prepared.GetScene() : nullptr;
 
-  // Camera: the user's, or one that sees every rendered cell (points no cell uses do not count).
+  // Camera: the user's, or one that sees every rendered cell of every piece (points no cell uses
+  // do not count).
   tetdsr::Camera camera;
   if (this->Camera)
   {
@@ -413,65 +773,38 @@ int vtkDirectSurfaceRayCaster::RequestData(
   else
   {
     double bounds[6];
-    scene.bounds(bounds);
+    if (!scene || !scene->bounds(bounds))
+    {
+      Processes::EmptyBox(bounds);
+    }
+    processes.UniteBoxes(bounds);
     camera = tetdsr::resetCamera(bounds, static_cast<double>(width) / height);
   }
-  if (!adapter::CheckCamera(camera, scene, messages))
+  if (!processes.All(!scene || adapter::CheckCamera(camera, *scene, messages)))
   {
     REPORT_MESSAGES(messages);
     return 0;
   }
 
-  // Output arrays, written in place by the core.
-  output->SetExtent(0, width - 1, 0, height - 1, 0, 0);
+  // The image of this process's piece, written in place by the core.
   const vtkIdType pixels = static_cast<vtkIdType>(width) * height;
-  vtkNew<vtkUnsignedCharArray> colors;
-  colors->SetName("Colors");
-  colors->SetNumberOfComponents(4);
-  vtkNew<vtkDoubleArray> depth;
-  depth->SetName("Depth");
-  vtkNew<vtkDoubleArray> normals;
-  normals->SetName("Normals");
-  normals->SetNumberOfComponents(3);
-  vtkNew<vtkIdTypeArray> cellIds;
-  cellIds->SetName("CellId");
-  vtkNew<vtkDoubleArray> colorValueImage;
-  colorValueImage->SetName("ColorValues");
-  const bool colorMapped = colorArray || (this->Capping != NO_CAP && !clipPlanes.empty());
-  auto allocate = [pixels](vtkDataArray* array) {
-    if (!array->Allocate(pixels * array->GetNumberOfComponents()))
-    {
-      return false;
-    }
-    array->SetNumberOfTuples(pixels);
-    return true;
-  };
-  const bool allocated = allocate(colors) && allocate(depth) && allocate(normals) &&
-    allocate(cellIds) && (!colorMapped || allocate(colorValueImage));
-  if (!allocated)
+  const bool colorMapped =
+    this->ColorByArray || (this->Capping != NO_CAP && !clipPlanes.empty());
+  ImageArrays image(colorMapped);
+  if (!processes.All(image.Allocate(pixels)))
   {
     vtkErrorMacro("Cannot allocate the " << width << " x " << height << " output image.");
     return 0;
   }
-  vtkPointData* pointData = output->GetPointData();
-  pointData->Initialize();
-  pointData->SetScalars(colors);
-  pointData->AddArray(depth);
-  pointData->SetNormals(normals);
-  pointData->AddArray(cellIds);
-  if (colorMapped)
-  {
-    pointData->AddArray(colorValueImage);
-  }
 
-  tetdsr::ImageView image;
-  image.width = width;
-  image.height = height;
-  image.colors = colors->GetPointer(0);
-  image.depth = depth->GetPointer(0);
-  image.normals = normals->GetPointer(0);
-  image.cellIds = cellIds->GetPointer(0);
-  image.colorValues = colorMapped ? colorValueImage->GetPointer(0) : nullptr;
+  tetdsr::ImageView view;
+  view.width = width;
+  view.height = height;
+  view.colors = image.Colors->GetPointer(0);
+  view.depth = image.Depth->GetPointer(0);
+  view.normals = image.Normals->GetPointer(0);
+  view.cellIds = image.CellIds->GetPointer(0);
+  view.colorValues = colorMapped ? image.ColorValues->GetPointer(0) : nullptr;
 
   tetdsr::RenderSettings settings;
   tetdsr::Material& material = settings.material;
@@ -488,9 +821,9 @@ int vtkDirectSurfaceRayCaster::RequestData(
   settings.lighting.lights.push_back(light);
   settings.normals.mode = static_cast<tetdsr::NormalMode>(this->NormalMode);
   settings.normals.relativeStep = this->CentralDifferenceStep;
-  if (settings.normals.mode == tetdsr::NormalMode::NodalInterpolation)
+  if (scene && settings.normals.mode == tetdsr::NormalMode::NodalInterpolation)
   {
-    scene.computeNodalGradients(); // once per mesh and array: kept with the scene
+    scene->computeNodalGradients(); // once per mesh and array: kept with the scene
   }
   settings.isoStyles = this->Prepared->Styles.Styles(values.size(), this->SurfaceColor, 1.0);
   settings.clipPlanes = clipPlanes;
@@ -502,9 +835,14 @@ int vtkDirectSurfaceRayCaster::RequestData(
     double range[2] = { this->ColorRange[0], this->ColorRange[1] };
     if (!(range[0] <= range[1]) || !std::isfinite(range[0]) || !std::isfinite(range[1]))
     {
-      // The colour array's finite range (-1: the magnitude's), else the field's.
-      adapter::FiniteRange(colorArray ? colorArray : scalars,
-        colorArray ? colorComponent : component, range);
+      // The colour array's finite range (-1: the magnitude's), else the field's, over every piece.
+      Processes::EmptyRange(range);
+      if (hasPiece)
+      {
+        adapter::FiniteRange(colorArray ? colorArray : scalars,
+          colorArray ? colorComponent : component, range);
+      }
+      processes.UniteRanges(range);
     }
     if (colorArray)
     {
@@ -519,27 +857,80 @@ int vtkDirectSurfaceRayCaster::RequestData(
     }
     settings.colorTable = adapter::SampleColorTable(lookupTable, range[0], range[1]);
   }
-  const tetdsr::IsoValues isoValues(values);
-  const tetdsr::Renderer renderer(scene, camera, isoValues, settings, image);
-  const vtkIdType tiles = renderer.numberOfTiles();
-  const vtkIdType tilesDone = adapter::Cast(renderer,
-    settings.normals.mode == tetdsr::NormalMode::DepthBuffer, this->NumberOfThreads,
-    [this]() { return this->CheckAbort(); },
-    [this](double fraction) { this->UpdateProgress(fraction); });
-  if (tilesDone < tiles)
+  bool aborted = false;
+  if (scene)
   {
-    // CheckAbort set AbortOutput: the executive empties the output and marks it aborted.
-    vtkWarningMacro("Aborted after " << tilesDone << " of " << tiles << " image tiles.");
+    const tetdsr::IsoValues isoValues(values);
+    const tetdsr::Renderer renderer(*scene, camera, isoValues, settings, view);
+    const vtkIdType tiles = renderer.numberOfTiles();
+    const vtkIdType tilesDone = adapter::Cast(renderer,
+      settings.normals.mode == tetdsr::NormalMode::DepthBuffer, this->NumberOfThreads,
+      [this]() { return this->CheckAbort(); },
+      [this](double fraction) { this->UpdateProgress(fraction); });
+    if (tilesDone < tiles)
+    {
+      vtkWarningMacro("Aborted after " << tilesDone << " of " << tiles << " image tiles.");
+      aborted = true;
+    }
+  }
+  else
+  {
+    image.FillMisses();
+  }
+  if (!processes.All(!aborted))
+  {
+    // The executive empties the output and marks it aborted (CheckAbort set AbortOutput here, or
+    // another process aborted).
+    this->SetAbortOutput(true);
     return 1;
   }
 
-  // Map scene cell indices back to input cell ids where cells were re-indexed.
-  vtkIdType* ids = cellIds->GetPointer(0);
+  // Map scene cell indices back to input cell ids where cells were re-indexed; distributed, count
+  // the cells of the processes before this one first.
+  const vtkIdType cellOffset = processes.CellsBefore(hasPiece ? input->GetNumberOfCells() : 0);
+  vtkIdType* ids = image.CellIds->GetPointer(0);
   for (vtkIdType p = 0; p < pixels; ++p)
   {
     if (ids[p] >= 0)
     {
-      ids[p] = prepared.InputCellId(ids[p]);
+      ids[p] = prepared.InputCellId(ids[p]) + cellOffset;
+    }
+  }
+
+  // The requested extent: the whole image, a part of it, or (distributed) this process's block
+  // of the image all pieces give together.
+  int wholeExtent[6] = { 0, width - 1, 0, height - 1, 0, 0 };
+  int extent[6] = { 0, width - 1, 0, height - 1, 0, 0 };
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  {
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), extent);
+    for (int a = 0; a < 6; a += 2) // the pipeline asks for no more than the image; make sure
+    {
+      extent[a] = std::max(extent[a], wholeExtent[a]);
+      extent[a + 1] = std::min(extent[a + 1], wholeExtent[a + 1]);
+    }
+  }
+  vtkPointData* pointData = output->GetPointData();
+  pointData->Initialize();
+  if (processes.Distributed())
+  {
+    ImageArrays composited(colorMapped);
+    if (!processes.CompositeByDepth(image, width, extent, composited))
+    {
+      vtkErrorMacro("Cannot composite the processes' images into the requested extent.");
+      return 0;
+    }
+    output->SetExtent(extent);
+    composited.AddTo(pointData);
+  }
+  else
+  {
+    output->SetExtent(wholeExtent);
+    image.AddTo(pointData);
+    if (!std::equal(extent, extent + 6, wholeExtent))
+    {
+      output->Crop(extent);
     }
   }
   return 1;
@@ -576,6 +967,7 @@ void vtkDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ColorMap: " << this->ColorMap << "\n";
   os << indent << "ClippingPlanes: " << this->ClippingPlanes << "\n";
   os << indent << "Capping: " << this->Capping << "\n";
+  os << indent << "Controller: " << this->Controller << "\n";
   os << indent << "NumberOfRenderedCells: " << this->NumberOfRenderedCells << "\n";
   os << indent << "NumberOfInvertedCells: " << this->NumberOfInvertedCells << "\n";
   os << indent << "NumberOfCurvedCells: " << this->NumberOfCurvedCells << "\n";

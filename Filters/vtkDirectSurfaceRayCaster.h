@@ -33,9 +33,21 @@
  * input's and the scalar array's modification times, so changing only the iso-values, the
  * camera or the shading re-renders without rebuilding.
  *
+ * Distributed input (a vtkMultiProcessController with several processes, e.g. ParaView's server
+ * or pvbatch under MPI): each process casts its own piece of the mesh into the whole image, and
+ * the images are composited by depth, so that each process outputs its requested extent of the
+ * picture the whole mesh gives (the filter produces sub-extents: ParaView asks each process for a
+ * block of the image). Every process must execute the filter. Per pixel the nearest process's
+ * Depth, Normals, CellId and ColorValues are kept; translucent Colors are composited over the
+ * processes in the order of their nearest crossing. CellId counts the cells of the processes'
+ * pieces one after another in process order (the numbering of a .pvtu read whole).
+ *
  * @warning Cells are treated as straight-sided: mid-edge node positions are not used; cells
  * whose mid-edge nodes lie off their edges' midpoints are counted and reported in a warning.
- * The whole input is rendered on one process (no distributed compositing).
+ * Distributed, three results are the serial ones only up to where the pieces meet: translucent
+ * colours where one process's crossings lie between another's along a ray; DEPTH_BUFFER normals,
+ * differenced within each process's image; and the default camera, fitted to the union of the
+ * pieces' bounding boxes (each rounded outward to single precision).
  *
  * @sa vtkContourFilter vtkCamera
  */
@@ -51,6 +63,7 @@
 class vtkCamera;
 class vtkDataArray;
 class vtkContourValues;
+class vtkMultiProcessController;
 class vtkPlane;
 class vtkPlaneCollection;
 class vtkScalarsToColors;
@@ -158,7 +171,8 @@ public:
    */
   vtkSetClampMacro(NormalMode, int, EXACT_GRADIENT, DEPTH_BUFFER);
   vtkGetMacro(NormalMode, int);
-  vtkSetClampMacro(CentralDifferenceStep, double, 1e-12, 1.0);
+  /// Clamped to [1e-12, 1]; NaN is refused with an error.
+  virtual void SetCentralDifferenceStep(double step);
   vtkGetMacro(CentralDifferenceStep, double);
   ///@}
 
@@ -281,7 +295,8 @@ public:
    */
   vtkSetClampMacro(TransverseTest, int, BERNSTEIN_BOUND, WIDENED_NODAL_RANGE);
   vtkGetMacro(TransverseTest, int);
-  vtkSetClampMacro(NodalRangeWidening, double, 0.0, VTK_DOUBLE_MAX);
+  /// Clamped to [0, VTK_DOUBLE_MAX]; NaN is refused with an error.
+  virtual void SetNodalRangeWidening(double widening);
   vtkGetMacro(NodalRangeWidening, double);
   ///@}
 
@@ -312,6 +327,15 @@ public:
   vtkGetMacro(NumberOfUnsupportedCells, vtkIdType);
   vtkGetMacro(NumberOfMalformedCells, vtkIdType);
   vtkGetMacro(NumberOfOutOfScaleCells, vtkIdType);
+  ///@}
+
+  ///@{
+  /**
+   * The processes the input is distributed over (default: the global controller, if any). With
+   * one process, or none, the whole input is rendered here.
+   */
+  virtual void SetController(vtkMultiProcessController* controller);
+  vtkGetObjectMacro(Controller, vtkMultiProcessController);
   ///@}
 
   /**
@@ -360,6 +384,7 @@ protected:
   int ColorMap = COOL_TO_WARM;
   vtkPlaneCollection* ClippingPlanes = nullptr;
   int Capping = NO_CAP;
+  vtkMultiProcessController* Controller = nullptr;
 
   vtkIdType NumberOfRenderedCells = 0;
   vtkIdType NumberOfInvertedCells = 0;

@@ -7,11 +7,12 @@ cd "$(dirname "$0")/.."
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 
-# ParaView 5.11 brings the VTK 9.2 we build against; its CMake package needs the Qt5, MPI and
-# third-party development packages below even for a server-side plugin.
+# ParaView 5.11 brings the VTK 9.2 we build against (and the paraview client, for the GUI test);
+# its CMake package needs the Qt5, MPI and third-party development packages below even for a
+# server-side plugin.
 PACKAGES=(
   cmake ninja-build g++ libgtest-dev libglm-dev
-  paraview-dev python3-paraview python3-numpy python3-matplotlib
+  paraview paraview-dev python3-paraview python3-numpy python3-matplotlib
   qtbase5-dev libqt5svg5-dev qttools5-dev libqt5opengl5-dev qtxmlpatterns5-dev-tools
   openmpi-bin libopenmpi-dev
   libdouble-conversion-dev liblz4-dev libutfcpp-dev libexpat1-dev liblzma-dev libxml2-dev

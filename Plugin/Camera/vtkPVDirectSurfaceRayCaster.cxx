@@ -6,6 +6,11 @@
 
 vtkStandardNewMacro(vtkPVDirectSurfaceRayCaster);
 
+vtkPVDirectSurfaceRayCaster::vtkPVDirectSurfaceRayCaster()
+{
+  this->SetProgressText("Direct Surface Ray Cast");
+}
+
 // The superclass's GetMTime includes the camera in use, so edits of the property camera
 // re-execute the filter only while it is the one in use.
 void vtkPVDirectSurfaceRayCaster::SetFitCameraToMesh(bool fit)
@@ -48,13 +53,57 @@ void vtkPVDirectSurfaceRayCaster::SetCameraParallelScale(double scale)
   this->PropertyCamera->SetParallelScale(scale);
 }
 
+// The interactive plane's origin and normal are followed through the superclass's GetMTime
+// (it includes its planes'), so only switching it or replacing it rebuilds the collection.
+void vtkPVDirectSurfaceRayCaster::SetClipWithPlane(bool clip)
+{
+  if (clip != this->ClipWithPlane)
+  {
+    this->ClipWithPlane = clip;
+    this->UpdateClippingPlanes();
+  }
+}
+
+void vtkPVDirectSurfaceRayCaster::SetInteractiveClipPlane(vtkPlane* plane)
+{
+  if (plane != this->InteractivePlane)
+  {
+    this->InteractivePlane = plane;
+    this->UpdateClippingPlanes();
+  }
+}
+
 void vtkPVDirectSurfaceRayCaster::AddClipPlane(
   double x, double y, double z, double nx, double ny, double nz)
 {
-  vtkNew<vtkPlane> plane;
+  auto plane = vtkSmartPointer<vtkPlane>::New();
   plane->SetOrigin(x, y, z);
   plane->SetNormal(nx, ny, nz);
-  this->AddClippingPlane(plane);
+  this->ListedPlanes.push_back(plane);
+  this->UpdateClippingPlanes();
+}
+
+void vtkPVDirectSurfaceRayCaster::RemoveAllClipPlanes()
+{
+  if (!this->ListedPlanes.empty())
+  {
+    this->ListedPlanes.clear();
+    this->UpdateClippingPlanes();
+  }
+}
+
+void vtkPVDirectSurfaceRayCaster::UpdateClippingPlanes()
+{
+  this->RemoveAllClippingPlanes();
+  if (this->ClipWithPlane && this->InteractivePlane)
+  {
+    this->AddClippingPlane(this->InteractivePlane);
+  }
+  for (vtkPlane* plane : this->ListedPlanes)
+  {
+    this->AddClippingPlane(plane);
+  }
+  this->Modified();
 }
 
 void vtkPVDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
@@ -63,4 +112,7 @@ void vtkPVDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FitCameraToMesh: " << this->FitCameraToMesh << "\n";
   os << indent << "PropertyCamera:\n";
   this->PropertyCamera->PrintSelf(os, indent.GetNextIndent());
+  os << indent << "ClipWithPlane: " << this->ClipWithPlane << "\n";
+  os << indent << "InteractivePlane: " << this->InteractivePlane.GetPointer() << "\n";
+  os << indent << "ListedPlanes: " << this->ListedPlanes.size() << "\n";
 }

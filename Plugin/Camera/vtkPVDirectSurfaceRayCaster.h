@@ -1,10 +1,13 @@
 /**
  * @class   vtkPVDirectSurfaceRayCaster
- * @brief   vtkDirectSurfaceRayCaster with its camera given as properties, for ParaView
+ * @brief   vtkDirectSurfaceRayCaster with its camera and clipping planes given as properties
  *
- * ParaView's server-manager properties hold numbers, not a vtkCamera. This subclass owns a
- * camera whose parameters are properties; with FitCameraToMesh on (default) it is not used
- * and the superclass's default camera (the whole mesh, as ResetCamera places it) applies.
+ * ParaView's server-manager properties hold numbers, not a vtkCamera or vtkPlane objects. This
+ * subclass owns a camera whose parameters are properties; with FitCameraToMesh on (default) it
+ * is not used and the superclass's default camera (the whole mesh, as ResetCamera places it)
+ * applies. Its clipping planes are one plane edited with ParaView's interactive plane widget
+ * (ClipWithPlane, SetInteractiveClipPlane) and a list of further planes (AddClipPlane); the
+ * progress bar shows the filter's name.
  *
  * @sa vtkDirectSurfaceRayCaster
  */
@@ -13,7 +16,11 @@
 
 #include "TetDSRParaViewFiltersModule.h" // For export macro
 #include "vtkDirectSurfaceRayCaster.h"
-#include "vtkNew.h" // For vtkNew
+#include "vtkNew.h"          // For vtkNew
+#include "vtkPlane.h"        // For vtkSmartPointer<vtkPlane>
+#include "vtkSmartPointer.h" // For vtkSmartPointer
+
+#include <vector> // For std::vector
 
 class TETDSRPARAVIEWFILTERS_EXPORT vtkPVDirectSurfaceRayCaster : public vtkDirectSurfaceRayCaster
 {
@@ -42,22 +49,40 @@ public:
   void SetCameraParallelScale(double scale);
   ///@}
 
+  ///@{
   /**
-   * Adds a clipping plane through (x, y, z) with normal (nx, ny, nz), for the ClipPlanes
-   * property (RemoveAllClippingPlanes clears them).
+   * The interactive clipping plane (ParaView's plane widget edits it), used while ClipWithPlane
+   * is on (default off). It keeps the side its normal points to.
+   */
+  void SetClipWithPlane(bool clip);
+  void SetInteractiveClipPlane(vtkPlane* plane);
+  ///@}
+
+  ///@{
+  /**
+   * Further clipping planes, through (x, y, z) with normal (nx, ny, nz), for the ClipPlanes
+   * property; RemoveAllClipPlanes clears this list (not the interactive plane).
    */
   void AddClipPlane(double x, double y, double z, double nx, double ny, double nz);
+  void RemoveAllClipPlanes();
+  ///@}
 
 protected:
-  vtkPVDirectSurfaceRayCaster() = default;
+  vtkPVDirectSurfaceRayCaster();
   ~vtkPVDirectSurfaceRayCaster() override = default;
 
 private:
   vtkPVDirectSurfaceRayCaster(const vtkPVDirectSurfaceRayCaster&) = delete;
   void operator=(const vtkPVDirectSurfaceRayCaster&) = delete;
 
+  /// The superclass's clipping planes: the interactive plane if on, then the listed ones.
+  void UpdateClippingPlanes();
+
   bool FitCameraToMesh = true;
   vtkNew<vtkCamera> PropertyCamera;
+  bool ClipWithPlane = false;
+  vtkSmartPointer<vtkPlane> InteractivePlane;
+  std::vector<vtkSmartPointer<vtkPlane>> ListedPlanes;
 };
 
 #endif

@@ -1,5 +1,6 @@
 """Loads the built TetDSR plugin by path in pvpython or pvbatch and runs the
-"Direct Surface Ray Cast" filter with non-default properties.
+"Direct Surface Ray Cast" filter with non-default properties, its interactive clip plane, and
+its display defaults.
 
 Usage: pvpython test_plugin.py <path to TetDSR.so> <Data directory>
 Expected coverage comes from the analytic sphere (ray/sphere intersection), not the filter.
@@ -8,7 +9,7 @@ import math
 import sys
 
 from paraview import servermanager
-from paraview.simple import Calculator, LoadPlugin, XMLUnstructuredGridReader
+from paraview.simple import Calculator, CreateView, LoadPlugin, Show, XMLUnstructuredGridReader
 
 plugin_path, data_dir = sys.argv[1], sys.argv[2]
 LoadPlugin(plugin_path, remote=False, ns=globals())
@@ -160,6 +161,57 @@ check(worst_grey <= 1.5 / 255, f"grey: expected the composited colour map, off b
 check(worst_value < 1e-9, f"ColorValues: expected x at the nearest kept crossing, off by {worst_value}")
 print(f"colour by array + clip plane + opacity 0.5: {compared} pixels, alpha within {worst_alpha:.4f}, "
       f"grey within {worst_grey:.4f}, colour value within {worst_value:.2e}")
+
+# The interactive clip plane (the plane widget's proxy) cuts as the same plane in the list.
+plane = dsr.InteractiveClipPlane
+check(list(plane.Origin) == [0.0, 0.0, 0.0],
+      f"interactive clip plane origin: expected the centre of the mesh's bounds (0, 0, 0), got "
+      f"{list(plane.Origin)}")
+listed = servermanager.Fetch(dsr).GetPointData().GetArray("Colors")
+dsr.ClipPlanes = []
+dsr.ClipWithPlane = 1
+plane.Origin = centre
+plane.Normal = [1.0, 0.0, 0.0]
+dsr.UpdatePipeline()
+interactive = servermanager.Fetch(dsr).GetPointData().GetArray("Colors")
+differing = sum(1 for p in range(width * height)
+                if interactive.GetTuple4(p) != listed.GetTuple4(p))
+check(differing == 0, f"interactive clip plane: expected the listed plane's image, got {differing} "
+                      f"pixels differing")
+dsr.ClipWithPlane = 0
+dsr.UpdatePipeline()
+unclipped = servermanager.Fetch(dsr).GetPointData().GetArray("Colors")
+opened = sum(1 for p in range(width * height) if unclipped.GetTuple4(p) != listed.GetTuple4(p))
+check(opened > 1000, f"turning the clip plane off should change more than 1000 pixels, got {opened}")
+
+# A piece of the image (as a streaming or parallel consumer asks for one) is that block of the
+# whole image.
+whole = servermanager.Fetch(dsr)
+algorithm = dsr.GetClientSideObject()
+algorithm.UpdatePiece(1, 3, 0)
+block = algorithm.GetOutput()
+e = block.GetExtent()
+check(e[0] <= e[1] and e[2] <= e[3] and (e[1] - e[0] + 1) * (e[3] - e[2] + 1) < width * height,
+      f"piece 1 of 3: expected a block of the image, got extent {e}")
+mismatched = sum(1 for j in range(e[2], e[3] + 1) for i in range(e[0], e[1] + 1)
+                 if block.GetPointData().GetArray("Colors").GetTuple4(
+                     (i - e[0]) + (j - e[2]) * (e[1] - e[0] + 1))
+                 != whole.GetPointData().GetArray("Colors").GetTuple4(i + j * width))
+check(mismatched == 0, f"piece 1 of 3: expected the whole image's pixels, got {mismatched} differing")
+algorithm.UpdatePiece(0, 1, 0)
+
+# In ParaView: the progress bar names the filter, and its picture shows in its own colours.
+text = dsr.GetClientSideObject().GetProgressText()
+check(text == "Direct Surface Ray Cast", f"progress text: expected 'Direct Surface Ray Cast', got {text!r}")
+view = CreateView("RenderView")
+display = Show(dsr, view)
+check(display.MapScalars == 0, f"MapScalars of the output's display: expected 0, got {display.MapScalars}")
+check(list(display.ColorArrayName) == ["POINTS", "Colors"],
+      f"the output's display: expected coloured by Colors, got {list(display.ColorArrayName)}")
+other = Show(reader, view)
+check(other.MapScalars == 1, f"MapScalars of another dataset's display: expected 1 (ParaView's "
+                             f"default), got {other.MapScalars}")
+
 if failures:
     sys.exit(1)
 print("1 passed, 0 failed")

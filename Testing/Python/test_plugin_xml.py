@@ -46,6 +46,9 @@ class PluginXml(unittest.TestCase):
                           "SetCameraParallelProjection": camera.GetParallelProjection,
                           "SetCameraParallelScale": camera.GetParallelScale,
                           "SetFitCameraToMesh": lambda: int(caster.GetCamera() is None),
+                          # The interactive clip plane is off by default: no clipping planes,
+                          # the C++ default.
+                          "SetClipWithPlane": lambda: int(caster.GetClippingPlanes() is not None),
                           "SetValue": lambda: [caster.GetValue(i)
                                                for i in range(caster.GetNumberOfContours())]}
         checked = 0

@@ -1,0 +1,154 @@
+/**
+ * @class   vtkDirectSurfaceRepresentation
+ * @brief   ParaView's "Direct Surface" representation: exact isosurfaces of quadratic tetrahedra
+ *
+ * The representation behind "Direct Surface" in ParaView's representation drop-down for
+ * unstructured grids and composite datasets of them. It hands its input, untouched, to a
+ * vtkDirectSurfaceMapper, which ray casts the exact isosurfaces into the render view with exact
+ * depth on every render. The data stays on the processes that hold it: the view is told the
+ * representation needs distributed rendering, so in client-server mode and under MPI each
+ * rendering rank casts its own piece and ParaView's compositing (IceT) merges the pieces by
+ * depth.
+ *
+ * Everything is forwarded, nothing re-implemented: the field (SetContourBy), iso-values,
+ * per-iso-value colours and opacities and clipping planes go to the mapper; colouring
+ * (SetInputArrayToProcess with index 0, the ColorArrayName of ParaView's Color By, SetLookupTable,
+ * SetMapScalars) to the mapper's standard colouring API; colour, opacity and lighting
+ * coefficients to the actor's vtkProperty; the transform to the actor.
+ *
+ * @warning Translucent surfaces (an iso-value opacity or Opacity below 1) are blended by the
+ * mapper over the finished frame, after its renderer's passes (see vtkDirectSurfaceMapper); with
+ * several rendering ranks ParaView has composited the ranks' images by then, so translucent
+ * surfaces are not shown (a warning says so once). Opaque surfaces composite exactly, on any
+ * number of ranks. Selection (picking) does not see the surface.
+ *
+ * @sa vtkDirectSurfaceMapper vtkDirectSurfaceRayCaster
+ */
+#ifndef vtkDirectSurfaceRepresentation_h
+#define vtkDirectSurfaceRepresentation_h
+
+#include "TetDSRParaViewRepresentationsModule.h" // For export macro
+#include "vtkNew.h"                              // For vtkNew
+#include "vtkPVDataRepresentation.h"
+#include "vtkSmartPointer.h" // For vtkSmartPointer
+
+class vtkActor;
+class vtkDirectSurfaceMapper;
+class vtkProperty;
+class vtkScalarsToColors;
+
+class TETDSRPARAVIEWREPRESENTATIONS_EXPORT vtkDirectSurfaceRepresentation
+  : public vtkPVDataRepresentation
+{
+public:
+  static vtkDirectSurfaceRepresentation* New();
+  vtkTypeMacro(vtkDirectSurfaceRepresentation, vtkPVDataRepresentation);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Hands the input to the view (REQUEST_UPDATE: the piece, its bounds, distributed rendering
+   * required) and the delivered piece to the mapper (REQUEST_RENDER).
+   */
+  int ProcessViewRequest(vtkInformationRequestKey* request, vtkInformation* inInfo,
+    vtkInformation* outInfo) override;
+
+  void SetVisibility(bool visible) override;
+
+  ///@{
+  /**
+   * The field whose isosurfaces are rendered (a point array; the arguments of
+   * SetInputArrayToProcess, of which only the association and name are used) and the
+   * iso-values, forwarded to the mapper.
+   */
+  void SetContourBy(int index, int port, int connection, int fieldAssociation, const char* name);
+  void SetContourValue(int i, double value);
+  void SetNumberOfContours(int number);
+  ///@}
+
+  ///@{
+  /**
+   * Per-iso-value colours and opacities, and clipping planes given as a point and a normal,
+   * forwarded to the mapper.
+   */
+  void SetIsoValueColor(int i, double red, double green, double blue);
+  void RemoveAllIsoValueColors();
+  void SetIsoValueOpacity(int i, double opacity);
+  void RemoveAllIsoValueOpacities();
+  void AddClipPlane(double x, double y, double z, double nx, double ny, double nz);
+  void RemoveAllClipPlanes();
+  ///@}
+
+  ///@{
+  /**
+   * Colouring, as ParaView's surface representation does it: index 0 is the colour array
+   * (ParaView's ColorArrayName); an empty name turns scalar colouring off.
+   */
+  void SetInputArrayToProcess(
+    int index, int port, int connection, int fieldAssociation, const char* name) override;
+  using Superclass::SetInputArrayToProcess;
+  void SetLookupTable(vtkScalarsToColors* lookupTable);
+  /// 1: map the colour array through the lookup table; 0: use up to 4 components as colours.
+  void SetMapScalars(int map);
+  ///@}
+
+  ///@{
+  /**
+   * Forwarded to the actor's vtkProperty.
+   */
+  void SetOpacity(double opacity);
+  void SetAmbientColor(double red, double green, double blue);
+  void SetDiffuseColor(double red, double green, double blue);
+  void SetSpecularColor(double red, double green, double blue);
+  void SetAmbient(double ambient);
+  void SetDiffuse(double diffuse);
+  void SetSpecular(double specular);
+  void SetSpecularPower(double power);
+  ///@}
+
+  ///@{
+  /**
+   * Forwarded to the actor.
+   */
+  void SetPosition(double x, double y, double z);
+  void SetOrientation(double x, double y, double z);
+  void SetOrigin(double x, double y, double z);
+  void SetScale(double x, double y, double z);
+  void SetUserTransform(const double matrix[16]);
+  void SetPickable(int pickable);
+  ///@}
+
+  ///@{
+  /**
+   * The mapper and the actor (for tests and for what the properties do not cover).
+   */
+  vtkDirectSurfaceMapper* GetMapper() { return this->Mapper; }
+  vtkActor* GetActor() { return this->Actor; }
+  ///@}
+
+protected:
+  vtkDirectSurfaceRepresentation();
+  ~vtkDirectSurfaceRepresentation() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+  bool AddToView(vtkView* view) override;
+  bool RemoveFromView(vtkView* view) override;
+
+private:
+  /// Warns once when translucent surfaces would be lost to compositing over several ranks.
+  void WarnIfTranslucencyIsLost();
+
+  vtkDirectSurfaceRepresentation(const vtkDirectSurfaceRepresentation&) = delete;
+  void operator=(const vtkDirectSurfaceRepresentation&) = delete;
+
+  vtkNew<vtkDirectSurfaceMapper> Mapper;
+  vtkNew<vtkActor> Actor;
+  vtkNew<vtkProperty> Property;
+  /// A shallow copy of the input (an empty grid when there is none), the piece handed to the view.
+  vtkSmartPointer<vtkDataObject> Piece;
+  double DataBounds[6];
+  bool WarnedTranslucencyLost = false;
+};
+
+#endif
