@@ -221,6 +221,41 @@ class HostileInput(unittest.TestCase):
         self.assertGreater(run.hits(), 0)
         print("10,000 translucent iso-values, 32 x 32: %.2f s" % elapsed)
 
+    # Found by the fuzzer (Testing/Fuzz/fuzz_filter.py).
+    def test_nan_mid_edge_coordinate_skips_the_cell(self):
+        points = NODES.copy()
+        points[5, 1] = np.nan
+        run = Run(one_tet(points=points))
+        self.assertEqual(run.caster.GetNumberOfNonFiniteCells(), 1)
+        self.assertEqual(run.hits(), 0)
+
+    def test_nan_settings_are_refused(self):
+        caster = vtkDirectSurfaceRayCaster()
+        errors = []
+        caster.AddObserver(vtkCommand.ErrorEvent, calldata_type(VTK_STRING)(lambda o, e, t: errors.append(t)))
+        caster.SetCentralDifferenceStep(float("nan"))
+        caster.SetNodalRangeWidening(float("nan"))
+        self.assertEqual(len(errors), 2, errors)
+        self.assertEqual(caster.GetCentralDifferenceStep(), 1e-3)
+        self.assertEqual(caster.GetNodalRangeWidening(), 0.25)
+
+    def test_huge_widening_finds_no_false_surface(self):
+        reference = Run(one_tet())
+        run = Run(one_tet(), configure=lambda c: (c.SetTransverseTest(c.WIDENED_NODAL_RANGE),
+                                                  c.SetNodalRangeWidening(1e299)))
+        self.assertEqual(run.hits(), reference.hits())
+        normals = np.linalg.norm(run.array("Normals")[run.array("CellId") >= 0], axis=1)
+        np.testing.assert_allclose(normals, 1.0, atol=1e-9)
+
+    def test_normals_of_a_field_near_the_largest_double(self):
+        # |x|^2 scaled to 1.6e308 at the far vertex: gradients overflow unless scaled.
+        for mode in (0, 1, 2):  # exact, central differences, nodal interpolation
+            run = Run(one_tet(field=FIELD * 1.6e308), iso=0.1 * 1.6e308,
+                      configure=lambda c: c.SetNormalMode(mode))
+            self.assertEqual(run.hits(), reference_hits(), "mode %d" % mode)
+            normals = np.linalg.norm(run.array("Normals")[run.array("CellId") >= 0], axis=1)
+            np.testing.assert_allclose(normals, 1.0, atol=1e-9, err_msg="mode %d" % mode)
+
     def test_messages_name_the_problem(self):
         # A needle (aspect 1e7) is called flat or needle-like, not "zero volume".
         needle = NODES * np.array([1.0, 1e-7, 1e-7])

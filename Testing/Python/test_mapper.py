@@ -67,6 +67,25 @@ def grid(n=3, fields=None, cell_range=None):
     return ug
 
 
+WINDOW = []
+
+
+def shared_window():
+    """One render window (one X connection) for every test, emptied of its renderers: Xvfb on
+    these machines refuses a few connections in a hundred under load."""
+    if not WINDOW:
+        window = vtkRenderWindow()
+        window.SetSize(W, H)
+        window.OffScreenRenderingOn()
+        WINDOW.append(window)
+    window = WINDOW[0]
+    renderers = window.GetRenderers()
+    while renderers.GetNumberOfItems():
+        window.RemoveRenderer(renderers.GetFirstRenderer())
+    window.SetDesiredUpdateRate(0.0001)
+    return window
+
+
 def scene(mesh, iso=RADIUS2, parallel=False, configure=None):
     mapper = vtkDirectSurfaceMapper()
     mapper.SetInputData(mesh)
@@ -76,9 +95,7 @@ def scene(mesh, iso=RADIUS2, parallel=False, configure=None):
     actor.SetMapper(mapper)
     renderer = vtkRenderer()
     renderer.AddActor(actor)
-    window = vtkRenderWindow()
-    window.SetSize(W, H)
-    window.OffScreenRenderingOn()
+    window = shared_window()
     window.AddRenderer(renderer)
     camera = renderer.GetActiveCamera()
     camera.SetPosition(2.2, 1.6, 3.0)
