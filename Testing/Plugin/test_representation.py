@@ -116,27 +116,10 @@ check(mapper.GetNumberOfRenderedCells() == 6,
 
 
 # --- Truth -----------------------------------------------------------------------------------
-def sub(a, b):
-    return [a[k] - b[k] for k in range(3)]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pixel_rays import camera_frame, cross, dot, sub, unit  # noqa: E402,F401
 
-
-def dot(a, b):
-    return sum(a[k] * b[k] for k in range(3))
-
-
-def cross(a, b):
-    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-
-
-def unit(a):
-    n = math.sqrt(dot(a, a))
-    return [x / n for x in a]
-
-
-forward = unit(sub(centre, position))
-right = unit(cross(forward, [0.0, 1.0, 0.0]))
-up = cross(right, forward)
-half = math.tan(math.radians(20.0) / 2)
+forward, right, up, half = camera_frame(centre, position, 20.0)
 
 
 def ray(i, j):
