@@ -619,6 +619,98 @@ int vtkDirectSurfaceRayCaster::FillInputPortInformation(int, vtkInformation* inf
 }
 
 //------------------------------------------------------------------------------
+namespace
+{
+/// vtkCamera's frame and projection as the core's camera.
+tetdsr::Camera CoreCamera(vtkCamera* vtkcamera)
+{
+  tetdsr::Camera camera;
+  double v[3];
+  vtkcamera->GetPosition(v);
+  camera.position = glm::dvec3(v[0], v[1], v[2]);
+  vtkcamera->GetFocalPoint(v);
+  camera.focalPoint = glm::dvec3(v[0], v[1], v[2]);
+  vtkcamera->GetViewUp(v);
+  camera.viewUp = glm::dvec3(v[0], v[1], v[2]);
+  camera.viewAngleDegrees = vtkcamera->GetViewAngle();
+  camera.parallelProjection = vtkcamera->GetParallelProjection() != 0;
+  camera.parallelScale = vtkcamera->GetParallelScale();
+  return camera;
+}
+
+/// The filter's shading settings (material, its one point light, normals, iso-value styles, cap)
+/// for the core.
+tetdsr::RenderSettings ShadingSettings(vtkDirectSurfaceRayCaster* self,
+  const adapter::IsoValueStyles& styles, const tetdsr::Camera& camera, std::size_t numberOfValues)
+{
+  tetdsr::RenderSettings settings;
+  tetdsr::Material& material = settings.material;
+  const double* color = self->GetSurfaceColor();
+  material.color = glm::dvec3(color[0], color[1], color[2]);
+  material.ambient = self->GetAmbient();
+  material.diffuse = self->GetDiffuse();
+  material.specular = self->GetSpecular();
+  material.specularPower = self->GetSpecularPower();
+  tetdsr::Light light; // one white point light
+  light.positional = true;
+  const double* position = self->GetLightPosition();
+  light.position = self->GetLightAtCamera() ? camera.position
+                                            : glm::dvec3(position[0], position[1], position[2]);
+  settings.lighting.lights.push_back(light);
+  settings.normals.mode = static_cast<tetdsr::NormalMode>(self->GetNormalMode());
+  settings.normals.relativeStep = self->GetCentralDifferenceStep();
+  settings.isoStyles = styles.Styles(numberOfValues, color, 1.0);
+  const int capping = self->GetCapping();
+  settings.cap = capping == vtkDirectSurfaceRayCaster::CAP_BELOW_ISO_VALUE
+    ? tetdsr::CapRegion::BelowIsoValue
+    : capping == vtkDirectSurfaceRayCaster::CAP_ABOVE_ISO_VALUE ? tetdsr::CapRegion::AboveIsoValue
+                                                                : tetdsr::CapRegion::None;
+  return settings;
+}
+
+/// Puts `image` (this process's) into `output` over the requested extent: the whole image, a
+/// part of it, or, distributed, this process's block of the depth-composited image. False when
+/// compositing fails.
+bool WriteOutput(const Processes& processes, ImageArrays& image, int width, int height,
+  bool colorMapped, vtkInformation* outInfo, vtkImageData* output)
+{
+  int wholeExtent[6] = { 0, width - 1, 0, height - 1, 0, 0 };
+  int extent[6] = { 0, width - 1, 0, height - 1, 0, 0 };
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  {
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), extent);
+    for (int a = 0; a < 6; a += 2) // the pipeline asks for no more than the image; make sure
+    {
+      extent[a] = std::max(extent[a], wholeExtent[a]);
+      extent[a + 1] = std::min(extent[a + 1], wholeExtent[a + 1]);
+    }
+  }
+  vtkPointData* pointData = output->GetPointData();
+  pointData->Initialize();
+  if (processes.Distributed())
+  {
+    ImageArrays composited(colorMapped);
+    if (!processes.CompositeByDepth(image, width, extent, composited))
+    {
+      return false;
+    }
+    output->SetExtent(extent);
+    composited.AddTo(pointData);
+  }
+  else
+  {
+    output->SetExtent(wholeExtent);
+    image.AddTo(pointData);
+    if (!std::equal(extent, extent + 6, wholeExtent))
+    {
+      output->Crop(extent);
+    }
+  }
+  return true;
+}
+}
+
+//------------------------------------------------------------------------------
 int vtkDirectSurfaceRayCaster::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
@@ -759,16 +851,7 @@ int vtkDirectSurfaceRayCaster::RequestData(
   tetdsr::Camera camera;
   if (this->Camera)
   {
-    double v[3];
-    this->Camera->GetPosition(v);
-    camera.position = glm::dvec3(v[0], v[1], v[2]);
-    this->Camera->GetFocalPoint(v);
-    camera.focalPoint = glm::dvec3(v[0], v[1], v[2]);
-    this->Camera->GetViewUp(v);
-    camera.viewUp = glm::dvec3(v[0], v[1], v[2]);
-    camera.viewAngleDegrees = this->Camera->GetViewAngle();
-    camera.parallelProjection = this->Camera->GetParallelProjection() != 0;
-    camera.parallelScale = this->Camera->GetParallelScale();
+    camera = CoreCamera(this->Camera);
   }
   else
   {
@@ -806,30 +889,13 @@ int vtkDirectSurfaceRayCaster::RequestData(
   view.cellIds = image.CellIds->GetPointer(0);
   view.colorValues = colorMapped ? image.ColorValues->GetPointer(0) : nullptr;
 
-  tetdsr::RenderSettings settings;
-  tetdsr::Material& material = settings.material;
-  material.color = glm::dvec3(this->SurfaceColor[0], this->SurfaceColor[1], this->SurfaceColor[2]);
-  material.ambient = this->Ambient;
-  material.diffuse = this->Diffuse;
-  material.specular = this->Specular;
-  material.specularPower = this->SpecularPower;
-  tetdsr::Light light; // one white point light
-  light.positional = true;
-  light.position = this->LightAtCamera
-    ? camera.position
-    : glm::dvec3(this->LightPosition[0], this->LightPosition[1], this->LightPosition[2]);
-  settings.lighting.lights.push_back(light);
-  settings.normals.mode = static_cast<tetdsr::NormalMode>(this->NormalMode);
-  settings.normals.relativeStep = this->CentralDifferenceStep;
+  tetdsr::RenderSettings settings =
+    ShadingSettings(this, this->Prepared->Styles, camera, values.size());
   if (scene && settings.normals.mode == tetdsr::NormalMode::NodalInterpolation)
   {
     scene->computeNodalGradients(); // once per mesh and array: kept with the scene
   }
-  settings.isoStyles = this->Prepared->Styles.Styles(values.size(), this->SurfaceColor, 1.0);
   settings.clipPlanes = clipPlanes;
-  settings.cap = this->Capping == CAP_BELOW_ISO_VALUE ? tetdsr::CapRegion::BelowIsoValue
-    : this->Capping == CAP_ABOVE_ISO_VALUE           ? tetdsr::CapRegion::AboveIsoValue
-                                                     : tetdsr::CapRegion::None;
   if (colorMapped)
   {
     double range[2] = { this->ColorRange[0], this->ColorRange[1] };
@@ -899,39 +965,11 @@ int vtkDirectSurfaceRayCaster::RequestData(
 
   // The requested extent: the whole image, a part of it, or (distributed) this process's block
   // of the image all pieces give together.
-  int wholeExtent[6] = { 0, width - 1, 0, height - 1, 0, 0 };
-  int extent[6] = { 0, width - 1, 0, height - 1, 0, 0 };
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  if (!WriteOutput(processes, image, width, height, colorMapped,
+        outputVector->GetInformationObject(0), output))
   {
-    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), extent);
-    for (int a = 0; a < 6; a += 2) // the pipeline asks for no more than the image; make sure
-    {
-      extent[a] = std::max(extent[a], wholeExtent[a]);
-      extent[a + 1] = std::min(extent[a + 1], wholeExtent[a + 1]);
-    }
-  }
-  vtkPointData* pointData = output->GetPointData();
-  pointData->Initialize();
-  if (processes.Distributed())
-  {
-    ImageArrays composited(colorMapped);
-    if (!processes.CompositeByDepth(image, width, extent, composited))
-    {
-      vtkErrorMacro("Cannot composite the processes' images into the requested extent.");
-      return 0;
-    }
-    output->SetExtent(extent);
-    composited.AddTo(pointData);
-  }
-  else
-  {
-    output->SetExtent(wholeExtent);
-    image.AddTo(pointData);
-    if (!std::equal(extent, extent + 6, wholeExtent))
-    {
-      output->Crop(extent);
-    }
+    vtkErrorMacro("Cannot composite the processes' images into the requested extent.");
+    return 0;
   }
   return 1;
 }
