@@ -330,7 +330,8 @@ void Renderer::renderPixel(int i, int j) const
     {
       break;
     }
-    tFrom = hit.t + std::max(LayerGap_, 1e-12 * hit.t);
+    // Past this crossing (a cell where the field equals the iso-value throughout is one).
+    tFrom = hit.regionEnd + std::max(LayerGap_, 1e-12 * hit.regionEnd);
   }
   if (opacity == 0.0)
   {
@@ -371,7 +372,12 @@ glm::dvec3 Renderer::normalAt(const SurfaceHit& hit, const glm::dvec3& point) co
       return unitVector(difference) != glm::dvec3(0.0) ? difference : hit.gradient;
     }
     case NormalMode::NodalInterpolation:
-      return Scene_.interpolateNodalGradient(hit.cellId, point);
+    {
+      // Where the interpolated nodal gradients cancel or underflow (a field spanning more than
+      // double range between cells), the exact gradient instead.
+      const glm::dvec3 gradient = Scene_.interpolateNodalGradient(hit.cellId, point);
+      return unitVector(gradient) != glm::dvec3(0.0) ? gradient : hit.gradient;
+    }
     case NormalMode::ExactGradient:
     case NormalMode::DepthBuffer: // replaced by shadeFromDepth once all depths are known
     default:

@@ -726,6 +726,7 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
     }
     hit.isoIndex = static_cast<std::size_t>(it - sorted.begin());
     hit.t = tCentre + sEntry;
+    hit.regionEnd = tCentre + sExit;
     hit.cellId = cellId;
     hit.gradient = glm::dvec3(0.0);
     return true;
@@ -758,6 +759,7 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
     LHit[k] = L[k] + sHit * dL[k];
   }
   hit.t = tCentre + sHit;
+  hit.regionEnd = hit.t;
   hit.cellId = cellId;
   // Unscaled exactly (a power of two), unless that overflows (a field near the largest double):
   // then the scaled gradient, whose direction is the same.

@@ -106,6 +106,9 @@ struct SurfaceHit
   /// scaled down by a power of two (the same direction).
   glm::dvec3 gradient{ 0.0 };
   std::size_t isoIndex = 0;   ///< which iso-value was crossed, in IsoValues::sorted() order
+  /// Where this crossing ends: t, or for a cell where the field equals the iso-value throughout,
+  /// where the ray leaves that cell (the whole stretch is one crossing).
+  double regionEnd = 0.0;
 };
 
 /// Runs body(begin, end) over a partition of [0, count), possibly concurrently; the parts must
