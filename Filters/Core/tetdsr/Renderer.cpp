@@ -427,10 +427,11 @@ void Renderer::shadeFromDepth(NodeId tileBegin, NodeId tileEnd) const
     glm::dvec3 du, dv, normal = -ray.direction;
     if (tangent(1, 0, du) && tangent(0, 1, dv))
     {
-      const glm::dvec3 n = glm::cross(du, dv);
-      if (glm::length(n) > 0.0)
+      // (unitVector: for a mesh of size 1e-80 the cross product's squared length underflows)
+      const glm::dvec3 n = unitVector(glm::cross(du, dv));
+      if (n != glm::dvec3(0.0))
       {
-        normal = glm::normalize(n);
+        normal = n;
       }
     }
     if (glm::dot(normal, ray.direction) > 0.0)
