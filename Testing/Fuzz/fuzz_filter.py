@@ -376,13 +376,13 @@ def vtk_modules():
     from types import SimpleNamespace
     from vtkmodules.util import numpy_support
     from vtkmodules.util.misc import calldata_type
-    from vtkmodules.vtkCommonCore import VTK_STRING, vtkCommand, vtkLookupTable, vtkPoints
+    from vtkmodules.vtkCommonCore import VTK_STRING, vtkCommand, vtkIdList, vtkLookupTable, vtkPoints
     from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPlane, vtkUnstructuredGrid
     from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction
     from tetdsr import vtkDirectSurfaceRayCaster
     return SimpleNamespace(
         numpy_support=numpy_support, calldata_type=calldata_type, VTK_STRING=VTK_STRING,
-        vtkCommand=vtkCommand, vtkLookupTable=vtkLookupTable, vtkPoints=vtkPoints,
+        vtkCommand=vtkCommand, vtkIdList=vtkIdList, vtkLookupTable=vtkLookupTable, vtkPoints=vtkPoints,
         vtkCellArray=vtkCellArray, vtkPlane=vtkPlane, vtkUnstructuredGrid=vtkUnstructuredGrid,
         vtkCamera=vtkCamera, vtkColorTransferFunction=vtkColorTransferFunction,
         vtkDirectSurfaceRayCaster=vtkDirectSurfaceRayCaster)
@@ -707,6 +707,38 @@ COUNTER_OF = {UNSUPPORTED: "Unsupported", MALFORMED: "Malformed", INVALID_ID: "I
 SKIP_COUNTERS = ["Degenerate", "NonFinite", "InvalidId", "Unsupported", "Malformed", "OutOfScale"]
 
 
+# Reference coordinates of VTK's 10 quadratic-tetra nodes, and the quadratic monomials in them.
+_REF_NODES = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [.5, 0, 0], [.5, .5, 0],
+                       [0, .5, 0], [0, 0, .5], [.5, 0, .5], [0, .5, .5]])
+
+
+def _monomials(x):
+    return np.array([1, x[0], x[1], x[2], x[0] * x[0], x[1] * x[1], x[2] * x[2],
+                     x[0] * x[1], x[1] * x[2], x[0] * x[2]])
+
+
+_MONOMIAL_FIT = np.linalg.inv(np.array([_monomials(x) for x in _REF_NODES]))
+
+
+def critical_value_at(nodal, isos, rel=1e-12):
+    """True when the cell's quadratic (in reference coordinates, where its gradient vanishes
+    exactly where the world gradient does) has a critical point whose value lies within `rel` of
+    the largest nodal magnitude from one of the iso-values: there the exact gradient at a hit is
+    zero to double precision (e.g. f = 4 K L1 L2 with iso-value c, |c| / |K| < 1e-16: the computed
+    surface runs along the critical edge L1 = L2 = 0)."""
+    top = np.max(np.abs(nodal))
+    if not np.isfinite(top) or top == 0:
+        return True
+    c = _MONOMIAL_FIT @ (nodal / top)
+    g = c[1:4]
+    H = np.array([[2 * c[4], c[7], c[9]], [c[7], 2 * c[5], c[8]], [c[9], c[8], 2 * c[6]]])
+    x, *_ = np.linalg.lstsq(H, -g, rcond=1e-14)
+    if np.linalg.norm(H @ x + g) > 1e-9 * (1 + np.linalg.norm(g)):
+        return False  # no critical point: the gradient vanishes nowhere
+    value = _monomials(x) @ c
+    return any(abs(value - iso / top) <= rel for iso in isos)
+
+
 def invalid_cells(V, grid, field):
     """Per input cell: the reason the filter must skip it ("" if none), the cell's largest
     node id, and whether the field varies over its nodes; (None, None, None) when the offsets
@@ -805,6 +837,15 @@ def check_output(V, caster, msgs, size, grid, field, colours):
             # A zero gradient is expected only where the field is constant.
             flat = np.zeros_like(hit)
             flat[safe] = (length[safe] == 0) & varying[hit_cells] & (reasons[hit_cells] == "")
+            if flat.any():  # unless the iso-value is a critical value (to rounding) of the cell
+                isos = [caster.GetValue(i) for i in range(caster.GetNumberOfContours())]
+                for k in np.flatnonzero(flat):
+                    ids = V.vtkIdList()
+                    grid.GetCellPoints(int(cid[k]), ids)
+                    nodal = np.array([field[ids.GetId(i)] for i in range(ids.GetNumberOfIds())],
+                                     dtype=np.float64)
+                    if len(nodal) == 10 and critical_value_at(nodal, isos):
+                        flat[k] = False
             fail("hit-zero-normal-on-varying-field", flat, "")
         on_invalid = np.zeros_like(hit)
         on_invalid[safe] = reasons[hit_cells] != ""
