@@ -1,5 +1,6 @@
 #include "tetdsr/Scene.h"
 
+#include "tetdsr/CurvedTet.h"
 #include "tetdsr/QuadraticTet.h"
 #include "tetdsr/Roots.h"
 
@@ -23,9 +24,11 @@ constexpr int kParallelBuildDepth = 4;
 constexpr std::size_t kSerialBuildSize = 4096;
 constexpr float kFloatInfinity = std::numeric_limits<float>::infinity();
 
-// A mid-edge node farther than this fraction of the longest edge from its edge's midpoint makes
-// the cell curved (isoparametric); we render it straight-sided and count it.
-constexpr double kCurvedTolerance = 1e-6;
+// A mid-edge node farther than this many times the coordinates' rounding (MeshView::
+// pointRounding), relative to the cell's longest edge, from its edge's midpoint makes the cell
+// curved (isoparametric). Treating a cell straight moves its surface by about the offset: below
+// this, by less than 1e-13 of the cell for double coordinates.
+constexpr double kCurvedRoundings = 64.0;
 
 // Below this fraction of max-edge^3, 6*volume is treated as zero: the barycentric frame would
 // amplify rounding by more than 1e13. Slivers and needles of aspect ratio 1e4 stay far above it.
@@ -192,7 +195,8 @@ enum : std::uint8_t
   kDegenerate = 8,
   kNonFinite = 16,
   kInvalidId = 32,
-  kOutOfScale = 64
+  kOutOfScale = 64,
+  kTangled = 128
 };
 
 float roundDown(double x)
@@ -282,6 +286,15 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
     Summary_.nonFiniteCells += (flags & kNonFinite) != 0;
     Summary_.invalidIdCells += (flags & kInvalidId) != 0;
     Summary_.outOfScaleCells += (flags & kOutOfScale) != 0;
+    Summary_.tangledCells += (flags & kTangled) != 0;
+    if ((flags & kValid) && (flags & kCurved))
+    {
+      if (Curved_.empty())
+      {
+        Curved_.assign(status.size(), 0);
+      }
+      Curved_[cell] = 1;
+    }
     if (flags & kValid)
     {
       items[valid++] = items[cell];
@@ -361,6 +374,7 @@ std::uint8_t Scene::validate(NodeId cell, BuildItem& item) const
   {
     flags |= kInverted;
   }
+  const double curvedTolerance = kCurvedRoundings * Mesh_.pointRounding * maxEdge;
   for (int e = 0; e < 6; ++e)
   {
     if (ids[4 + e] >= 0)
@@ -368,11 +382,36 @@ std::uint8_t Scene::validate(NodeId cell, BuildItem& item) const
       const double* p = Mesh_.points + 3 * ids[4 + e];
       const glm::dvec3 midpoint =
         0.5 * (vertices[kEdgeVertices[e][0]] + vertices[kEdgeVertices[e][1]]);
-      if (glm::length(glm::dvec3(p[0], p[1], p[2]) - midpoint) > kCurvedTolerance * maxEdge)
+      if (glm::length(glm::dvec3(p[0], p[1], p[2]) - midpoint) > curvedTolerance)
       {
         flags |= kCurved;
         break;
       }
+    }
+  }
+  // The cell's extent: its vertices' box, or for a curved cell its control points' (the curved
+  // cell lies in their convex hull).
+  glm::dvec3 extentLo = vertices[0], extentHi = vertices[0];
+  for (int k = 1; k < 4; ++k)
+  {
+    extentLo = glm::min(extentLo, vertices[k]);
+    extentHi = glm::max(extentHi, vertices[k]);
+  }
+  if (flags & kCurved)
+  {
+    glm::dvec3 nodes[10];
+    loadNodes(cell, nodes);
+    const CurvedGeometry geometry = CurvedGeometry::fromNodes(nodes, scaleFor(maxEdge));
+    const JacobianSign sign = jacobianSign(geometry);
+    if (sign == JacobianSign::Changes)
+    {
+      return kTangled;
+    }
+    flags = static_cast<std::uint8_t>((flags & ~kInverted) | (sign == JacobianSign::Negative ? kInverted : 0));
+    geometry.box(extentLo, extentHi);
+    if (!isFinite(extentLo) || !isFinite(extentHi))
+    {
+      return kOutOfScale;
     }
   }
 
@@ -386,12 +425,8 @@ std::uint8_t Scene::validate(NodeId cell, BuildItem& item) const
   double boxLo[3], boxHi[3], magnitude = 0.0;
   for (int axis = 0; axis < 3; ++axis)
   {
-    boxLo[axis] = boxHi[axis] = vertices[0][axis];
-    for (int k = 1; k < 4; ++k)
-    {
-      boxLo[axis] = std::min(boxLo[axis], vertices[k][axis]);
-      boxHi[axis] = std::max(boxHi[axis], vertices[k][axis]);
-    }
+    boxLo[axis] = extentLo[axis];
+    boxHi[axis] = extentHi[axis];
     magnitude = std::max({ magnitude, std::abs(boxLo[axis]), std::abs(boxHi[axis]) });
   }
   const double pad = 1e-8 * maxEdge + 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
@@ -639,9 +674,266 @@ void Scene::loadCell(NodeId cellId, glm::dvec3 vertices[4], double values[10],
   }
 }
 
+void Scene::loadNodes(NodeId cellId, glm::dvec3 nodes[10]) const
+{
+  loadVertices(cellId, nodes);
+  const NodeId* ids = Mesh_.cellNodes + 10 * cellId;
+  for (int e = 0; e < 6; ++e)
+  {
+    const NodeId id = ids[4 + e];
+    nodes[4 + e] = id >= 0
+      ? glm::dvec3(Mesh_.points[3 * id], Mesh_.points[3 * id + 1], Mesh_.points[3 * id + 2])
+      : 0.5 * (nodes[kEdgeVertices[e][0]] + nodes[kEdgeVertices[e][1]]);
+  }
+}
+
+namespace
+{
+/// The curved cell's geometry in its local frame (origin its vertex 0, unit near its size).
+CurvedGeometry localGeometry(const glm::dvec3 nodes[10])
+{
+  double size = 0.0;
+  for (const auto& edge : kEdgeVertices)
+  {
+    size = std::max(size, glm::length(nodes[edge[0]] - nodes[edge[1]]));
+  }
+  return CurvedGeometry::fromNodes(nodes, scaleFor(size));
+}
+
+/// The field's form scaled by a power of two (returned in `scale`) to a largest magnitude near 1.
+QuadraticForm scaledFieldForm(double values[10], double& scale)
+{
+  scale = unitScale(values);
+  for (int n = 0; n < 10; ++n)
+  {
+    values[n] *= scale;
+  }
+  const BernsteinForm bernstein = BernsteinForm::fromNodeValues(values);
+  QuadraticForm form;
+  for (int i = 0; i < 4; ++i)
+  {
+    for (int j = 0; j < 4; ++j)
+    {
+      form.b[i][j] = bernstein.b[i][j];
+    }
+  }
+  return form;
+}
+
+/// Two unit vectors orthogonal to the unit vector d and to each other.
+void orthonormalPair(const glm::dvec3& d, glm::dvec3& u, glm::dvec3& v)
+{
+  const glm::dvec3 helper = std::abs(d.x) < 0.6 ? glm::dvec3(1.0, 0.0, 0.0)
+    : std::abs(d.y) < 0.6                       ? glm::dvec3(0.0, 1.0, 0.0)
+                                                : glm::dvec3(0.0, 0.0, 1.0);
+  u = glm::normalize(glm::cross(d, helper));
+  v = glm::cross(d, u);
+}
+} // namespace
+
+bool Scene::inCell(NodeId cellId, const glm::dvec3& point, double L[4]) const
+{
+  if (!isCurved(cellId))
+  {
+    glm::dvec3 vertices[4];
+    loadVertices(cellId, vertices);
+    TetFrame frame;
+    TetFrame::fromVertices(vertices, frame);
+    frame.barycentricOfOffsets(point - vertices[0], point - vertices[1], L);
+    return L[0] >= -kBarycentricTolerance && L[1] >= -kBarycentricTolerance &&
+      L[2] >= -kBarycentricTolerance && L[3] >= -kBarycentricTolerance;
+  }
+  glm::dvec3 nodes[10];
+  loadNodes(cellId, nodes);
+  const CurvedGeometry geometry = localGeometry(nodes);
+  const glm::dvec3 target = (point - geometry.origin) * geometry.scale;
+  QuadraticForm equations[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    glm::dvec3 axis(0.0);
+    axis[k] = 1.0;
+    equations[k] = geometry.component(axis, target[k]);
+  }
+  SimplexRoot root;
+  if (!solveOnSimplex(3, equations, nullptr, 0.0, 0.0, kBarycentricTolerance, root))
+  {
+    return false;
+  }
+  std::copy(root.L, root.L + 4, L);
+  return true;
+}
+
+void Scene::cellCoordinates(NodeId cellId, const glm::dvec3& point, double L[4]) const
+{
+  if (inCell(cellId, point, L) || !isCurved(cellId))
+  {
+    return; // (a straight cell's coordinates are exact outside it too)
+  }
+  // Outside a curved cell: the extension of its map, from the straight tet's guess.
+  glm::dvec3 nodes[10];
+  loadNodes(cellId, nodes);
+  TetFrame frame;
+  TetFrame::fromVertices(nodes, frame);
+  frame.barycentricOfOffsets(point - nodes[0], point - nodes[1], L);
+  const CurvedGeometry geometry = localGeometry(nodes);
+  double guess[4] = { L[0], L[1], L[2], L[3] };
+  if (inverseNewton(geometry, (point - geometry.origin) * geometry.scale, guess))
+  {
+    std::copy(guess, guess + 4, L);
+  }
+}
+
+bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues,
+  double tMin, double tLimit, SurfaceHit& hit) const
+{
+  glm::dvec3 nodes[10];
+  loadNodes(cellId, nodes);
+  double values[10];
+  {
+    glm::dvec3 vertices[4];
+    loadCell(cellId, vertices, values);
+  }
+  double cellLo, cellHi;
+  Transverse_.range(values, cellLo, cellHi);
+  const std::vector<double>& sorted = isoValues.sorted();
+  const std::size_t first =
+    static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), cellLo) - sorted.begin());
+  const std::size_t last =
+    static_cast<std::size_t>(std::upper_bound(sorted.begin(), sorted.end(), cellHi) - sorted.begin());
+  if (first >= last)
+  {
+    return false;
+  }
+  const CurvedGeometry geometry = localGeometry(nodes);
+  const double s = geometry.scale;
+  // The ray in local units, re-origined at its point nearest the cell's control points' mean:
+  // t_world = (tCentre + T) / s, with T the local depth form below.
+  const glm::dvec3 origin = (ray.origin - geometry.origin) * s;
+  glm::dvec3 centroid(0.0);
+  for (int i = 0; i < 4; ++i)
+  {
+    for (int j = 0; j < 4; ++j)
+    {
+      centroid += geometry.control[i][j] / 16.0;
+    }
+  }
+  const glm::dvec3& d = ray.direction;
+  const double tCentre = glm::dot(centroid - origin, d);
+  const glm::dvec3 o = origin + tCentre * d;
+  glm::dvec3 u, v;
+  orthonormalPair(d, u, v);
+  QuadraticForm equations[3];
+  equations[0] = geometry.component(u, glm::dot(u, o));
+  equations[1] = geometry.component(v, glm::dot(v, o));
+  const QuadraticForm depth = geometry.component(d, glm::dot(d, o));
+  const double lo = tMin * s - tCentre;
+  const double hi = tLimit * s - tCentre;
+
+  double scale;
+  const QuadraticForm field = scaledFieldForm(values, scale);
+  double boundLo = field.b[0][0], boundHi = field.b[0][0];
+  for (const auto& row : field.b)
+  {
+    for (const double c : row)
+    {
+      boundLo = std::min(boundLo, c);
+      boundHi = std::max(boundHi, c);
+    }
+  }
+  SimplexRoot root;
+  bool found = false;
+  double best = hi;
+  if (boundHi - boundLo <=
+    8.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(boundLo), std::abs(boundHi)))
+  {
+    // Constant and equal to an iso-value: the crossing is the stretch of the ray inside the
+    // cell, from where it enters (a root on a face, or the start if that is inside the cell) to
+    // where it next leaves.
+    const auto it = std::lower_bound(sorted.begin(), sorted.end(), boundLo / scale);
+    if (it == sorted.end() || *it > boundHi / scale)
+    {
+      return false;
+    }
+    double startL[4];
+    double enter = std::numeric_limits<double>::infinity();
+    double leave = enter;
+    if (std::isfinite(lo) && inCell(cellId, ray.origin + tMin * d, startL))
+    {
+      enter = lo;
+    }
+    for (int face = 0; face < 4; ++face)
+    {
+      const QuadraticForm faceEquations[2] = { equations[0].face(face), equations[1].face(face) };
+      const QuadraticForm faceDepth = depth.face(face);
+      SimplexRoot faceRoot;
+      if (solveOnSimplex(2, faceEquations, &faceDepth, lo, std::min(enter, hi), kBarycentricTolerance, faceRoot))
+      {
+        enter = std::min(enter, faceRoot.value);
+      }
+    }
+    if (!std::isfinite(enter))
+    {
+      return false;
+    }
+    const double after = enter + 1e-9;
+    for (int face = 0; face < 4; ++face)
+    {
+      const QuadraticForm faceEquations[2] = { equations[0].face(face), equations[1].face(face) };
+      const QuadraticForm faceDepth = depth.face(face);
+      SimplexRoot faceRoot;
+      if (solveOnSimplex(2, faceEquations, &faceDepth, after, std::min(leave, hi), kBarycentricTolerance, faceRoot))
+      {
+        leave = std::min(leave, faceRoot.value);
+      }
+    }
+    hit.isoIndex = static_cast<std::size_t>(it - sorted.begin());
+    hit.t = (tCentre + enter) / s;
+    hit.regionEnd = std::isfinite(leave) ? (tCentre + leave) / s : hit.t;
+    hit.cellId = cellId;
+    hit.gradient = glm::dvec3(0.0);
+    return true;
+  }
+  for (std::size_t k = first; k < last; ++k)
+  {
+    equations[2] = field.minus(sorted[k] * scale);
+    SimplexRoot candidate;
+    if (solveOnSimplex(3, equations, &depth, lo, best, kBarycentricTolerance, candidate))
+    {
+      found = true;
+      best = candidate.value;
+      root = candidate;
+      hit.isoIndex = k;
+    }
+  }
+  if (!found)
+  {
+    return false;
+  }
+  if (!root.certified)
+  {
+    UncertifiedHits_.fetch_add(1, std::memory_order_relaxed);
+  }
+  hit.t = (tCentre + root.value) / s;
+  hit.regionEnd = hit.t;
+  hit.cellId = cellId;
+  // grad_x f = s grad_X f; unscaled exactly (a power of two) unless that overflows.
+  const glm::dvec3 gradient = curvedGradient(geometry, field, root.L) * s;
+  hit.gradient = isFinite(gradient / scale) ? gradient / scale : gradient;
+  return true;
+}
+
+NodeId Scene::uncertifiedHits() const
+{
+  return UncertifiedHits_.load(std::memory_order_relaxed);
+}
+
 bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues, double tMin,
   double tLimit, SurfaceHit& hit) const
 {
+  if (isCurved(cellId))
+  {
+    return intersectCurvedCell(cellId, ray, isoValues, tMin, tLimit, hit);
+  }
   glm::dvec3 vertices[4];
   double values[10];
   loadCell(cellId, vertices, values);
@@ -849,10 +1141,8 @@ double Scene::interpolate(NodeId cellId, const glm::dvec3& point, const double* 
   glm::dvec3 vertices[4];
   double values[10];
   loadCell(cellId, vertices, values, pointValues, components, component);
-  TetFrame frame;
-  TetFrame::fromVertices(vertices, frame); // valid cells only reach here
   double L[4];
-  frame.barycentricOfOffsets(point - vertices[0], point - vertices[1], L);
+  cellCoordinates(cellId, point, L); // valid cells only reach here
   // Scaled (exactly) so that the Bernstein coefficients cannot overflow for values near the
   // largest double; the result is unscaled, and overflows only if the value itself does.
   const double scale = unitScale(values);
@@ -916,14 +1206,8 @@ bool Scene::locate(const glm::dvec3& point, NodeId& cellId) const
     for (std::uint32_t slot = node.firstOrSecondChild; slot < node.firstOrSecondChild + node.count;
          ++slot)
     {
-      glm::dvec3 vertices[4];
-      loadVertices(SlotCell_[slot], vertices);
-      TetFrame frame;
-      TetFrame::fromVertices(vertices, frame);
       double L[4];
-      frame.barycentricOfOffsets(point - vertices[0], point - vertices[1], L);
-      if (L[0] >= -kBarycentricTolerance && L[1] >= -kBarycentricTolerance &&
-        L[2] >= -kBarycentricTolerance && L[3] >= -kBarycentricTolerance)
+      if (inCell(SlotCell_[slot], point, L))
       {
         cellId = SlotCell_[slot];
         return true;
@@ -992,6 +1276,22 @@ void Scene::computeNodalGradients()
     TetFrame frame;
     TetFrame::fromVertices(vertices, frame);
     const BernsteinForm form = BernsteinForm::fromNodeValues(values);
+    const bool curved = isCurved(cell);
+    CurvedGeometry geometry;
+    QuadraticForm curvedField{};
+    if (curved)
+    {
+      glm::dvec3 nodes[10];
+      loadNodes(cell, nodes);
+      geometry = localGeometry(nodes);
+      for (int i = 0; i < 4; ++i)
+      {
+        for (int j = 0; j < 4; ++j)
+        {
+          curvedField.b[i][j] = form.b[i][j];
+        }
+      }
+    }
     const NodeId* ids = Mesh_.cellNodes + 10 * cell;
     for (int n = 0; n < 10; ++n)
     {
@@ -1008,7 +1308,9 @@ void Scene::computeNodalGradients()
       {
         L[kEdgeVertices[n - 4][0]] = L[kEdgeVertices[n - 4][1]] = 0.5;
       }
-      sum[static_cast<std::size_t>(ids[n])] += fieldGradient(form, frame, L);
+      sum[static_cast<std::size_t>(ids[n])] += curved
+        ? curvedGradient(geometry, curvedField, L) * geometry.scale
+        : fieldGradient(form, frame, L);
       ++count[static_cast<std::size_t>(ids[n])];
     }
   }
@@ -1024,12 +1326,8 @@ void Scene::computeNodalGradients()
 
 glm::dvec3 Scene::interpolateNodalGradient(NodeId cellId, const glm::dvec3& point) const
 {
-  glm::dvec3 vertices[4];
-  loadVertices(cellId, vertices);
-  TetFrame frame;
-  TetFrame::fromVertices(vertices, frame);
   double L[4];
-  frame.barycentricOfOffsets(point - vertices[0], point - vertices[1], L);
+  cellCoordinates(cellId, point, L);
   const NodeId* ids = Mesh_.cellNodes + 10 * cellId;
   glm::dvec3 gradient(0.0);
   for (int k = 0; k < 4; ++k)

@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -34,6 +35,10 @@ struct MeshView
   /// mean of its ends: that is how a linear tetrahedron enters as an exact quadratic one. When
   /// false (a mesh of 10-node cells as given), such an id is out of range like any other.
   bool straightEdgeMarkers = false;
+  /// The relative rounding of the coordinates as given (2^-52 for double, 2^-23 for float): a
+  /// mid-edge node farther from its edge's midpoint than 64 times this, relative to the cell's
+  /// longest edge, makes the cell curved (isoparametric); closer ones are rounding.
+  double pointRounding = 0x1p-52;
 };
 
 /// The mid-edge id of a straight edge (MeshView::straightEdgeMarkers).
@@ -44,7 +49,12 @@ struct PreprocessSummary
 {
   NodeId validCells = 0;
   NodeId invertedCells = 0;   ///< valid, negative orientation (rendered the same way)
-  NodeId curvedCells = 0;     ///< valid, a mid-edge node off its edge's midpoint (rendered straight)
+  /// valid, a mid-edge node off its edge's midpoint: rendered as the isoparametric image of the
+  /// reference tet (CurvedTet.h)
+  NodeId curvedCells = 0;
+  /// curved, with a Jacobian determinant that changes sign or vanishes inside (tangled or
+  /// folded): skipped
+  NodeId tangledCells = 0;
   /// flat or needle-like (volume below 1e-13 of the longest edge cubed), or a node id repeated
   /// within the cell
   NodeId degenerateCells = 0;
@@ -167,6 +177,17 @@ public:
   /// The longest edge of a cell.
   double cellSize(NodeId cellId) const;
 
+  /// Whether a valid cell is rendered curved (isoparametric).
+  bool isCurved(NodeId cellId) const
+  {
+    return !Curved_.empty() && Curved_[static_cast<std::size_t>(cellId)] != 0;
+  }
+
+  /// Rays whose hit in a curved cell was accepted at the subdivision limit without a Krawczyk
+  /// certificate (tangent or near-tangent roots), since the scene was built. Counted, not
+  /// guaranteed; thread-safe.
+  NodeId uncertifiedHits() const;
+
   /// Nodal gradients (the paper's "nodal normals"): at each node, the mean of the exact
   /// gradients there of the valid cells that use it, for the whole field scaled by one power of
   /// two (directions exact; magnitudes finite for any field in double range). Computed once, on the first call; the
@@ -216,6 +237,16 @@ private:
   }
   void loadCell(NodeId cellId, glm::dvec3 vertices[4], double values[10],
     const double* pointValues, int components, int component) const;
+  /// A cell's 10 node positions (a missing mid-edge node at its edge's midpoint).
+  void loadNodes(NodeId cellId, glm::dvec3 nodes[10]) const;
+  /// The barycentric coordinates of `point` in a valid cell (for a curved cell, of its preimage
+  /// under the cell's map; outside the cell, of the shape functions' extension as far as Newton
+  /// finds it).
+  void cellCoordinates(NodeId cellId, const glm::dvec3& point, double L[4]) const;
+  /// Whether `point` lies in a valid cell (within kBarycentricTolerance), and where.
+  bool inCell(NodeId cellId, const glm::dvec3& point, double L[4]) const;
+  bool intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues, double tMin,
+    double tLimit, SurfaceHit& hit) const;
   std::uint8_t validate(NodeId cellId, BuildItem& item) const;
   /// Makes `node` for items [begin, end), whose bounds are given. Returns false for a leaf, or
   /// true with the items partitioned at `middle` and the two sides' bounds.
@@ -236,6 +267,8 @@ private:
   std::vector<std::uint32_t> SlotCell_; ///< cell id of each leaf slot
   std::vector<float> SlotRange_;        ///< outward-rounded Bernstein min and max per slot
   std::vector<glm::dvec3> NodalGradients_; ///< per point, once computed
+  std::vector<std::uint8_t> Curved_; ///< per input cell, 1 if curved; empty when none is
+  mutable std::atomic<NodeId> UncertifiedHits_{ 0 };
 };
 
 } // namespace tetdsr

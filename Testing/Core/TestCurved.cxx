@@ -1,0 +1,430 @@
+// Curved (isoparametric) cells against analytic truth.
+//
+// The meshes: a lattice of straight quadratic tets whose every node (mid-edge nodes too) is moved
+// by a global quadratic map W. The quadratic interpolant of a quadratic map is the map itself, so
+// each cell is exactly W(straight cell) and the mesh is W(cube): curved faces, curved cells.
+// A field linear in world coordinates, a . x, is quadratic in each cell's reference coordinates,
+// so its nodal values represent it exactly: its isosurface is the plane a . x = c clipped to
+// W(cube), and membership in W(cube) is decided by inverting W (Newton on the global map, not on
+// any cell). A field Q(W^-1(x)), Q quadratic, is also represented exactly (quadratic in the
+// straight cell's coordinates): its isosurface is W({Q = c}), found along each ray by dense
+// sampling of t -> Q(W^-1(o + t d)) and bisection. Neither truth uses the code under test.
+#include "LatticeMesh.h"
+
+#include "tetdsr/Camera.h"
+#include "tetdsr/CurvedTet.h"
+#include "tetdsr/QuadraticTet.h"
+#include "tetdsr/Scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+namespace
+{
+using tetdsr_test::LatticeMesh;
+
+/// W(x, y, z) = (x + alpha y^2, y + alpha z^2, z): triangular, so one-to-one on all of space
+/// with the explicit inverse z = z', y = y' - alpha z'^2, x = x' - alpha y^2 (det W' = 1).
+struct Warp
+{
+  double alpha;
+
+  glm::dvec3 operator()(const glm::dvec3& x) const
+  {
+    return { x.x + alpha * x.y * x.y, x.y + alpha * x.z * x.z, x.z };
+  }
+
+  glm::dmat3 jacobian(const glm::dvec3& x) const
+  {
+    // glm is column-major: J[c][r] = dW_r / dx_c.
+    glm::dmat3 J(1.0);
+    J[1][0] = 2.0 * alpha * x.y;
+    J[2][1] = 2.0 * alpha * x.z;
+    return J;
+  }
+
+  glm::dvec3 inverse(const glm::dvec3& p) const
+  {
+    const double z = p.z;
+    const double y = p.y - alpha * z * z;
+    return { p.x - alpha * y * y, y, z };
+  }
+};
+
+/// The unit-cube lattice with every node moved by W; `preimage` keeps the nodes before.
+LatticeMesh warpedLattice(int n, const Warp& warp, std::vector<glm::dvec3>& preimage)
+{
+  LatticeMesh mesh = tetdsr_test::makeLattice(n, glm::dvec3(0.0), 1.0);
+  const auto count = static_cast<tetdsr::NodeId>(mesh.points.size() / 3);
+  preimage.resize(static_cast<std::size_t>(count));
+  for (tetdsr::NodeId p = 0; p < count; ++p)
+  {
+    preimage[static_cast<std::size_t>(p)] = mesh.point(p);
+    mesh.setPoint(p, warp(mesh.point(p)));
+  }
+  return mesh;
+}
+
+double distanceToCubeBoundary(const glm::dvec3& q)
+{
+  double d = 1e300;
+  for (int a = 0; a < 3; ++a)
+  {
+    d = std::min({ d, q[a], 1.0 - q[a] });
+  }
+  return d; // negative outside
+}
+
+double angle(const glm::dvec3& a, const glm::dvec3& b)
+{
+  const glm::dvec3 ua = glm::normalize(a), ub = glm::normalize(b);
+  return std::atan2(glm::length(glm::cross(ua, ub)), glm::dot(ua, ub));
+}
+
+tetdsr::Camera lookAt(const glm::dvec3& from, const glm::dvec3& to, double angleDegrees)
+{
+  tetdsr::Camera camera;
+  camera.position = from;
+  camera.focalPoint = to;
+  camera.viewUp = glm::dvec3(0.0, 0.0, 1.0);
+  camera.viewAngleDegrees = angleDegrees;
+  return camera;
+}
+
+struct Tally
+{
+  int compared = 0, band = 0, misses = 0, falseHits = 0, hits = 0;
+  double depthError = 0.0, normalError = 0.0;
+
+  void print(const char* name, double diagonal) const
+  {
+    std::printf("%s: %d pixels compared, %d in the band, %d hits; %d missed, %d false; "
+                "max depth error %.2e of the diagonal, max normal error %.2e rad\n",
+      name, compared, band, hits, misses, falseHits, depthError / diagonal, normalError);
+  }
+};
+} // namespace
+
+TEST(CurvedTet, GeometryReproducesQuadraticMapAndField)
+{
+  // The control-point form of x(L) and of a field agree with the 10 shape functions (VTK order).
+  const Warp warp{ 0.7 };
+  const glm::dvec3 straight[4] = { { 0.1, 0.2, 0.0 }, { 0.9, 0.1, 0.2 }, { 0.3, 0.8, 0.1 },
+    { 0.2, 0.3, 0.9 } };
+  glm::dvec3 nodes[10];
+  for (int k = 0; k < 4; ++k)
+    nodes[k] = warp(straight[k]);
+  for (int e = 0; e < 6; ++e)
+    nodes[4 + e] = warp(0.5 * (straight[tetdsr::kEdgeVertices[e][0]] + straight[tetdsr::kEdgeVertices[e][1]]));
+  const tetdsr::CurvedGeometry g = tetdsr::CurvedGeometry::fromNodes(nodes, 0.5);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < 100; ++trial)
+  {
+    double L[4], sum = 0.0;
+    for (double& l : L)
+    {
+      l = -std::log(unit(random));
+      sum += l;
+    }
+    for (double& l : L)
+      l /= sum;
+    glm::dvec3 straightPoint(0.0);
+    for (int k = 0; k < 4; ++k)
+      straightPoint += L[k] * straight[k];
+    const glm::dvec3 expected = (warp(straightPoint) - nodes[0]) * 0.5;
+    EXPECT_LT(glm::length(g.position(L) - expected), 1e-14);
+    // The Jacobian with respect to (L1, L2, L3) is W' times the straight edges.
+    const glm::dmat3 straightEdges(straight[1] - straight[0], straight[2] - straight[0],
+      straight[3] - straight[0]);
+    const glm::dmat3 expectedJ = 0.5 * warp.jacobian(straightPoint) * straightEdges;
+    const glm::dmat3 J = g.jacobian(L);
+    for (int c = 0; c < 3; ++c)
+      EXPECT_LT(glm::length(J[c] - expectedJ[c]), 1e-13);
+  }
+  EXPECT_EQ(tetdsr::jacobianSign(g), tetdsr::JacobianSign::Positive);
+}
+
+TEST(CurvedTet, TangledCellsAreFoundAndSkipped)
+{
+  // One tet, its edge (0,1) mid-node moved off the edge: by 10% of the edge the cell is curved
+  // and valid; pushed past the opposite vertex the map folds (det J changes sign).
+  LatticeMesh one;
+  const double corners[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
+  for (const auto& c : corners)
+    one.points.insert(one.points.end(), c, c + 3);
+  for (const auto& e : tetdsr::kEdgeVertices)
+    for (int a = 0; a < 3; ++a)
+      one.points.push_back(0.5 * (corners[e[0]][a] + corners[e[1]][a]));
+  for (int k = 0; k < 10; ++k)
+    one.cellNodes.push_back(k);
+  one.values.assign(10, 0.0);
+  one.setPoint(4, glm::dvec3(0.5, 0.1, 0.1));
+  tetdsr::Scene mild(one.view());
+  EXPECT_EQ(mild.summary().curvedCells, 1);
+  EXPECT_EQ(mild.summary().tangledCells, 0);
+  EXPECT_EQ(mild.summary().validCells, 1);
+  one.setPoint(4, glm::dvec3(0.5, 0.9, 0.9));
+  tetdsr::Scene folded(one.view());
+  EXPECT_EQ(folded.summary().tangledCells, 1);
+  EXPECT_EQ(folded.summary().validCells, 0);
+  // Inverted (all vertices mirrored): det J < 0 everywhere is valid, counted as inverted.
+  one.setPoint(4, glm::dvec3(0.5, 0.1, 0.1));
+  for (tetdsr::NodeId p = 0; p < 10; ++p)
+    one.setPoint(p, one.point(p) * glm::dvec3(-1.0, 1.0, 1.0));
+  tetdsr::Scene mirrored(one.view());
+  EXPECT_EQ(mirrored.summary().validCells, 1);
+  EXPECT_EQ(mirrored.summary().invertedCells, 1);
+}
+
+namespace
+{
+/// The plane a . x = c in W(cube), rendered and compared pixel by pixel with the exact
+/// ray/plane intersection.
+Tally planeInWarpedLattice(int n, double alpha, const tetdsr::Camera& camera, int pixels,
+  double& diagonal, tetdsr::NodeId& uncertified)
+{
+  const Warp warp{ alpha };
+  std::vector<glm::dvec3> preimage;
+  LatticeMesh mesh = warpedLattice(n, warp, preimage);
+  const glm::dvec3 a(0.3, -0.5, 0.8);
+  mesh.sample([&](const glm::dvec3& x) { return glm::dot(a, x); });
+  const double c = glm::dot(a, warp(glm::dvec3(0.45, 0.5, 0.55)));
+  const tetdsr::Scene scene(mesh.view());
+  EXPECT_EQ(scene.summary().validCells, 6 * n * n * n);
+  EXPECT_EQ(scene.summary().curvedCells, 6 * n * n * n);
+  const tetdsr::IsoValues iso({ c });
+  const tetdsr::RayGenerator rays(camera, pixels, pixels);
+  diagonal = scene.diagonal();
+  Tally tally;
+  for (int j = 0; j < pixels; ++j)
+  {
+    for (int i = 0; i < pixels; ++i)
+    {
+      const tetdsr::Ray ray = rays.pixelRay(i, j);
+      const double along = glm::dot(a, ray.direction);
+      const double tTrue = along != 0.0 ? (c - glm::dot(a, ray.origin)) / along : -1.0;
+      const glm::dvec3 q = warp.inverse(ray.origin + tTrue * ray.direction);
+      const double inside = tTrue > 0.0 ? distanceToCubeBoundary(q) : -1.0;
+      if (std::abs(inside) < 1e-7)
+      {
+        ++tally.band; // the plane meets the curved boundary within rounding of this ray
+        continue;
+      }
+      ++tally.compared;
+      tetdsr::SurfaceHit hit;
+      const bool found = scene.firstHit(ray, iso, hit);
+      if (inside > 0.0 && !found)
+      {
+        ++tally.misses;
+        std::printf("  missed pixel (%d, %d): t %.17g, preimage (%.17g, %.17g, %.17g)\n", i, j, tTrue, q.x, q.y, q.z);
+      }
+      else if (inside < 0.0 && found)
+        ++tally.falseHits;
+      else if (found)
+      {
+        ++tally.hits;
+        tally.depthError = std::max(tally.depthError, std::abs(hit.t - tTrue));
+        tally.normalError = std::max(tally.normalError, angle(hit.gradient, a));
+      }
+    }
+  }
+  uncertified = scene.uncertifiedHits();
+  return tally;
+}
+} // namespace
+
+TEST(CurvedTet, PlaneInWarpedLatticeIsExact)
+{
+  struct Case
+  {
+    const char* name;
+    int n;
+    double alpha;
+    glm::dvec3 eye;
+  };
+  // Eyes: directions from the domain's centre, at 2.2 units.
+  const Case cases[] = { { "plane, W alpha 0.5, 2^3 x 6 cells", 2, 0.5, { 3.0, -2.0, 1.5 } },
+    { "plane, W alpha 1.0, 1 x 6 cells", 1, 1.0, { 2.5, -1.0, 3.0 } },
+    { "plane, W alpha 0.5, seen from below", 2, 0.5, { 0.3, 0.4, -3.0 } } };
+  for (const Case& k : cases)
+  {
+    double diagonal;
+    tetdsr::NodeId uncertified;
+    const glm::dvec3 centre = Warp{ k.alpha }(glm::dvec3(0.5));
+    const glm::dvec3 eye = centre + 2.2 * glm::normalize(k.eye);
+    const Tally t =
+      planeInWarpedLattice(k.n, k.alpha, lookAt(eye, centre, 40.0), 64, diagonal, uncertified);
+    t.print(k.name, diagonal);
+    std::printf("  uncertified hits: %lld\n", static_cast<long long>(uncertified));
+    EXPECT_EQ(t.misses, 0) << k.name;
+    EXPECT_EQ(t.falseHits, 0) << k.name;
+    EXPECT_GT(t.hits, 1000) << k.name;
+    EXPECT_LE(t.depthError, 1e-9 * diagonal) << k.name;
+    EXPECT_LE(t.normalError, 1e-9) << k.name;
+  }
+}
+
+TEST(CurvedTet, WarpedSphereAgainstSampledTruth)
+{
+  const Warp warp{ 0.5 };
+  std::vector<glm::dvec3> preimage;
+  LatticeMesh mesh = warpedLattice(2, warp, preimage);
+  const glm::dvec3 centre(0.5, 0.45, 0.55);
+  const double radius2 = 0.3 * 0.3;
+  auto Q = [&](const glm::dvec3& q) { return glm::dot(q - centre, q - centre); };
+  mesh.values.resize(preimage.size());
+  for (std::size_t p = 0; p < preimage.size(); ++p)
+    mesh.values[p] = Q(preimage[p]);
+  const tetdsr::Scene scene(mesh.view());
+  const tetdsr::IsoValues iso({ radius2 });
+  const int pixels = 48;
+  const glm::dvec3 middle = warp(centre);
+  const tetdsr::RayGenerator rays(
+    lookAt(middle + 1.6 * glm::normalize(glm::dvec3(2.0, -1.5, 1.0)), middle, 35.0), pixels, pixels);
+  Tally tally;
+  const double diagonal = scene.diagonal();
+  for (int j = 0; j < pixels; ++j)
+  {
+    for (int i = 0; i < pixels; ++i)
+    {
+      const tetdsr::Ray ray = rays.pixelRay(i, j);
+      // g(t) = Q(W^-1(o + t d)) - r^2, sampled over the stretch of the ray near W(cube).
+      auto g = [&](double t) {
+        const glm::dvec3 q = warp.inverse(ray.origin + t * ray.direction);
+        if (distanceToCubeBoundary(q) < 0.0)
+          return 1.0; // outside the mesh (the sphere's preimage lies well inside the cube)
+        return Q(q) - radius2;
+      };
+      const double t0 = 0.5, t1 = 3.0;
+      const int samples = 4000;
+      double prev = g(t0), tPrev = t0, tTrue = -1.0, smallest = std::abs(prev);
+      for (int s = 1; s <= samples; ++s)
+      {
+        const double t = t0 + (t1 - t0) * s / samples;
+        const double value = g(t);
+        smallest = std::min(smallest, std::abs(value));
+        if (prev > 0.0 && value <= 0.0)
+        {
+          double lo = tPrev, hi = t;
+          for (int b = 0; b < 100; ++b)
+          {
+            const double mid = 0.5 * (lo + hi);
+            (g(mid) > 0.0 ? lo : hi) = mid;
+          }
+          tTrue = 0.5 * (lo + hi);
+          break;
+        }
+        prev = value;
+        tPrev = t;
+      }
+      // The band: rays that graze the sphere (the sampled minimum of |g| is tiny without a
+      // crossing, or the crossing is near-tangent).
+      glm::dvec3 truthNormal(0.0);
+      if (tTrue > 0.0)
+      {
+        const glm::dvec3 q = warp.inverse(ray.origin + tTrue * ray.direction);
+        truthNormal = glm::inverse(glm::transpose(warp.jacobian(q))) * (2.0 * (q - centre));
+        if (std::abs(glm::dot(glm::normalize(truthNormal), ray.direction)) < 1e-3)
+        {
+          ++tally.band;
+          continue;
+        }
+      }
+      else if (smallest < 1e-4)
+      {
+        ++tally.band;
+        continue;
+      }
+      ++tally.compared;
+      tetdsr::SurfaceHit hit;
+      const bool found = scene.firstHit(ray, iso, hit);
+      if (tTrue > 0.0 && !found)
+        ++tally.misses;
+      else if (tTrue < 0.0 && found)
+        ++tally.falseHits;
+      else if (found)
+      {
+        ++tally.hits;
+        tally.depthError = std::max(tally.depthError, std::abs(hit.t - tTrue));
+        tally.normalError = std::max(tally.normalError, angle(hit.gradient, truthNormal));
+      }
+    }
+  }
+  tally.print("warped sphere, W alpha 0.5", diagonal);
+  EXPECT_EQ(tally.misses, 0);
+  EXPECT_EQ(tally.falseHits, 0);
+  EXPECT_GT(tally.hits, 600);
+  EXPECT_LE(tally.depthError, 1e-9 * diagonal);
+  EXPECT_LE(tally.normalError, 1e-8);
+}
+
+TEST(CurvedTet, RaysThroughSharedNodesAndEdgesDoNotLeak)
+{
+  // The plane through each interior node (iso-value a . node), hit by rays aimed at the node
+  // from several directions: the hit lies on vertices and curved edges shared by many cells.
+  const Warp warp{ 0.5 };
+  std::vector<glm::dvec3> preimage;
+  LatticeMesh mesh = warpedLattice(2, warp, preimage);
+  const glm::dvec3 a(0.3, -0.5, 0.8);
+  mesh.sample([&](const glm::dvec3& x) { return glm::dot(a, x); });
+  const tetdsr::Scene scene(mesh.view());
+  std::mt19937 random(11);
+  std::normal_distribution<double> normal;
+  int rays = 0, misses = 0;
+  double worst = 0.0;
+  for (std::size_t p = 0; p < preimage.size(); ++p)
+  {
+    if (distanceToCubeBoundary(preimage[p]) < 0.2)
+      continue; // interior nodes only: the plane then passes inside the mesh around them
+    const glm::dvec3 node = mesh.point(static_cast<tetdsr::NodeId>(p));
+    const tetdsr::IsoValues iso({ glm::dot(a, node) });
+    for (int k = 0; k < 6; ++k)
+    {
+      glm::dvec3 d(normal(random), normal(random), normal(random));
+      d = glm::normalize(d);
+      tetdsr::Ray ray{ node - 4.0 * d, d };
+      tetdsr::SurfaceHit hit;
+      ++rays;
+      if (!scene.firstHit(ray, iso, hit))
+      {
+        ++misses;
+        continue;
+      }
+      // The plane is hit once, at the node.
+      worst = std::max(worst, std::abs(hit.t - 4.0));
+    }
+  }
+  std::printf("rays through %d shared nodes: %d missed, max depth error %.2e\n", rays, misses, worst);
+  EXPECT_GT(rays, 50);
+  EXPECT_EQ(misses, 0);
+  EXPECT_LE(worst, 1e-9 * scene.diagonal());
+}
+
+TEST(CurvedTet, PointLocationAndInterpolationFollowTheMap)
+{
+  const Warp warp{ 0.5 };
+  std::vector<glm::dvec3> preimage;
+  LatticeMesh mesh = warpedLattice(2, warp, preimage);
+  auto Q = [](const glm::dvec3& q) { return q.x * q.x - 0.5 * q.y * q.z + q.z; };
+  mesh.values.resize(preimage.size());
+  for (std::size_t p = 0; p < preimage.size(); ++p)
+    mesh.values[p] = Q(preimage[p]);
+  const tetdsr::Scene scene(mesh.view());
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> unit(0.02, 0.98);
+  double worst = 0.0;
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    const glm::dvec3 q(unit(random), unit(random), unit(random));
+    tetdsr::NodeId cell;
+    ASSERT_TRUE(scene.locate(warp(q), cell)) << q.x << " " << q.y << " " << q.z;
+    worst = std::max(worst, std::abs(scene.interpolate(cell, warp(q), mesh.values.data()) - Q(q)));
+  }
+  EXPECT_LE(worst, 1e-12);
+  tetdsr::NodeId cell;
+  EXPECT_FALSE(scene.locate(warp(glm::dvec3(1.05, 0.5, 0.5)), cell)); // outside W(cube)
+}
