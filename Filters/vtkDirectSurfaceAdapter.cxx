@@ -208,11 +208,11 @@ bool PreparedMesh::Prepare(vtkUnstructuredGrid* input, vtkDataArray* scalars, in
       "VTK_QUADRATIC_TETRA, 4 for VTK_TETRA), or offsets out of order or past the end of the "
       "connectivity array."));
   }
-  if (summary.curvedCells > 0)
+  if (summary.tangledCells > 0)
   {
-    messages.warnings.push_back(Text(summary.curvedCells,
-      " cells are curved (a mid-edge node off its edge's midpoint): they are rendered as "
-      "straight-sided tetrahedra, so only approximately."));
+    messages.warnings.push_back(Text("Skipped ", summary.tangledCells,
+      " tangled curved cells (mid-edge nodes so far off their edges that the cell folds: the "
+      "Jacobian determinant of its quadratic map changes sign or vanishes inside it)."));
   }
   if (summary.degenerateCells > 0)
   {
@@ -301,6 +301,9 @@ bool PreparedMesh::Internals::Convert(vtkUnstructuredGrid* input, vtkDataArray* 
     }
     mesh.points = PointsCopy.data();
   }
+  // Mid-edge nodes within rounding of their edges' midpoints are straight; float coordinates
+  // round at 2^-24 relative.
+  mesh.pointRounding = pointData->GetDataType() == VTK_FLOAT ? 0x1p-23 : 0x1p-52;
 
   if (scalars->GetNumberOfComponents() == 1 && vtkDoubleArray::FastDownCast(scalars))
   {

@@ -830,6 +830,7 @@ int vtkDirectSurfaceRayCaster::RequestData(
   this->NumberOfInvertedCells = summary.invertedCells;
   this->NumberOfCurvedCells = summary.curvedCells;
   this->NumberOfDegenerateCells = summary.degenerateCells;
+  this->NumberOfTangledCells = summary.tangledCells;
   this->NumberOfOutOfScaleCells = summary.outOfScaleCells;
   this->NumberOfNonFiniteCells = summary.nonFiniteCells;
   this->NumberOfInvalidIdCells = summary.invalidIdCells;
@@ -1010,6 +1011,7 @@ void vtkDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfInvertedCells: " << this->NumberOfInvertedCells << "\n";
   os << indent << "NumberOfCurvedCells: " << this->NumberOfCurvedCells << "\n";
   os << indent << "NumberOfDegenerateCells: " << this->NumberOfDegenerateCells << "\n";
+  os << indent << "NumberOfTangledCells: " << this->NumberOfTangledCells << "\n";
   os << indent << "NumberOfNonFiniteCells: " << this->NumberOfNonFiniteCells << "\n";
   os << indent << "NumberOfInvalidIdCells: " << this->NumberOfInvalidIdCells << "\n";
   os << indent << "NumberOfUnsupportedCells: " << this->NumberOfUnsupportedCells << "\n";

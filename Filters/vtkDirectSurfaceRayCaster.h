@@ -313,7 +313,8 @@ public:
   ///@{
   /**
    * What the last preprocessing found: cells rendered, inverted (rendered), curved (rendered
-   * as straight-sided, so approximately), and skipped for: flat or needle-like shape or
+   * as the isoparametric image of the reference tet), and skipped for: tangled curved cells
+   * (the Jacobian determinant changes sign inside), flat or needle-like shape or
    * repeated node ids (degenerate), NaN/Inf values or coordinates, node ids out of range, an
    * unsupported cell type, a number of ids that does not match the type or offsets out of
    * order (malformed), a longest edge outside [1e-100, 1e100] (out of scale).
@@ -322,6 +323,7 @@ public:
   vtkGetMacro(NumberOfInvertedCells, vtkIdType);
   vtkGetMacro(NumberOfCurvedCells, vtkIdType);
   vtkGetMacro(NumberOfDegenerateCells, vtkIdType);
+  vtkGetMacro(NumberOfTangledCells, vtkIdType);
   vtkGetMacro(NumberOfNonFiniteCells, vtkIdType);
   vtkGetMacro(NumberOfInvalidIdCells, vtkIdType);
   vtkGetMacro(NumberOfUnsupportedCells, vtkIdType);
@@ -390,6 +392,7 @@ protected:
   vtkIdType NumberOfInvertedCells = 0;
   vtkIdType NumberOfCurvedCells = 0;
   vtkIdType NumberOfDegenerateCells = 0;
+  vtkIdType NumberOfTangledCells = 0;
   vtkIdType NumberOfNonFiniteCells = 0;
   vtkIdType NumberOfInvalidIdCells = 0;
   vtkIdType NumberOfUnsupportedCells = 0;

@@ -704,7 +704,8 @@ COUNTER_OF = {UNSUPPORTED: "Unsupported", MALFORMED: "Malformed", INVALID_ID: "I
               NONFINITE_VERTEX: "NonFinite", NONFINITE_MIDEDGE: "NonFinite",
               NONFINITE_VALUE: "NonFinite"}
 # The filter's skip counters (GetNumberOf<name>Cells); later versions may add some.
-SKIP_COUNTERS = ["Degenerate", "NonFinite", "InvalidId", "Unsupported", "Malformed", "OutOfScale"]
+SKIP_COUNTERS = ["Degenerate", "NonFinite", "InvalidId", "Unsupported", "Malformed", "OutOfScale",
+                 "Tangled"]
 
 
 # Reference coordinates of VTK's 10 quadratic-tetra nodes, and the quadratic monomials in them.
