@@ -21,7 +21,8 @@ struct Piece
   int depth;
 };
 
-double magnitude(const QuadraticForm& form, int n)
+template <int n>
+double magnitude(const QuadraticForm& form)
 {
   double m = 0.0;
   for (int i = 0; i <= n; ++i)
@@ -35,15 +36,34 @@ double magnitude(const QuadraticForm& form, int n)
 }
 
 /// Min and max of the form's Bernstein coefficients on the piece (its blossom at vertex pairs).
-void coefficientRange(const QuadraticForm& form, const Piece& piece, int n, double& lo, double& hi)
+template <int n>
+void coefficientRange(const QuadraticForm& form, const Piece& piece, double& lo, double& hi)
 {
+  // B V_j for each vertex j once; then each coefficient is one dot product.
+  double bv[4][4];
+  for (int j = 0; j <= n; ++j)
+  {
+    for (int a = 0; a <= n; ++a)
+    {
+      double sum = 0.0;
+      for (int b = 0; b <= n; ++b)
+      {
+        sum += form.b[a][b] * piece.V[j][b];
+      }
+      bv[j][a] = sum;
+    }
+  }
   lo = kInfinity;
   hi = -kInfinity;
   for (int i = 0; i <= n; ++i)
   {
     for (int j = i; j <= n; ++j)
     {
-      const double c = form.blossom(piece.V[i], piece.V[j], n);
+      double c = 0.0;
+      for (int a = 0; a <= n; ++a)
+      {
+        c += piece.V[i][a] * bv[j][a];
+      }
       lo = std::min(lo, c);
       hi = std::max(hi, c);
     }
@@ -51,7 +71,8 @@ void coefficientRange(const QuadraticForm& form, const Piece& piece, int n, doub
 }
 
 /// (B L)_j - (B L)_0 for j = 1..n, times 2: the derivative along y_j = L_j (L_0 = 1 - sum y).
-void formGradient(const QuadraticForm& form, const double L[4], int n, double g[3])
+template <int n>
+void formGradient(const QuadraticForm& form, const double L[4], double g[3])
 {
   double bl[4];
   for (int i = 0; i <= n; ++i)
@@ -70,7 +91,8 @@ void formGradient(const QuadraticForm& form, const double L[4], int n, double g[
 
 /// Inverse of an n x n matrix (n <= 3) by Gauss-Jordan with partial pivoting; false if singular
 /// to rounding.
-bool invert(int n, const double a[3][3], double inverse[3][3])
+template <int n>
+bool invert(const double a[3][3], double inverse[3][3])
 {
   double m[3][6];
   double scale = 0.0;
@@ -132,24 +154,26 @@ bool invert(int n, const double a[3][3], double inverse[3][3])
   return true;
 }
 
-void evaluate(const QuadraticForm* equations, int n, const double L[4], double F[3], double J[3][3])
+template <int n>
+void evaluate(const QuadraticForm* equations, const double L[4], double F[3], double J[3][3])
 {
   for (int k = 0; k < n; ++k)
   {
     F[k] = equations[k].blossom(L, L, n);
-    formGradient(equations[k], L, n, J[k]);
+    formGradient<n>(equations[k], L, J[k]);
   }
 }
 
 /// Newton's method on the equations from L (in place). Converged when a step moves no coordinate
 /// by more than a few ulps; false if it does not converge (or leaves double range).
-bool newton(const QuadraticForm* equations, int n, double L[4])
+template <int n>
+bool newton(const QuadraticForm* equations, double L[4])
 {
   for (int iteration = 0; iteration < 40; ++iteration)
   {
     double F[3], J[3][3], Jinv[3][3];
-    evaluate(equations, n, L, F, J);
-    if (!invert(n, J, Jinv))
+    evaluate<n>(equations, L, F, J);
+    if (!invert<n>(J, Jinv))
     {
       return false;
     }
@@ -190,12 +214,13 @@ enum class Krawczyk
 /// (coordinates y_1..y_n), Y = J(m)^-1: every root in X lies in K(X); K(X) inside X proves
 /// exactly one root in X, K(X) disjoint from X proves none. Evaluated in double; the margins
 /// (1e-9 relative) absorb rounding.
-Krawczyk krawczyk(const QuadraticForm* equations, int n, const double m[4], const double r[3],
+template <int n>
+Krawczyk krawczyk(const QuadraticForm* equations, const double m[4], const double r[3],
   double image[3][2])
 {
   double F[3], J[3][3], Y[3][3];
-  evaluate(equations, n, m, F, J);
-  if (!invert(n, J, Y))
+  evaluate<n>(equations, m, F, J);
+  if (!invert<n>(J, Y))
   {
     return Krawczyk::Unknown;
   }
@@ -246,7 +271,8 @@ Krawczyk krawczyk(const QuadraticForm* equations, int n, const double m[4], cons
   return inside ? Krawczyk::Unique : Krawczyk::Unknown;
 }
 
-bool insideSimplex(const double L[4], int n, double tolerance)
+template <int n>
+bool insideSimplex(const double L[4], double tolerance)
 {
   for (int i = 0; i <= n; ++i)
   {
@@ -280,17 +306,20 @@ QuadraticForm QuadraticForm::face(int omit) const
   return form;
 }
 
-bool solveOnSimplex(int n, const QuadraticForm* equations, const QuadraticForm* objective,
-  double lo, double hi, double tolerance, SimplexRoot& root, const SolveLimits& limits, int* pieces)
+namespace
+{
+template <int n>
+bool solve(const QuadraticForm* equations, const QuadraticForm* objective, double lo, double hi,
+  double tolerance, SimplexRoot& root, const SolveLimits& limits, int* pieces)
 {
   // Rounding of a blossom of coefficients up to M with weights in [0, 1] summing to 1 stays below
   // a few ulps of M: coefficients within this pad of 0 do not prove a sign.
   double pad[3];
   for (int k = 0; k < n; ++k)
   {
-    pad[k] = 64.0 * kEpsilon * magnitude(equations[k], n);
+    pad[k] = 64.0 * kEpsilon * magnitude<n>(equations[k]);
   }
-  const double objectivePad = objective ? 64.0 * kEpsilon * magnitude(*objective, n) : 0.0;
+  const double objectivePad = objective ? 64.0 * kEpsilon * magnitude<n>(*objective) : 0.0;
 
   // Depth-first, nearer child first; at most one pending sibling per level.
   Piece stack[64 + 2];
@@ -343,7 +372,7 @@ bool solveOnSimplex(int n, const QuadraticForm* equations, const QuadraticForm* 
     for (int k = 0; k < n && !empty; ++k)
     {
       double cLo, cHi;
-      coefficientRange(equations[k], piece, n, cLo, cHi);
+      coefficientRange<n>(equations[k], piece, cLo, cHi);
       empty = cLo > pad[k] || cHi < -pad[k];
     }
     if (empty)
@@ -353,56 +382,7 @@ bool solveOnSimplex(int n, const QuadraticForm* equations, const QuadraticForm* 
     // The same test on the equations preconditioned by the inverse Jacobian at the piece's
     // centre (Y F, a combination of forms is a form): near a simple root each is about one
     // coordinate's distance to it, so their convex hulls shut out far more than the raw ones.
-    {
-      double centre[4] = { 0.0, 0.0, 0.0, 0.0 };
-      for (int v = 0; v <= n; ++v)
-      {
-        for (int i = 0; i <= n; ++i)
-        {
-          centre[i] += piece.V[v][i] / (n + 1);
-        }
-      }
-      double F[3], J[3][3], Y[3][3];
-      evaluate(equations, n, centre, F, J);
-      if (invert(n, J, Y))
-      {
-        for (int i = 0; i < n && !empty; ++i)
-        {
-          QuadraticForm combined{};
-          double combinedPad = 0.0;
-          for (int k = 0; k < n; ++k)
-          {
-            for (int a = 0; a <= n; ++a)
-            {
-              for (int b = 0; b <= n; ++b)
-              {
-                combined.b[a][b] += Y[i][k] * equations[k].b[a][b];
-              }
-            }
-            combinedPad += std::abs(Y[i][k]) * pad[k];
-          }
-          double cLo, cHi;
-          coefficientRange(combined, piece, n, cLo, cHi);
-          // Rounding of the combination itself: a few ulps of its terms.
-          combinedPad = 2.0 * combinedPad + 64.0 * kEpsilon * magnitude(combined, n);
-          empty = cLo > combinedPad || cHi < -combinedPad;
-        }
-      }
-    }
-    if (empty)
-    {
-      continue;
-    }
-    if (objective)
-    {
-      double oLo, oHi;
-      coefficientRange(*objective, piece, n, oLo, oHi);
-      if (oLo > best + objectivePad || oHi < lo - objectivePad)
-      {
-        continue;
-      }
-    }
-    // The box around the piece, in y = (L_1..L_n).
+    // The piece's centre and the half-widths of the box around it, in y = (L_1..L_n).
     double m[4] = { 0.0, 0.0, 0.0, 0.0 };
     for (int v = 0; v <= n; ++v)
     {
@@ -419,13 +399,60 @@ bool solveOnSimplex(int n, const QuadraticForm* equations, const QuadraticForm* 
         r[i - 1] = std::max(r[i - 1], std::abs(piece.V[v][i] - m[i]));
       }
     }
+    // Whether a Krawczyk test is worth its cost: when each preconditioned equation varies over
+    // the piece by little more than the piece's own width (it is then close to linear there).
+    bool promising = false;
+    {
+      double F[3], J[3][3], Y[3][3];
+      evaluate<n>(equations, m, F, J);
+      if (invert<n>(J, Y))
+      {
+        promising = true;
+        for (int i = 0; i < n && !empty; ++i)
+        {
+          QuadraticForm combined{};
+          double combinedPad = 0.0;
+          for (int k = 0; k < n; ++k)
+          {
+            for (int a = 0; a <= n; ++a)
+            {
+              for (int b = 0; b <= n; ++b)
+              {
+                combined.b[a][b] += Y[i][k] * equations[k].b[a][b];
+              }
+            }
+            combinedPad += std::abs(Y[i][k]) * pad[k];
+          }
+          double cLo, cHi;
+          coefficientRange<n>(combined, piece, cLo, cHi);
+          // Rounding of the combination itself: a few ulps of its terms.
+          combinedPad = 2.0 * combinedPad + 64.0 * kEpsilon * magnitude<n>(combined);
+          empty = cLo > combinedPad || cHi < -combinedPad;
+          promising = promising && cHi - cLo <= 6.0 * r[i];
+        }
+      }
+    }
+    if (empty)
+    {
+      continue;
+    }
+    if (objective)
+    {
+      double oLo, oHi;
+      coefficientRange<n>(*objective, piece, oLo, oHi);
+      if (oLo > best + objectivePad || oHi < lo - objectivePad)
+      {
+        continue;
+      }
+    }
     // Interval Newton: the roots in the box lie in its Krawczyk image too, so the box shrinks
     // to their intersection while that helps (quadratically, near a simple root).
+    const bool last = piece.depth >= maxDepth || visited >= limits.maxPieces;
     Krawczyk test = Krawczyk::Unknown;
-    for (int contraction = 0; contraction < 8; ++contraction)
+    for (int contraction = 0; contraction < ((promising || last) ? 8 : 0); ++contraction)
     {
       double image[3][2];
-      test = krawczyk(equations, n, m, r, image);
+      test = krawczyk<n>(equations, m, r, image);
       if (test != Krawczyk::Unknown)
       {
         break;
@@ -453,11 +480,10 @@ bool solveOnSimplex(int n, const QuadraticForm* equations, const QuadraticForm* 
       continue;
     }
     const bool certified = test == Krawczyk::Unique;
-    const bool last = piece.depth >= maxDepth || visited >= limits.maxPieces;
     if (certified || last)
     {
       double L[4] = { m[0], m[1], m[2], m[3] };
-      bool converged = newton(equations, n, L);
+      bool converged = newton<n>(equations, L);
       if (converged && !certified)
       {
         // Uncertified: accept only a root near this piece.
@@ -480,11 +506,11 @@ bool solveOnSimplex(int n, const QuadraticForm* equations, const QuadraticForm* 
         {
           radius = std::max(radius, r[i]);
         }
-        for (int grow = 0; grow < 6; ++grow)
+        for (int grow = 0; grow < 12; ++grow)
         {
-          radius *= 2.0;
+          radius *= 1.5;
           double c[4] = { L[0], L[1], L[2], L[3] }, rr[3] = { radius, radius, radius }, image[3][2];
-          if (krawczyk(equations, n, c, rr, image) != Krawczyk::Unique)
+          if (krawczyk<n>(equations, c, rr, image) != Krawczyk::Unique)
           {
             break;
           }
@@ -496,7 +522,7 @@ bool solveOnSimplex(int n, const QuadraticForm* equations, const QuadraticForm* 
         }
         known[knownCount < 8 ? knownCount++ : (visited % 8)] = box;
       }
-      if (converged && insideSimplex(L, n, tolerance))
+      if (converged && insideSimplex<n>(L, tolerance))
       {
         const double value = objective ? objective->blossom(L, L, n) : 0.0;
         if (!objective || (value >= lo && value <= best))
@@ -570,6 +596,14 @@ bool solveOnSimplex(int n, const QuadraticForm* equations, const QuadraticForm* 
     *pieces = visited;
   }
   return found;
+}
+} // namespace
+
+bool solveOnSimplex(int n, const QuadraticForm* equations, const QuadraticForm* objective,
+  double lo, double hi, double tolerance, SimplexRoot& root, const SolveLimits& limits, int* pieces)
+{
+  return n == 2 ? solve<2>(equations, objective, lo, hi, tolerance, root, limits, pieces)
+                : solve<3>(equations, objective, lo, hi, tolerance, root, limits, pieces);
 }
 
 CurvedGeometry CurvedGeometry::fromNodes(const glm::dvec3 nodes[10], double scale)
@@ -656,7 +690,7 @@ glm::dvec3 curvedGradient(const CurvedGeometry& geometry, const QuadraticForm& f
   const double L[4])
 {
   double g[3];
-  formGradient(field, L, 3, g);
+  formGradient<3>(field, L, g);
   const glm::dmat3 J = geometry.jacobian(L);
   const double det = glm::determinant(J);
   if (!(det != 0.0) || !std::isfinite(det))
@@ -808,7 +842,7 @@ bool inverseNewton(const CurvedGeometry& geometry, const glm::dvec3& target, dou
     axis[k] = 1.0;
     equations[k] = geometry.component(axis, target[k]);
   }
-  return newton(equations, 3, L);
+  return newton<3>(equations, L);
 }
 
 } // namespace tetdsr

@@ -1132,7 +1132,8 @@ bool Scene::firstHit(
 std::size_t Scene::memoryBytes() const
 {
   return Nodes_.capacity() * sizeof(Node) + SlotCell_.capacity() * sizeof(std::uint32_t) +
-    SlotRange_.capacity() * sizeof(float) + NodalGradients_.capacity() * sizeof(glm::dvec3);
+    SlotRange_.capacity() * sizeof(float) + NodalGradients_.capacity() * sizeof(glm::dvec3) +
+    Curved_.capacity();
 }
 
 double Scene::interpolate(NodeId cellId, const glm::dvec3& point, const double* pointValues,

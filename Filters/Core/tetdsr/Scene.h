@@ -201,7 +201,7 @@ public:
 
   /// Bytes this scene keeps (the mesh it views is not counted): 12 per valid cell plus the
   /// hierarchy's nodes (about one per 2 cells, 40 bytes each), plus 24 per point once nodal
-  /// gradients are computed.
+  /// gradients are computed, plus 1 per input cell when any cell is curved.
   std::size_t memoryBytes() const;
 
   /// Barycentric tolerance by which a cell is widened when clipping a ray to it. Rounding in
