@@ -235,6 +235,47 @@ class Mapper(unittest.TestCase):
     def test_depth_equals_filter_parallel(self):
         self.check_against_filter(True)
 
+    def test_curved_cells_plane_depth(self):
+        """Curved cells (gmsh ball, mid-edge nodes on the sphere) holding f = a . x exactly: the
+        mapper's depth is the plane's, and its coverage the filter's."""
+        import os
+        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+        reader = vtkXMLUnstructuredGridReader()
+        reader.SetFileName(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data",
+                                        "curved_ball.vtu"))
+        reader.Update()
+        ball = reader.GetOutput()
+        a, iso = np.array([0.3, -0.5, 0.8]), 0.15
+
+        def linear(mapper, actor, renderer):
+            mapper.SetInputArrayToProcess(0, 0, 0, 0, "linear")
+            renderer.GetActiveCamera().SetPosition(2.6, 1.9, 3.4)
+            renderer.GetActiveCamera().SetFocalPoint(0, 0, 0)
+        window, renderer, mapper, _ = scene(ball, iso=iso, configure=linear)
+        window.Render()
+        z = zbuffer(window)
+        composite = matrix(renderer)
+        origin, direction = pixel_rays(composite)
+        t = (iso - origin @ a) / (direction @ a)
+        plane = window_depth(composite, origin + t[:, None] * direction).reshape(H, W)
+        caster = vtkDirectSurfaceRayCaster()
+        caster.SetInputData(ball)
+        caster.SetInputArrayToProcess(0, 0, 0, 0, "linear")
+        caster.SetValue(0, iso)
+        caster.SetImageSize(W, H)
+        caster.SetCamera(renderer.GetActiveCamera())
+        caster.Update()
+        self.assertGreater(caster.GetNumberOfCurvedCells(), 200)
+        filter_hit = np.isfinite(vtk_to_numpy(caster.GetOutput().GetPointData().GetArray("Depth"))).reshape(H, W)
+        covered = z < 1
+        self.assertGreater(covered.sum(), 0.2 * W * H)
+        differ = int((covered != filter_hit).sum())
+        error = np.abs(z - plane)[covered].max()
+        print("curved ball, plane a.x = %g: %d pixels, max |depth - plane| = %.2e; coverage "
+              "differs from the filter's on %d" % (iso, covered.sum(), error, differ))
+        self.assertLess(error, DEPTH_TOLERANCE)
+        self.assertLessEqual(differ, 0.002 * covered.sum(), "silhouette pixels only")
+
     def test_lighting_matches_a_polygon_surface(self):
         # f = x + 2y + 3z: its iso-surface 0.4 is a plane, drawn once by the mapper and once as a
         # polygon (vtkPlaneSource over the same plane) with the same property and lights.
