@@ -930,10 +930,13 @@ int vtkDirectSurfaceRayCaster::RequestData(
     const tetdsr::IsoValues isoValues(values);
     const tetdsr::Renderer renderer(*scene, camera, isoValues, settings, view);
     const vtkIdType tiles = renderer.numberOfTiles();
+    const tetdsr::NodeId uncertifiedBefore = scene->uncertifiedHits();
     const vtkIdType tilesDone = adapter::Cast(renderer,
       settings.normals.mode == tetdsr::NormalMode::DepthBuffer, this->NumberOfThreads,
       [this]() { return this->CheckAbort(); },
       [this](double fraction) { this->UpdateProgress(fraction); });
+    this->NumberOfUncertifiedHits =
+      static_cast<vtkIdType>(scene->uncertifiedHits() - uncertifiedBefore);
     if (tilesDone < tiles)
     {
       vtkWarningMacro("Aborted after " << tilesDone << " of " << tiles << " image tiles.");
@@ -1012,6 +1015,7 @@ void vtkDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfCurvedCells: " << this->NumberOfCurvedCells << "\n";
   os << indent << "NumberOfDegenerateCells: " << this->NumberOfDegenerateCells << "\n";
   os << indent << "NumberOfTangledCells: " << this->NumberOfTangledCells << "\n";
+  os << indent << "NumberOfUncertifiedHits: " << this->NumberOfUncertifiedHits << "\n";
   os << indent << "NumberOfNonFiniteCells: " << this->NumberOfNonFiniteCells << "\n";
   os << indent << "NumberOfInvalidIdCells: " << this->NumberOfInvalidIdCells << "\n";
   os << indent << "NumberOfUnsupportedCells: " << this->NumberOfUnsupportedCells << "\n";

@@ -331,6 +331,14 @@ public:
   vtkGetMacro(NumberOfOutOfScaleCells, vtkIdType);
   ///@}
 
+  /**
+   * Hits in curved cells, in the last image, that the solver accepted at its subdivision limit
+   * without a Krawczyk certificate (tangent or near-tangent roots; every other hit in a curved
+   * cell is certified). Counts the crossings behind translucent surfaces too, not only the
+   * pixels' nearest hits.
+   */
+  vtkGetMacro(NumberOfUncertifiedHits, vtkIdType);
+
   ///@{
   /**
    * The processes the input is distributed over (default: the global controller, if any). With
@@ -393,6 +401,7 @@ protected:
   vtkIdType NumberOfCurvedCells = 0;
   vtkIdType NumberOfDegenerateCells = 0;
   vtkIdType NumberOfTangledCells = 0;
+  vtkIdType NumberOfUncertifiedHits = 0;
   vtkIdType NumberOfNonFiniteCells = 0;
   vtkIdType NumberOfInvalidIdCells = 0;
   vtkIdType NumberOfUnsupportedCells = 0;

@@ -158,6 +158,7 @@ class CurvedMeshes(unittest.TestCase):
         self.assertGreater(caster.GetNumberOfCurvedCells(), 0)
         self.assertEqual(caster.GetNumberOfTangledCells(), 0)
         self.assertEqual(caster.GetNumberOfRenderedCells(), grid.GetNumberOfCells())
+        self.assertEqual(caster.GetNumberOfUncertifiedHits(), 0, label)
         result = compare(curved, truth_depth, truth_normal, band, ref.diagonal)
         before = compare(flat, truth_depth, truth_normal, band, ref.diagonal)
         for r, who, image in ((result, "TetDSR", curved), (before, "TetDSR, mid-edge nodes ignored", flat)):
