@@ -31,3 +31,6 @@ build/bin/tetdsr-benchmark --normals "$IMAGE" 26
 echo
 echo "Appearance options, lattice n = 26 (105,456 cells), ${IMAGE}x${IMAGE}, re-render times (best of 3):"
 build/bin/tetdsr-benchmark --options "$IMAGE" 26
+echo
+echo "Curved cells against their straightened copies (Testing/Benchmark/curved_cost.py), ${IMAGE}x${IMAGE}:"
+PYTHONPATH="$PWD/build/lib/python3/dist-packages" /usr/bin/python3 Testing/Benchmark/curved_cost.py "$IMAGE"
