@@ -216,13 +216,29 @@ enum class Krawczyk
 /// (1e-9 relative) absorb rounding.
 template <int n>
 Krawczyk krawczyk(const QuadraticForm* equations, const double m[4], const double r[3],
-  double image[3][2])
+  double image[3][2], const double (*known)[3][3] = nullptr)
 {
+  // F(m), J(m) and J(m)^-1: computed here, or given (known[0], known[1], known[2]; F in row 0).
   double F[3], J[3][3], Y[3][3];
-  evaluate<n>(equations, m, F, J);
-  if (!invert<n>(J, Y))
+  if (known)
   {
-    return Krawczyk::Unknown;
+    for (int i = 0; i < n; ++i)
+    {
+      F[i] = known[0][0][i];
+      for (int j = 0; j < n; ++j)
+      {
+        J[i][j] = known[1][i][j];
+        Y[i][j] = known[2][i][j];
+      }
+    }
+  }
+  else
+  {
+    evaluate<n>(equations, m, F, J);
+    if (!invert<n>(J, Y))
+    {
+      return Krawczyk::Unknown;
+    }
   }
   // R[k][j] bounds |J_kj(y) - J_kj(m)| over the box: J_kj is affine in y with slope a_kji.
   double R[3][3];
@@ -379,6 +395,16 @@ bool solve(const QuadraticForm* equations, const QuadraticForm* objective, doubl
     {
       continue;
     }
+    // Beyond the nearest root found, or before the window: nothing to find.
+    if (objective)
+    {
+      double oLo, oHi;
+      coefficientRange<n>(*objective, piece, oLo, oHi);
+      if (oLo > best + objectivePad || oHi < lo - objectivePad)
+      {
+        continue;
+      }
+    }
     // The same test on the equations preconditioned by the inverse Jacobian at the piece's
     // centre (Y F, a combination of forms is a form): near a simple root each is about one
     // coordinate's distance to it, so their convex hulls shut out far more than the raw ones.
@@ -402,12 +428,24 @@ bool solve(const QuadraticForm* equations, const QuadraticForm* objective, doubl
     // Whether a Krawczyk test is worth its cost: when each preconditioned equation varies over
     // the piece by little more than the piece's own width (it is then close to linear there).
     bool promising = false;
+    double centreValues[3][3][3]; // F (row 0), J, J^-1 at m, for the first Krawczyk test
+    bool haveCentre = false;
     {
       double F[3], J[3][3], Y[3][3];
       evaluate<n>(equations, m, F, J);
       if (invert<n>(J, Y))
       {
         promising = true;
+        haveCentre = true;
+        for (int i = 0; i < n; ++i)
+        {
+          centreValues[0][0][i] = F[i];
+          for (int j = 0; j < n; ++j)
+          {
+            centreValues[1][i][j] = J[i][j];
+            centreValues[2][i][j] = Y[i][j];
+          }
+        }
         for (int i = 0; i < n && !empty; ++i)
         {
           QuadraticForm combined{};
@@ -436,15 +474,6 @@ bool solve(const QuadraticForm* equations, const QuadraticForm* objective, doubl
     {
       continue;
     }
-    if (objective)
-    {
-      double oLo, oHi;
-      coefficientRange<n>(*objective, piece, oLo, oHi);
-      if (oLo > best + objectivePad || oHi < lo - objectivePad)
-      {
-        continue;
-      }
-    }
     // Interval Newton: the roots in the box lie in its Krawczyk image too, so the box shrinks
     // to their intersection while that helps (quadratically, near a simple root).
     const bool last = piece.depth >= maxDepth || visited >= limits.maxPieces;
@@ -452,7 +481,7 @@ bool solve(const QuadraticForm* equations, const QuadraticForm* objective, doubl
     for (int contraction = 0; contraction < ((promising || last) ? 8 : 0); ++contraction)
     {
       double image[3][2];
-      test = krawczyk<n>(equations, m, r, image);
+      test = krawczyk<n>(equations, m, r, image, contraction == 0 && haveCentre ? centreValues : nullptr);
       if (test != Krawczyk::Unknown)
       {
         break;
