@@ -676,6 +676,19 @@ def set_more_options(case, caster):
         caster.SetNumberOfThreads(int(rng.integers(1, 5)))
 
 
+def ray_budget(case, size):
+    """The image size, capped where every ray tests 65,536+ coincident cells (the cost the README
+    states): a few rays exercise the hierarchy's counts as well as many, within the hang timeout
+    under ASan."""
+    if "duplicate_cells" in case.active and min(size) > 0:
+        size = (min(size[0], 8), min(size[1], 8))
+        if "curved" in case.active:
+            # A curved copy costs a subdivision solve per ray, not a closed form: about 1 s per
+            # ray for 65,536 copies in the release build (README, Limits).
+            size = (min(size[0], 2), min(size[1], 2))
+    return size
+
+
 def image_size_knob(case):
     rng = case.knob("image_size")
     if not rng:
@@ -908,15 +921,7 @@ def run_case(V, seed, index, without=(), verbose=False):
     camera = camera_knob(V, case, box)
     if camera is not None:
         caster.SetCamera(camera)
-    size = image_size_knob(case)
-    if "duplicate_cells" in case.active and min(size) > 0:
-        # Every ray tests all 65,536+ coincident cells (the cost the README states): a few rays
-        # exercise the hierarchy's counts as well as many, within the hang timeout under ASan.
-        size = (min(size[0], 8), min(size[1], 8))
-        if "curved" in case.active:
-            # A curved copy costs a subdivision solve per ray, not a closed form: about 1 s per
-            # ray for 65,536 copies in the release build (README, Limits).
-            size = (min(size[0], 2), min(size[1], 2))
+    size = ray_budget(case, image_size_knob(case))
     caster.SetImageSize(*size)
     finite = mesh.field[np.isfinite(mesh.field)]
     colours = set_options(V, case, caster, values, box, grid,
@@ -957,7 +962,7 @@ def run_case(V, seed, index, without=(), verbose=False):
             data.SetComponent(0, 0, np.nan)
             data.Modified()
         elif kind == "size":
-            size = (int(rng.integers(1, 40)), int(rng.integers(1, 40)))
+            size = ray_budget(case, (int(rng.integers(1, 40)), int(rng.integers(1, 40))))
             caster.SetImageSize(*size)
         elif kind == "camera":
             camera = V.vtkCamera()
