@@ -577,3 +577,105 @@ TEST(CurvedTet, ColourClipCapsTranslucencyAndNormalModes)
   }
   EXPECT_GT(differ, 100);
 }
+
+TEST(CurvedTet, ManyIsoValuesInOneSolve)
+{
+  // 40 nested warped spheres: the first crossing of any of them, and which one, against sampled
+  // truth. The curved solver takes all the levels a cell admits in one subdivision.
+  const Warp warp{ 0.5 };
+  std::vector<glm::dvec3> preimage;
+  LatticeMesh mesh = warpedLattice(2, warp, preimage);
+  const glm::dvec3 centre(0.5, 0.45, 0.55);
+  auto Q = [&](const glm::dvec3& q) { return glm::dot(q - centre, q - centre); };
+  mesh.values.resize(preimage.size());
+  for (std::size_t p = 0; p < preimage.size(); ++p)
+    mesh.values[p] = Q(preimage[p]);
+  const tetdsr::Scene scene(mesh.view());
+  std::vector<double> levels;
+  for (int k = 0; k < 40; ++k)
+    levels.push_back(0.01 + 0.0022 * k); // radii 0.1 to 0.315
+  const tetdsr::IsoValues iso(levels);
+  const int pixels = 32;
+  const glm::dvec3 middle = warp(centre);
+  const tetdsr::RayGenerator rays(
+    lookAt(middle + 1.6 * glm::normalize(glm::dvec3(2.0, -1.5, 1.0)), middle, 35.0), pixels, pixels);
+  int compared = 0, band = 0, misses = 0, falseHits = 0, wrongLevel = 0, hits = 0;
+  double depthError = 0.0;
+  for (int j = 0; j < pixels; ++j)
+  {
+    for (int i = 0; i < pixels; ++i)
+    {
+      const tetdsr::Ray ray = rays.pixelRay(i, j);
+      auto q = [&](double t) {
+        const glm::dvec3 p = warp.inverse(ray.origin + t * ray.direction);
+        return distanceToCubeBoundary(p) < 0.0 ? 1.0 : Q(p);
+      };
+      // The first sample interval where Q passes a level (levels sorted ascending).
+      const double t0 = 0.5, t1 = 3.0;
+      const int samples = 4000;
+      double prev = q(t0), tPrev = t0, tTrue = -1.0;
+      int level = -1;
+      double closest = 1e300;
+      for (int s = 1; s <= samples && level < 0; ++s)
+      {
+        const double t = t0 + (t1 - t0) * s / samples;
+        const double value = q(t);
+        for (std::size_t k = 0; k < levels.size(); ++k)
+        {
+          closest = std::min(closest, std::abs(value - levels[k]));
+          if ((prev - levels[k]) * (value - levels[k]) <= 0.0 && prev != value)
+          {
+            // The nearest crossing within this interval among the levels it passes.
+            double lo = tPrev, hi = t;
+            const bool rising = value > prev;
+            for (int b = 0; b < 100; ++b)
+            {
+              const double mid = 0.5 * (lo + hi);
+              ((q(mid) < levels[k]) == rising ? lo : hi) = mid;
+            }
+            if (level < 0 || 0.5 * (lo + hi) < tTrue)
+            {
+              tTrue = 0.5 * (lo + hi);
+              level = static_cast<int>(k);
+            }
+          }
+        }
+        prev = value;
+        tPrev = t;
+      }
+      if (level < 0 && closest < 1e-4)
+      {
+        ++band; // grazes a level without a sampled crossing
+        continue;
+      }
+      ++compared;
+      tetdsr::SurfaceHit hit;
+      const bool found = scene.firstHit(ray, iso, hit);
+      if (level >= 0 && !found)
+        ++misses;
+      else if (level < 0 && found)
+        ++falseHits;
+      else if (found)
+      {
+        ++hits;
+        depthError = std::max(depthError, std::abs(hit.t - tTrue));
+        if (static_cast<int>(iso.originalIndex(hit.isoIndex)) != level)
+        {
+          ++wrongLevel;
+          std::printf("  pixel (%d, %d): hit t %.12g level %d; truth t %.12g level %d\n", i, j,
+            hit.t, static_cast<int>(iso.originalIndex(hit.isoIndex)), tTrue, level);
+
+        }
+      }
+    }
+  }
+  std::printf("40 nested warped spheres: %d pixels compared, %d in the band, %d hits; %d missed, "
+              "%d false, %d on the wrong level; max depth error %.2e of the diagonal\n",
+    compared, band, hits, misses, falseHits, wrongLevel, depthError / scene.diagonal());
+  EXPECT_GT(hits, 200);
+  EXPECT_EQ(misses, 0);
+  EXPECT_EQ(falseHits, 0);
+  EXPECT_EQ(wrongLevel, 0);
+  EXPECT_LE(depthError, 1e-9 * scene.diagonal());
+  EXPECT_EQ(scene.uncertifiedHits(), 0);
+}

@@ -19,6 +19,7 @@ struct Piece
 {
   double V[4][4];
   int depth;
+  int levelLo = 0, levelHi = 1; ///< candidate levels [levelLo, levelHi) (Levels)
 };
 
 template <int n>
@@ -324,16 +325,97 @@ QuadraticForm QuadraticForm::face(int omit) const
 
 namespace
 {
+/// The two halves of a piece, split at the midpoint of its longest edge (in barycentric
+/// coordinates); they inherit its depth + 1 and its candidate levels.
 template <int n>
-bool solve(const QuadraticForm* equations, const QuadraticForm* objective, double lo, double hi,
-  double tolerance, SimplexRoot& root, const SolveLimits& limits, int* pieces)
+void bisect(const Piece& piece, Piece children[2])
 {
+  int ea = 0, eb = 1;
+  double longest = -1.0;
+  for (int a = 0; a <= n; ++a)
+  {
+    for (int b = a + 1; b <= n; ++b)
+    {
+      double length = 0.0;
+      for (int i = 0; i <= n; ++i)
+      {
+        const double d = piece.V[a][i] - piece.V[b][i];
+        length += d * d;
+      }
+      if (length > longest)
+      {
+        longest = length;
+        ea = a;
+        eb = b;
+      }
+    }
+  }
+  children[0] = children[1] = piece;
+  for (int i = 0; i <= n; ++i)
+  {
+    const double mid = 0.5 * (piece.V[ea][i] + piece.V[eb][i]);
+    children[0].V[eb][i] = mid;
+    children[1].V[ea][i] = mid;
+  }
+  children[0].depth = children[1].depth = piece.depth + 1;
+}
+
+/// Pushes the two halves, the one whose centre has the smaller objective last (popped first).
+template <int n>
+void pushNearerLast(Piece* stack, int& top, const Piece children[2], const QuadraticForm* objective)
+{
+  int nearer = 0;
+  if (objective)
+  {
+    double centre[2][4] = {};
+    for (int c = 0; c < 2; ++c)
+    {
+      for (int v = 0; v <= n; ++v)
+      {
+        for (int i = 0; i <= n; ++i)
+        {
+          centre[c][i] += children[c].V[v][i] / (n + 1);
+        }
+      }
+    }
+    nearer = objective->blossom(centre[1], centre[1], n) < objective->blossom(centre[0], centre[0], n);
+  }
+  stack[top++] = children[1 - nearer];
+  stack[top++] = children[nearer];
+}
+
+template <int n>
+bool solve(const QuadraticForm* given, const QuadraticForm* objective, double lo, double hi,
+  double tolerance, SimplexRoot& root, const SolveLimits& limits, int* pieces,
+  const Levels& levels)
+{
+  // The equations being solved; with levels, the last is the given form minus the current level.
+  QuadraticForm equations[3];
+  for (int k = 0; k < n; ++k)
+  {
+    equations[k] = given[k];
+  }
   // Rounding of a blossom of coefficients up to M with weights in [0, 1] summing to 1 stays below
   // a few ulps of M: coefficients within this pad of 0 do not prove a sign.
   double pad[3];
   for (int k = 0; k < n; ++k)
   {
     pad[k] = 64.0 * kEpsilon * magnitude<n>(equations[k]);
+  }
+  const bool multiLevel = levels.count > 0;
+  const double levelPad = pad[n - 1];
+  int currentLevel = -1;
+  auto setLevel = [&](int level) {
+    if (level != currentLevel)
+    {
+      equations[n - 1] = given[n - 1].minus(levels.values[level] * levels.scale);
+      pad[n - 1] = 64.0 * kEpsilon * magnitude<n>(equations[n - 1]);
+      currentLevel = level;
+    }
+  };
+  if (!multiLevel)
+  {
+    currentLevel = 0;
   }
   const double objectivePad = objective ? 64.0 * kEpsilon * magnitude<n>(*objective) : 0.0;
 
@@ -349,7 +431,11 @@ bool solve(const QuadraticForm* equations, const QuadraticForm* objective, doubl
     }
   }
   first.depth = 0;
+  first.levelLo = 0;
+  first.levelHi = multiLevel ? levels.count : 1;
   const int maxDepth = std::min(limits.maxDepth, 64);
+  // Separating many levels takes pieces along the ray: the budget grows with them (to 64 x).
+  const int maxPieces = limits.maxPieces * (multiLevel ? std::min(levels.count, 64) : 1);
 
   double best = hi;
   bool found = false;
@@ -361,17 +447,114 @@ bool solve(const QuadraticForm* equations, const QuadraticForm* objective, doubl
   struct KnownBox
   {
     double lo[3], hi[3];
+    int level;
   };
   KnownBox known[8];
   int knownCount = 0;
   while (top > 0)
   {
-    const Piece piece = stack[--top];
+    Piece piece = stack[--top];
     ++visited;
+    const bool last = piece.depth >= maxDepth || visited >= maxPieces;
+    if (multiLevel)
+    {
+      // The equations other than the field's first (they do not depend on the level).
+      bool away = false;
+      for (int k = 0; k < n - 1 && !away; ++k)
+      {
+        double cLo, cHi;
+        coefficientRange<n>(equations[k], piece, cLo, cHi);
+        away = cLo > pad[k] || cHi < -pad[k];
+      }
+      if (away)
+      {
+        continue;
+      }
+      // The levels within the field's Bernstein range on this piece.
+      double fLo, fHi;
+      coefficientRange<n>(given[n - 1], piece, fLo, fHi);
+      const double* begin = levels.values + piece.levelLo;
+      const double* end = levels.values + piece.levelHi;
+      piece.levelLo = static_cast<int>(
+        std::lower_bound(begin, end, (fLo - levelPad) / levels.scale) - levels.values);
+      piece.levelHi = static_cast<int>(
+        std::upper_bound(begin, end, (fHi + levelPad) / levels.scale) - levels.values);
+      if (piece.levelLo >= piece.levelHi)
+      {
+        continue;
+      }
+      if (piece.levelHi - piece.levelLo > 1)
+      {
+        bool beyond = false;
+        if (objective)
+        {
+          double oLo, oHi;
+          coefficientRange<n>(*objective, piece, oLo, oHi);
+          beyond = oLo > best + objectivePad || oHi < lo - objectivePad;
+        }
+        if (beyond)
+        {
+          continue;
+        }
+        if (!last)
+        {
+          // Several levels still possible: bisect until each piece keeps one (or none).
+          Piece children[2];
+          bisect<n>(piece, children);
+          pushNearerLast<n>(stack, top, children, objective);
+          continue;
+        }
+        // At the limit with several levels: Newton for each, uncertified.
+        double m[4] = { 0.0, 0.0, 0.0, 0.0 };
+        for (int v = 0; v <= n; ++v)
+        {
+          for (int i = 0; i <= n; ++i)
+          {
+            m[i] += piece.V[v][i] / (n + 1);
+          }
+        }
+        double r[3] = { 0.0, 0.0, 0.0 };
+        for (int v = 0; v <= n; ++v)
+        {
+          for (int i = 1; i <= n; ++i)
+          {
+            r[i - 1] = std::max(r[i - 1], std::abs(piece.V[v][i] - m[i]));
+          }
+        }
+        for (int level = piece.levelLo; level < piece.levelHi; ++level)
+        {
+          setLevel(level);
+          double L[4] = { m[0], m[1], m[2], m[3] };
+          bool near = newton<n>(equations, L);
+          for (int i = 1; i <= n; ++i)
+          {
+            near = near && std::abs(L[i] - m[i]) <= 2.0 * r[i - 1] + tolerance; // this piece's root
+          }
+          if (near && insideSimplex<n>(L, tolerance))
+          {
+            const double value = objective ? objective->blossom(L, L, n) : 0.0;
+            if (!objective || (value >= lo && value <= best))
+            {
+              found = true;
+              best = value;
+              for (int i = 0; i < 4; ++i)
+              {
+                root.L[i] = i <= n ? L[i] : 0.0;
+              }
+              root.value = value;
+              root.certified = false;
+              root.level = level;
+            }
+          }
+        }
+        continue;
+      }
+      setLevel(piece.levelLo);
+    }
     bool covered = false;
     for (int b = 0; b < knownCount && !covered; ++b)
     {
-      covered = true;
+      covered = known[b].level == currentLevel;
       for (int v = 0; v <= n && covered; ++v)
       {
         for (int i = 1; i <= n; ++i)
@@ -476,7 +659,6 @@ bool solve(const QuadraticForm* equations, const QuadraticForm* objective, doubl
     }
     // Interval Newton: the roots in the box lie in its Krawczyk image too, so the box shrinks
     // to their intersection while that helps (quadratically, near a simple root).
-    const bool last = piece.depth >= maxDepth || visited >= limits.maxPieces;
     Krawczyk test = Krawczyk::Unknown;
     for (int contraction = 0; contraction < ((promising || last) ? 8 : 0); ++contraction)
     {
@@ -525,6 +707,7 @@ bool solve(const QuadraticForm* equations, const QuadraticForm* objective, doubl
       {
         // The largest box around the root (doubling) where it is still proven the only one.
         KnownBox box;
+        box.level = currentLevel;
         for (int i = 0; i < n; ++i)
         {
           box.lo[i] = m[i + 1] - r[i];
@@ -564,6 +747,7 @@ bool solve(const QuadraticForm* equations, const QuadraticForm* objective, doubl
           }
           root.value = value;
           root.certified = certified;
+          root.level = currentLevel;
           if (!objective)
           {
             break;
@@ -572,53 +756,9 @@ bool solve(const QuadraticForm* equations, const QuadraticForm* objective, doubl
       }
       continue;
     }
-    // Bisect the longest edge (in barycentric coordinates).
-    int ea = 0, eb = 1;
-    double longest = -1.0;
-    for (int a = 0; a <= n; ++a)
-    {
-      for (int b = a + 1; b <= n; ++b)
-      {
-        double length = 0.0;
-        for (int i = 0; i <= n; ++i)
-        {
-          const double d = piece.V[a][i] - piece.V[b][i];
-          length += d * d;
-        }
-        if (length > longest)
-        {
-          longest = length;
-          ea = a;
-          eb = b;
-        }
-      }
-    }
-    Piece children[2] = { piece, piece };
-    for (int i = 0; i <= n; ++i)
-    {
-      const double mid = 0.5 * (piece.V[ea][i] + piece.V[eb][i]);
-      children[0].V[eb][i] = mid;
-      children[1].V[ea][i] = mid;
-    }
-    children[0].depth = children[1].depth = piece.depth + 1;
-    int nearer = 0;
-    if (objective)
-    {
-      double centre[2][4] = {};
-      for (int c = 0; c < 2; ++c)
-      {
-        for (int v = 0; v <= n; ++v)
-        {
-          for (int i = 0; i <= n; ++i)
-          {
-            centre[c][i] += children[c].V[v][i] / (n + 1);
-          }
-        }
-      }
-      nearer = objective->blossom(centre[1], centre[1], n) < objective->blossom(centre[0], centre[0], n);
-    }
-    stack[top++] = children[1 - nearer];
-    stack[top++] = children[nearer];
+    Piece children[2];
+    bisect<n>(piece, children);
+    pushNearerLast<n>(stack, top, children, objective);
   }
   if (pieces)
   {
@@ -629,10 +769,11 @@ bool solve(const QuadraticForm* equations, const QuadraticForm* objective, doubl
 } // namespace
 
 bool solveOnSimplex(int n, const QuadraticForm* equations, const QuadraticForm* objective,
-  double lo, double hi, double tolerance, SimplexRoot& root, const SolveLimits& limits, int* pieces)
+  double lo, double hi, double tolerance, SimplexRoot& root, const SolveLimits& limits, int* pieces,
+  const Levels& levels)
 {
-  return n == 2 ? solve<2>(equations, objective, lo, hi, tolerance, root, limits, pieces)
-                : solve<3>(equations, objective, lo, hi, tolerance, root, limits, pieces);
+  return n == 2 ? solve<2>(equations, objective, lo, hi, tolerance, root, limits, pieces, levels)
+                : solve<3>(equations, objective, lo, hi, tolerance, root, limits, pieces, levels);
 }
 
 CurvedGeometry CurvedGeometry::fromNodes(const glm::dvec3 nodes[10], double scale)

@@ -74,6 +74,18 @@ struct SimplexRoot
   /// true when a Krawczyk test proved it the only root in a box around it; false when it was
   /// accepted by Newton alone at the subdivision limit (tangent or near-tangent roots).
   bool certified = true;
+  int level = 0; ///< with Levels: which level the last equation was solved for
+};
+
+/// Several right-hand sides for the last equation: with `count` > 0 the last equation is
+/// form - values[k] * scale for any k (values ascending), solved in one subdivision: a piece
+/// keeps only the levels within its form's Bernstein range, so the work grows with the levels
+/// the ray meets, not with their number.
+struct Levels
+{
+  const double* values = nullptr;
+  int count = 0;
+  double scale = 1.0;
 };
 
 /// Work bounds of one solve: bisection depth (about 3 levels halve a piece; 36 levels reach
@@ -90,7 +102,7 @@ struct SolveLimits
 /// there is none. `pieces`, if given, receives the number of sub-simplices visited.
 bool solveOnSimplex(int n, const QuadraticForm* equations, const QuadraticForm* objective,
   double lo, double hi, double tolerance, SimplexRoot& root, const SolveLimits& limits = {},
-  int* pieces = nullptr);
+  int* pieces = nullptr, const Levels& levels = {});
 
 /// The geometry of a curved 10-node tetrahedron (VTK node order) in local coordinates
 /// X = (x - origin) * scale, origin its vertex 0 and scale a power of two near 1 / its size.

@@ -893,17 +893,24 @@ bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& 
     hit.gradient = glm::dvec3(0.0);
     return true;
   }
-  for (std::size_t k = first; k < last; ++k)
+  // Every iso-value the cell's bound admits, in one subdivision (Levels); one, directly.
+  Levels levels;
+  if (last - first == 1)
   {
-    equations[2] = field.minus(sorted[k] * scale);
-    SimplexRoot candidate;
-    if (solveOnSimplex(3, equations, &depth, lo, best, kBarycentricTolerance, candidate))
-    {
-      found = true;
-      best = candidate.value;
-      root = candidate;
-      hit.isoIndex = k;
-    }
+    equations[2] = field.minus(sorted[first] * scale);
+  }
+  else
+  {
+    equations[2] = field;
+    levels.values = sorted.data() + first;
+    levels.count = static_cast<int>(std::min<std::size_t>(last - first, 1u << 30));
+    levels.scale = scale;
+  }
+  if (solveOnSimplex(3, equations, &depth, lo, best, kBarycentricTolerance, root, SolveLimits(),
+        nullptr, levels))
+  {
+    found = true;
+    hit.isoIndex = first + static_cast<std::size_t>(root.level);
   }
   if (!found)
   {
