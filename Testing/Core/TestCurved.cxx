@@ -679,3 +679,20 @@ TEST(CurvedTet, ManyIsoValuesInOneSolve)
   EXPECT_LE(depthError, 1e-9 * scene.diagonal());
   EXPECT_EQ(scene.uncertifiedHits(), 0);
 }
+
+TEST(CurvedTet, RoundingIsNotCurvature)
+{
+  // Straight cells far from the origin, stored as float: the mid-edge nodes are off their
+  // midpoints by the float rounding of coordinates near 2.5e6 (0.25 absolute), which is not
+  // curvature (fuzzer seed 2032, case 23750: 70,000 such copies took 164 s as curved cells).
+  LatticeMesh mesh = tetdsr_test::makeLattice(2, glm::dvec3(2.5e6 + 0.1, -2.5e6 - 0.3, 1.0), 1.3);
+  for (double& x : mesh.points)
+    x = static_cast<double>(static_cast<float>(x));
+  mesh.sample([](const glm::dvec3& x) { return x.z; });
+  tetdsr::MeshView view = mesh.view();
+  view.pointRounding = 0x1p-23;
+  EXPECT_EQ(tetdsr::Scene(view).summary().curvedCells, 0);
+  // The same offsets in double coordinates are curvature.
+  view.pointRounding = 0x1p-52;
+  EXPECT_GT(tetdsr::Scene(view).summary().curvedCells, 0);
+}

@@ -374,7 +374,17 @@ std::uint8_t Scene::validate(NodeId cell, BuildItem& item) const
   {
     flags |= kInverted;
   }
-  const double curvedTolerance = kCurvedRoundings * Mesh_.pointRounding * maxEdge;
+  // Rounding is relative to the coordinates' magnitude (a float coordinate near 2.5e6 rounds by
+  // 0.25), so it is measured against the larger of the cell's size and its distance from 0.
+  double reach = maxEdge;
+  for (int k = 0; k < 4; ++k)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      reach = std::max(reach, std::abs(vertices[k][a]));
+    }
+  }
+  const double curvedTolerance = kCurvedRoundings * Mesh_.pointRounding * reach;
   for (int e = 0; e < 6; ++e)
   {
     if (ids[4 + e] >= 0)

@@ -36,8 +36,9 @@ struct MeshView
   /// false (a mesh of 10-node cells as given), such an id is out of range like any other.
   bool straightEdgeMarkers = false;
   /// The relative rounding of the coordinates as given (2^-52 for double, 2^-23 for float): a
-  /// mid-edge node farther from its edge's midpoint than 64 times this, relative to the cell's
-  /// longest edge, makes the cell curved (isoparametric); closer ones are rounding.
+  /// mid-edge node farther from its edge's midpoint than 64 times this, relative to the larger of
+  /// the cell's longest edge and its coordinates' magnitude, makes the cell curved
+  /// (isoparametric); closer ones are rounding.
   double pointRounding = 0x1p-52;
 };
 
