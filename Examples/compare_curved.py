@@ -5,8 +5,8 @@ renderer draws), and vtkContourFilter (8 linear sub-tets per cell, its triangles
 VTK). Writes one PNG. Needs an X display (xvfb-run -a).
 
   PYTHONPATH=build/lib/python3/dist-packages xvfb-run -a /usr/bin/python3 \\
-      Examples/compare_curved.py Data/cylinder_flow.vtu speed 0.1 Examples/images/curved_cylinder.png \\
-      --focal 0.5 0.2 0.205 --offset -0.05 -0.22 0.12
+      Examples/compare_curved.py Data/cylinder_flow.vtu speed 0.15 Examples/images/curved_cylinder.png \\
+      --focal 0.5 0.25 0.2 --offset 0 0 0.03 --up 1 0 0 --angle 30 --clip 0 0 0.2 0 0 -1
 """
 import argparse
 
@@ -17,12 +17,14 @@ from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid
 from vtkmodules.vtkFiltersCore import vtkContourFilter
 from vtkmodules.vtkIOImage import vtkPNGWriter
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkCamera, vtkPolyDataMapper, vtkRenderWindow,
-                                         vtkRenderer, vtkTextActor, vtkWindowToImageFilter)
+from vtkmodules.vtkCommonDataModel import vtkPlane
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkCamera, vtkImageActor, vtkPolyDataMapper,
+                                         vtkRenderWindow, vtkRenderer, vtkTextActor,
+                                         vtkWindowToImageFilter)
 import vtkmodules.vtkRenderingFreeType  # noqa: F401 (text)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (the OpenGL backend)
 
-from tetdsr import vtkDirectSurfaceMapper
+from tetdsr import vtkDirectSurfaceRayCaster
 
 EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
 
@@ -44,8 +46,28 @@ def label(renderer, text):
     actor = vtkTextActor()
     actor.SetInput(text)
     actor.GetTextProperty().SetFontSize(15)
+    actor.GetTextProperty().SetBackgroundColor(0.1, 0.1, 0.1)
+    actor.GetTextProperty().SetBackgroundOpacity(0.7)
     actor.SetPosition(8, 8)
     renderer.AddActor2D(actor)
+
+
+def caster_image(data, args, camera, size):
+    caster = vtkDirectSurfaceRayCaster()
+    caster.SetInputData(data)
+    caster.SetInputArrayToProcess(0, 0, 0, 0, args.array)
+    caster.SetValue(0, args.iso)
+    caster.SetCamera(camera)
+    caster.SetImageSize(size, size)
+    if args.clip:
+        plane = vtkPlane()
+        plane.SetOrigin(*args.clip[:3])
+        plane.SetNormal(*args.clip[3:])
+        caster.AddClippingPlane(plane)
+        caster.SetCapping(vtkDirectSurfaceRayCaster.CAP_BELOW_ISO_VALUE)
+        caster.SetColorRange(0.0, args.iso)
+    caster.Update()
+    return caster
 
 
 def main():
@@ -59,6 +81,9 @@ def main():
     parser.add_argument("--up", type=float, nargs=3, default=(0, 0, 1))
     parser.add_argument("--angle", type=float, default=30)
     parser.add_argument("--panel", type=int, default=420)
+    parser.add_argument("--clip", type=float, nargs=6, default=None,
+                        help="a clipping plane (origin, normal: the normal points to what stays), "
+                             "capped where the field is below the iso-value")
     args = parser.parse_args()
 
     reader = vtkXMLUnstructuredGridReader()
@@ -76,39 +101,46 @@ def main():
     window = vtkRenderWindow()
     window.SetOffScreenRendering(1)
     window.SetSize(3 * args.panel, args.panel)
+    cut = " (cut, capped)" if args.clip else ""
+    for k, (title, data) in enumerate((("TetDSR: curved cells exact" + cut, mesh),
+                                       ("TetDSR, mid-edge nodes ignored" + cut, straightened(mesh)))):
+        caster = caster_image(data, args, camera, args.panel)
+        renderer = vtkRenderer()
+        renderer.SetViewport(k / 3, 0, (k + 1) / 3, 1)
+        image = vtkImageActor()
+        image.GetMapper().SetInputConnection(caster.GetOutputPort())
+        renderer.AddActor(image)
+        renderer.ResetCamera()
+        renderer.GetActiveCamera().ParallelProjectionOn()
+        renderer.GetActiveCamera().SetParallelScale(args.panel / 2)
+        label(renderer, "%s\n%s = %g" % (title, args.array, args.iso))
+        window.AddRenderer(renderer)
+    # vtkContourFilter's triangles, rendered by VTK with the same camera (and the same plane).
     contour = vtkContourFilter()
     contour.SetInputData(mesh)
     contour.SetInputArrayToProcess(0, 0, 0, 0, args.array)
     contour.SetValue(0, args.iso)
     contour.Update()
-    panels = []
-    for k, (title, data) in enumerate((("TetDSR: curved cells exact", mesh),
-                                       ("TetDSR, mid-edge nodes ignored", straightened(mesh)),
-                                       (None, None))):
-        renderer = vtkRenderer()
-        renderer.SetViewport(k / 3, 0, (k + 1) / 3, 1)
-        renderer.SetActiveCamera(camera)
-        renderer.SetBackground(0.32, 0.34, 0.43)
-        if data is not None:
-            mapper = vtkDirectSurfaceMapper()
-            mapper.SetInputData(data)
-            mapper.SetInputArrayToProcess(0, 0, 0, 0, args.array)
-            mapper.SetValue(0, args.iso)
-            mapper.ScalarVisibilityOff()
-            panels.append(mapper)
-        else:
-            mapper = vtkPolyDataMapper()
-            mapper.SetInputConnection(contour.GetOutputPort())
-            mapper.ScalarVisibilityOff()
-            title = "vtkContourFilter: %d triangles" % contour.GetOutput().GetNumberOfCells()
-        actor = vtkActor()
-        actor.SetMapper(mapper)
-        renderer.AddActor(actor)
-        label(renderer, "%s\n%s = %g" % (title, args.array, args.iso))
-        window.AddRenderer(renderer)
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputConnection(contour.GetOutputPort())
+    mapper.ScalarVisibilityOff()
+    if args.clip:
+        plane = vtkPlane()
+        plane.SetOrigin(*args.clip[:3])
+        plane.SetNormal(*args.clip[3:])
+        mapper.AddClippingPlane(plane)
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    renderer = vtkRenderer()
+    renderer.SetViewport(2 / 3, 0, 1, 1)
+    renderer.SetActiveCamera(camera)
+    renderer.AddActor(actor)
+    label(renderer, "vtkContourFilter: %d triangles%s\n%s = %g" % (
+        contour.GetOutput().GetNumberOfCells(), " (cut, no cap)" if args.clip else "", args.array,
+        args.iso))
+    window.AddRenderer(renderer)
     camera.SetClippingRange(1e-3 * np.linalg.norm(args.offset), 100 * np.linalg.norm(args.offset))
     window.Render()
-    window.Render()  # (the mapper's full-resolution frame once the camera is still)
     grab = vtkWindowToImageFilter()
     grab.SetInput(window)
     writer = vtkPNGWriter()
