@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Steady flow around a cylinder (Schafer & Turek "3D-1Z", Re 20) on curved quadratic tetrahedra.
 
-Run it through Scripts/make-cylinder-flow.sh, which makes (or reuses) the venv of
-Scripts/make-expansion-flow.sh (gmsh, scikit-fem, scipy) and passes its arguments on.
+Run it through Scripts/make-cylinder-flow.sh, which runs it, with its arguments, in the venv that
+Scripts/flow-venv.sh makes or reuses (gmsh, scikit-fem, scipy; shared with make-expansion-flow.sh).
 Data/cylinder_flow.vtu is the default run:
 
   bash Scripts/make-cylinder-flow.sh --out Data/cylinder_flow.vtu --check

@@ -18,34 +18,12 @@ import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkPoints
 from vtkmodules.vtkCommonDataModel import VTK_QUADRATIC_TETRA, vtkCellArray, vtkUnstructuredGrid
-from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
 from tetdsr import vtkDirectSurfaceRayCaster
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
-EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
-
-
-def read(path):
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(path)
-    reader.Update()
-    grid = vtkUnstructuredGrid()
-    grid.DeepCopy(reader.GetOutput())
-    return grid
-
-
-def straightened(grid):
-    copy = vtkUnstructuredGrid()
-    copy.DeepCopy(grid)
-    points = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
-    conn = vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, 10)
-    for e, (a, b) in enumerate(EDGES):
-        points[conn[:, 4 + e]] = 0.5 * (points[conn[:, a]] + points[conn[:, b]])
-    vtk_points = vtkPoints()
-    vtk_points.SetData(numpy_to_vtk(points, deep=1))
-    copy.SetPoints(vtk_points)
-    return copy
+sys.path.insert(0, os.path.join(ROOT, "Testing", "Python"))
+from curved_reference import VTK_EDGES as EDGES, read_vtu as read, straightened  # noqa: E402
 
 
 def warped_lattice(n, alpha=0.5):

@@ -86,10 +86,10 @@ import sys
 import time
 
 import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonCore import reference
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonCore import reference, vtkPoints
 from vtkmodules.vtkCommonDataModel import (VTK_QUADRATIC_TETRA, vtkCellLocator, vtkGenericCell,
-                                           vtkQuadraticTetra)
+                                           vtkQuadraticTetra, vtkUnstructuredGrid)
 
 # VTK_QUADRATIC_TETRA: vertices 0..3, then mid-edge nodes of these edges.
 VTK_EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
@@ -567,6 +567,21 @@ def read_vtu(path):
     if reader.GetOutput().GetNumberOfCells() == 0:
         raise SystemExit(f"could not read {path}")
     return reader.GetOutput()
+
+
+def straightened(grid):
+    """A copy of the grid whose mid-edge nodes sit at their edges' midpoints (node values
+    unchanged): what a straight-sided renderer draws."""
+    copy = vtkUnstructuredGrid()
+    copy.DeepCopy(grid)
+    points = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
+    conn = vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, 10)
+    for e, (a, b) in enumerate(VTK_EDGES):
+        points[conn[:, 4 + e]] = 0.5 * (points[conn[:, a]] + points[conn[:, b]])
+    vtk_points = vtkPoints()
+    vtk_points.SetData(numpy_to_vtk(points, deep=1))
+    copy.SetPoints(vtk_points)
+    return copy
 
 
 def check_vtk_conventions(grid, samples=1000, seed=7):

@@ -17,10 +17,8 @@ import time
 import unittest
 
 import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import mutable, vtkIdList, vtkPoints
-from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid
-from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonCore import mutable, vtkIdList
 from vtkmodules.vtkRenderingCore import vtkCamera
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -32,30 +30,10 @@ DATA = sys.argv[1] if len(sys.argv) > 1 else os.path.join(
     os.path.dirname(__file__), "..", "Data")
 SIZE = 48
 A = np.array([0.3, -0.5, 0.8])  # the "linear" field's gradient (Scripts/make_curved_meshes.py)
-EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
 
 
 def read(name):
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(os.path.join(DATA, name))
-    reader.Update()
-    grid = vtkUnstructuredGrid()
-    grid.DeepCopy(reader.GetOutput())
-    return grid
-
-
-def straightened(grid):
-    """A copy whose mid-edge nodes sit at their edges' midpoints (node values unchanged)."""
-    copy = vtkUnstructuredGrid()
-    copy.DeepCopy(grid)
-    points = vtk_to_numpy(grid.GetPoints().GetData()).copy()
-    conn = vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, 10)
-    for e, (a, b) in enumerate(EDGES):
-        points[conn[:, 4 + e]] = 0.5 * (points[conn[:, a]] + points[conn[:, b]])
-    vtk_points = vtkPoints()
-    vtk_points.SetData(numpy_to_vtk(points, deep=1))
-    copy.SetPoints(vtk_points)
-    return copy
+    return reference.read_vtu(os.path.join(DATA, name))
 
 
 def camera_of(c):
@@ -153,7 +131,7 @@ class CurvedMeshes(unittest.TestCase):
             truth_depth, truth_normal = ref.depth, ref.normal
         label = "%s, %s, camera %d" % (name[:-4], field, k)
         curved = render(grid, field, iso, cam)
-        flat = render(straightened(grid), field, iso, cam)
+        flat = render(reference.straightened(grid), field, iso, cam)
         caster = curved["caster"]
         self.assertGreater(caster.GetNumberOfCurvedCells(), 0)
         self.assertEqual(caster.GetNumberOfTangledCells(), 0)

@@ -360,6 +360,35 @@ void bisect(const Piece& piece, Piece children[2])
   children[0].depth = children[1].depth = piece.depth + 1;
 }
 
+/// A piece's centre m (barycentric) and, if wanted, the half-widths r of the box around it in
+/// y = (L_1..L_n).
+template <int n>
+void centreOf(const Piece& piece, double m[4], double* r = nullptr)
+{
+  for (int i = 0; i < 4; ++i)
+  {
+    m[i] = 0.0;
+  }
+  for (int v = 0; v <= n; ++v)
+  {
+    for (int i = 0; i <= n; ++i)
+    {
+      m[i] += piece.V[v][i] / (n + 1);
+    }
+  }
+  if (r)
+  {
+    for (int i = 0; i < n; ++i)
+    {
+      r[i] = 0.0;
+      for (int v = 0; v <= n; ++v)
+      {
+        r[i] = std::max(r[i], std::abs(piece.V[v][i + 1] - m[i + 1]));
+      }
+    }
+  }
+}
+
 /// Pushes the two halves, the one whose centre has the smaller objective last (popped first).
 template <int n>
 void pushNearerLast(Piece* stack, int& top, const Piece children[2], const QuadraticForm* objective)
@@ -367,17 +396,9 @@ void pushNearerLast(Piece* stack, int& top, const Piece children[2], const Quadr
   int nearer = 0;
   if (objective)
   {
-    double centre[2][4] = {};
-    for (int c = 0; c < 2; ++c)
-    {
-      for (int v = 0; v <= n; ++v)
-      {
-        for (int i = 0; i <= n; ++i)
-        {
-          centre[c][i] += children[c].V[v][i] / (n + 1);
-        }
-      }
-    }
+    double centre[2][4];
+    centreOf<n>(children[0], centre[0]);
+    centreOf<n>(children[1], centre[1]);
     nearer = objective->blossom(centre[1], centre[1], n) < objective->blossom(centre[0], centre[0], n);
   }
   stack[top++] = children[1 - nearer];
@@ -405,6 +426,26 @@ bool solve(const QuadraticForm* given, const QuadraticForm* objective, double lo
   const bool multiLevel = levels.count > 0;
   const double levelPad = pad[n - 1];
   int currentLevel = -1;
+  bool found = false;
+  double best = hi;
+  // Keeps L (a root of the current level inside the simplex) if it is the nearest so far.
+  auto keep = [&](const double L[4], bool certified) {
+    const double value = objective ? objective->blossom(L, L, n) : 0.0;
+    if (objective && !(value >= lo && value <= best))
+    {
+      return false;
+    }
+    found = true;
+    best = value;
+    for (int i = 0; i < 4; ++i)
+    {
+      root.L[i] = i <= n ? L[i] : 0.0;
+    }
+    root.value = value;
+    root.certified = certified;
+    root.level = currentLevel;
+    return true;
+  };
   auto setLevel = [&](int level) {
     if (level != currentLevel)
     {
@@ -437,9 +478,30 @@ bool solve(const QuadraticForm* given, const QuadraticForm* objective, double lo
   // Separating many levels takes pieces along the ray: the budget grows with them (to 64 x).
   const int maxPieces = limits.maxPieces * (multiLevel ? std::min(levels.count, 64) : 1);
 
-  double best = hi;
-  bool found = false;
   int visited = 0;
+  // Whether one of equations [0, count) has Bernstein coefficients of one sign on the piece.
+  auto signFixed = [&](const Piece& piece, int count) {
+    for (int k = 0; k < count; ++k)
+    {
+      double cLo, cHi;
+      coefficientRange<n>(equations[k], piece, cLo, cHi);
+      if (cLo > pad[k] || cHi < -pad[k])
+      {
+        return true;
+      }
+    }
+    return false;
+  };
+  // Whether the piece's depth bound lies beyond the nearest root found, or before the window.
+  auto outsideWindow = [&](const Piece& piece) {
+    if (!objective)
+    {
+      return false;
+    }
+    double oLo, oHi;
+    coefficientRange<n>(*objective, piece, oLo, oHi);
+    return oLo > best + objectivePad || oHi < lo - objectivePad;
+  };
   // Boxes proven to hold exactly one root, each already found: a piece inside one holds no other
   // root, so it is dropped (without them, the pieces next to a root, which cannot be certified
   // because the root is not theirs and cannot be excluded because they touch it, are bisected
@@ -459,14 +521,7 @@ bool solve(const QuadraticForm* given, const QuadraticForm* objective, double lo
     if (multiLevel)
     {
       // The equations other than the field's first (they do not depend on the level).
-      bool away = false;
-      for (int k = 0; k < n - 1 && !away; ++k)
-      {
-        double cLo, cHi;
-        coefficientRange<n>(equations[k], piece, cLo, cHi);
-        away = cLo > pad[k] || cHi < -pad[k];
-      }
-      if (away)
+      if (signFixed(piece, n - 1))
       {
         continue;
       }
@@ -485,14 +540,7 @@ bool solve(const QuadraticForm* given, const QuadraticForm* objective, double lo
       }
       if (piece.levelHi - piece.levelLo > 1)
       {
-        bool beyond = false;
-        if (objective)
-        {
-          double oLo, oHi;
-          coefficientRange<n>(*objective, piece, oLo, oHi);
-          beyond = oLo > best + objectivePad || oHi < lo - objectivePad;
-        }
-        if (beyond)
+        if (outsideWindow(piece))
         {
           continue;
         }
@@ -505,22 +553,8 @@ bool solve(const QuadraticForm* given, const QuadraticForm* objective, double lo
           continue;
         }
         // At the limit with several levels: Newton for each, uncertified.
-        double m[4] = { 0.0, 0.0, 0.0, 0.0 };
-        for (int v = 0; v <= n; ++v)
-        {
-          for (int i = 0; i <= n; ++i)
-          {
-            m[i] += piece.V[v][i] / (n + 1);
-          }
-        }
-        double r[3] = { 0.0, 0.0, 0.0 };
-        for (int v = 0; v <= n; ++v)
-        {
-          for (int i = 1; i <= n; ++i)
-          {
-            r[i - 1] = std::max(r[i - 1], std::abs(piece.V[v][i] - m[i]));
-          }
-        }
+        double m[4], r[3];
+        centreOf<n>(piece, m, r);
         for (int level = piece.levelLo; level < piece.levelHi; ++level)
         {
           setLevel(level);
@@ -532,19 +566,7 @@ bool solve(const QuadraticForm* given, const QuadraticForm* objective, double lo
           }
           if (near && insideSimplex<n>(L, tolerance))
           {
-            const double value = objective ? objective->blossom(L, L, n) : 0.0;
-            if (!objective || (value >= lo && value <= best))
-            {
-              found = true;
-              best = value;
-              for (int i = 0; i < 4; ++i)
-              {
-                root.L[i] = i <= n ? L[i] : 0.0;
-              }
-              root.value = value;
-              root.certified = false;
-              root.level = level;
-            }
+            keep(L, false);
           }
         }
         continue;
@@ -567,47 +589,18 @@ bool solve(const QuadraticForm* given, const QuadraticForm* objective, double lo
     {
       continue;
     }
-    bool empty = false;
-    for (int k = 0; k < n && !empty; ++k)
-    {
-      double cLo, cHi;
-      coefficientRange<n>(equations[k], piece, cLo, cHi);
-      empty = cLo > pad[k] || cHi < -pad[k];
-    }
-    if (empty)
+    // Beyond the nearest root found, or before the window: nothing to find.
+    if (signFixed(piece, n) || outsideWindow(piece))
     {
       continue;
     }
-    // Beyond the nearest root found, or before the window: nothing to find.
-    if (objective)
-    {
-      double oLo, oHi;
-      coefficientRange<n>(*objective, piece, oLo, oHi);
-      if (oLo > best + objectivePad || oHi < lo - objectivePad)
-      {
-        continue;
-      }
-    }
+    bool empty = false;
     // The same test on the equations preconditioned by the inverse Jacobian at the piece's
     // centre (Y F, a combination of forms is a form): near a simple root each is about one
     // coordinate's distance to it, so their convex hulls shut out far more than the raw ones.
     // The piece's centre and the half-widths of the box around it, in y = (L_1..L_n).
-    double m[4] = { 0.0, 0.0, 0.0, 0.0 };
-    for (int v = 0; v <= n; ++v)
-    {
-      for (int i = 0; i <= n; ++i)
-      {
-        m[i] += piece.V[v][i] / (n + 1);
-      }
-    }
-    double r[3] = { 0.0, 0.0, 0.0 };
-    for (int v = 0; v <= n; ++v)
-    {
-      for (int i = 1; i <= n; ++i)
-      {
-        r[i - 1] = std::max(r[i - 1], std::abs(piece.V[v][i] - m[i]));
-      }
-    }
+    double m[4], r[3];
+    centreOf<n>(piece, m, r);
     // Whether a Krawczyk test is worth its cost: when each preconditioned equation varies over
     // the piece by little more than the piece's own width (it is then close to linear there).
     bool promising = false;
@@ -734,25 +727,9 @@ bool solve(const QuadraticForm* given, const QuadraticForm* objective, double lo
         }
         known[knownCount < 8 ? knownCount++ : (visited % 8)] = box;
       }
-      if (converged && insideSimplex<n>(L, tolerance))
+      if (converged && insideSimplex<n>(L, tolerance) && keep(L, certified) && !objective)
       {
-        const double value = objective ? objective->blossom(L, L, n) : 0.0;
-        if (!objective || (value >= lo && value <= best))
-        {
-          found = true;
-          best = value;
-          for (int i = 0; i < 4; ++i)
-          {
-            root.L[i] = i <= n ? L[i] : 0.0;
-          }
-          root.value = value;
-          root.certified = certified;
-          root.level = currentLevel;
-          if (!objective)
-          {
-            break;
-          }
-        }
+        break; // any root will do
       }
       continue;
     }
@@ -838,6 +815,16 @@ QuadraticForm CurvedGeometry::component(const glm::dvec3& axis, double offset) c
     }
   }
   return form;
+}
+
+void CurvedGeometry::pointEquations(const glm::dvec3& target, QuadraticForm equations[3]) const
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    glm::dvec3 axis(0.0);
+    axis[k] = 1.0;
+    equations[k] = component(axis, target[k]);
+  }
 }
 
 void CurvedGeometry::box(glm::dvec3& lo, glm::dvec3& hi) const
@@ -969,34 +956,8 @@ JacobianSign jacobianSign(const CurvedGeometry& geometry)
     {
       return JacobianSign::Changes;
     }
-    int ea = 0, eb = 1;
-    double longest = -1.0;
-    for (int a = 0; a < 4; ++a)
-    {
-      for (int b = a + 1; b < 4; ++b)
-      {
-        double length = 0.0;
-        for (int i = 0; i < 4; ++i)
-        {
-          const double d = piece.V[a][i] - piece.V[b][i];
-          length += d * d;
-        }
-        if (length > longest)
-        {
-          longest = length;
-          ea = a;
-          eb = b;
-        }
-      }
-    }
-    Piece children[2] = { piece, piece };
-    for (int i = 0; i < 4; ++i)
-    {
-      const double mid = 0.5 * (piece.V[ea][i] + piece.V[eb][i]);
-      children[0].V[eb][i] = mid;
-      children[1].V[ea][i] = mid;
-    }
-    children[0].depth = children[1].depth = piece.depth + 1;
+    Piece children[2];
+    bisect<3>(piece, children);
     stack[top++] = children[0];
     stack[top++] = children[1];
   }
@@ -1006,12 +967,7 @@ JacobianSign jacobianSign(const CurvedGeometry& geometry)
 bool inverseNewton(const CurvedGeometry& geometry, const glm::dvec3& target, double L[4])
 {
   QuadraticForm equations[3];
-  for (int k = 0; k < 3; ++k)
-  {
-    glm::dvec3 axis(0.0);
-    axis[k] = 1.0;
-    equations[k] = geometry.component(axis, target[k]);
-  }
+  geometry.pointEquations(target, equations);
   return newton<3>(equations, L);
 }
 

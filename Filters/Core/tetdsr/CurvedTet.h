@@ -121,6 +121,9 @@ struct CurvedGeometry
   glm::dmat3 jacobian(const double L[4]) const;
   /// The form axis . X(L) - offset.
   QuadraticForm component(const glm::dvec3& axis, double offset) const;
+  /// The three forms X_k(L) - target_k (local coordinates): their common root is target's
+  /// preimage.
+  void pointEquations(const glm::dvec3& target, QuadraticForm equations[3]) const;
   /// The box around the control points (world coordinates): it holds the cell.
   void box(glm::dvec3& lo, glm::dvec3& hi) const;
 };

@@ -710,8 +710,25 @@ CurvedGeometry localGeometry(const glm::dvec3 nodes[10])
   return CurvedGeometry::fromNodes(nodes, scaleFor(size));
 }
 
-/// The field's form scaled by a power of two (returned in `scale`) to a largest magnitude near 1.
-QuadraticForm scaledFieldForm(double values[10], double& scale)
+/// Whether a field whose Bernstein bound is [lo, hi] is constant over the cell to rounding.
+bool constantToRounding(double lo, double hi)
+{
+  return hi - lo <= 8.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(lo), std::abs(hi));
+}
+
+/// For a constant field with Bernstein bound [lo, hi] (field scaled by `scale`): the sorted()
+/// position of an iso-value it equals; false if it equals none.
+bool constantIsoIndex(const IsoValues& isoValues, double lo, double hi, double scale, std::size_t& index)
+{
+  const std::vector<double>& sorted = isoValues.sorted();
+  const auto it = std::lower_bound(sorted.begin(), sorted.end(), lo / scale);
+  index = static_cast<std::size_t>(it - sorted.begin());
+  return it != sorted.end() && *it <= hi / scale;
+}
+
+/// The field's form scaled by a power of two (returned in `scale`) to a largest magnitude near 1,
+/// and its Bernstein bound [lo, hi] (scaled).
+QuadraticForm scaledFieldForm(double values[10], double& scale, double& lo, double& hi)
 {
   scale = unitScale(values);
   for (int n = 0; n < 10; ++n)
@@ -719,6 +736,7 @@ QuadraticForm scaledFieldForm(double values[10], double& scale)
     values[n] *= scale;
   }
   const BernsteinForm bernstein = BernsteinForm::fromNodeValues(values);
+  bernstein.range(lo, hi);
   QuadraticForm form;
   for (int i = 0; i < 4; ++i)
   {
@@ -756,14 +774,8 @@ bool Scene::inCell(NodeId cellId, const glm::dvec3& point, double L[4]) const
   glm::dvec3 nodes[10];
   loadNodes(cellId, nodes);
   const CurvedGeometry geometry = localGeometry(nodes);
-  const glm::dvec3 target = (point - geometry.origin) * geometry.scale;
   QuadraticForm equations[3];
-  for (int k = 0; k < 3; ++k)
-  {
-    glm::dvec3 axis(0.0);
-    axis[k] = 1.0;
-    equations[k] = geometry.component(axis, target[k]);
-  }
+  geometry.pointEquations((point - geometry.origin) * geometry.scale, equations);
   SimplexRoot root;
   if (!solveOnSimplex(3, equations, nullptr, 0.0, 0.0, kBarycentricTolerance, root))
   {
@@ -806,11 +818,8 @@ bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& 
   double cellLo, cellHi;
   Transverse_.range(values, cellLo, cellHi);
   const std::vector<double>& sorted = isoValues.sorted();
-  const std::size_t first =
-    static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), cellLo) - sorted.begin());
-  const std::size_t last =
-    static_cast<std::size_t>(std::upper_bound(sorted.begin(), sorted.end(), cellHi) - sorted.begin());
-  if (first >= last)
+  std::size_t first, last;
+  if (!isoValues.within(cellLo, cellHi, first, last))
   {
     return false;
   }
@@ -839,64 +848,45 @@ bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& 
   const double lo = tMin * s - tCentre;
   const double hi = tLimit * s - tCentre;
 
-  double scale;
-  const QuadraticForm field = scaledFieldForm(values, scale);
-  double boundLo = field.b[0][0], boundHi = field.b[0][0];
-  for (const auto& row : field.b)
-  {
-    for (const double c : row)
-    {
-      boundLo = std::min(boundLo, c);
-      boundHi = std::max(boundHi, c);
-    }
-  }
+  double scale, boundLo, boundHi;
+  const QuadraticForm field = scaledFieldForm(values, scale, boundLo, boundHi);
   SimplexRoot root;
-  bool found = false;
-  double best = hi;
-  if (boundHi - boundLo <=
-    8.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(boundLo), std::abs(boundHi)))
+  if (constantToRounding(boundLo, boundHi))
   {
     // Constant and equal to an iso-value: the crossing is the stretch of the ray inside the
     // cell, from where it enters (a root on a face, or the start if that is inside the cell) to
     // where it next leaves.
-    const auto it = std::lower_bound(sorted.begin(), sorted.end(), boundLo / scale);
-    if (it == sorted.end() || *it > boundHi / scale)
+    std::size_t index;
+    if (!constantIsoIndex(isoValues, boundLo, boundHi, scale, index))
     {
       return false;
     }
     double startL[4];
-    double enter = std::numeric_limits<double>::infinity();
-    double leave = enter;
-    if (std::isfinite(lo) && inCell(cellId, ray.origin + tMin * d, startL))
-    {
-      enter = lo;
-    }
-    for (int face = 0; face < 4; ++face)
-    {
-      const QuadraticForm faceEquations[2] = { equations[0].face(face), equations[1].face(face) };
-      const QuadraticForm faceDepth = depth.face(face);
-      SimplexRoot faceRoot;
-      if (solveOnSimplex(2, faceEquations, &faceDepth, lo, std::min(enter, hi), kBarycentricTolerance, faceRoot))
+    // The nearest crossing of the cell's boundary with local depth in [from, to] (+inf if none).
+    auto firstFaceCrossing = [&](double from, double to) {
+      double nearest = std::numeric_limits<double>::infinity();
+      for (int face = 0; face < 4; ++face)
       {
-        enter = std::min(enter, faceRoot.value);
+        const QuadraticForm faceEquations[2] = { equations[0].face(face), equations[1].face(face) };
+        const QuadraticForm faceDepth = depth.face(face);
+        SimplexRoot faceRoot;
+        if (solveOnSimplex(2, faceEquations, &faceDepth, from, std::min(nearest, to),
+              kBarycentricTolerance, faceRoot))
+        {
+          nearest = std::min(nearest, faceRoot.value);
+        }
       }
-    }
+      return nearest;
+    };
+    const double enter = std::isfinite(lo) && inCell(cellId, ray.origin + tMin * d, startL)
+      ? lo
+      : firstFaceCrossing(lo, hi);
     if (!std::isfinite(enter))
     {
       return false;
     }
-    const double after = enter + 1e-9;
-    for (int face = 0; face < 4; ++face)
-    {
-      const QuadraticForm faceEquations[2] = { equations[0].face(face), equations[1].face(face) };
-      const QuadraticForm faceDepth = depth.face(face);
-      SimplexRoot faceRoot;
-      if (solveOnSimplex(2, faceEquations, &faceDepth, after, std::min(leave, hi), kBarycentricTolerance, faceRoot))
-      {
-        leave = std::min(leave, faceRoot.value);
-      }
-    }
-    hit.isoIndex = static_cast<std::size_t>(it - sorted.begin());
+    const double leave = firstFaceCrossing(enter + 1e-9, hi);
+    hit.isoIndex = index;
     hit.t = (tCentre + enter) / s;
     hit.regionEnd = std::isfinite(leave) ? (tCentre + leave) / s : hit.t;
     hit.cellId = cellId;
@@ -916,16 +906,12 @@ bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& 
     levels.count = static_cast<int>(std::min<std::size_t>(last - first, 1u << 30));
     levels.scale = scale;
   }
-  if (solveOnSimplex(3, equations, &depth, lo, best, kBarycentricTolerance, root, SolveLimits(),
+  if (!solveOnSimplex(3, equations, &depth, lo, hi, kBarycentricTolerance, root, SolveLimits(),
         nullptr, levels))
-  {
-    found = true;
-    hit.isoIndex = first + static_cast<std::size_t>(root.level);
-  }
-  if (!found)
   {
     return false;
   }
+  hit.isoIndex = first + static_cast<std::size_t>(root.level);
   if (!root.certified)
   {
     UncertifiedHits_.fetch_add(1, std::memory_order_relaxed);
@@ -1000,11 +986,8 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
   Transverse_.range(values, cellLo, cellHi);
   const std::vector<double>& sorted = isoValues.sorted();
   // The iso-values this cell can contain: sorted[first, last).
-  const std::size_t first =
-    static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), cellLo) - sorted.begin());
-  const std::size_t last =
-    static_cast<std::size_t>(std::upper_bound(sorted.begin(), sorted.end(), cellHi) - sorted.begin());
-  if (first >= last)
+  std::size_t first, last;
+  if (!isoValues.within(cellLo, cellHi, first, last))
   {
     return false;
   }
@@ -1025,15 +1008,12 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
   // true bound whatever the transverse test.)
   double boundLo, boundHi;
   form.range(boundLo, boundHi);
-  if (boundHi - boundLo <= 8.0 * std::numeric_limits<double>::epsilon() *
-      std::max(std::abs(boundLo), std::abs(boundHi)))
+  if (constantToRounding(boundLo, boundHi))
   {
-    const auto it = std::lower_bound(sorted.begin(), sorted.end(), boundLo / scale);
-    if (it == sorted.end() || *it > boundHi / scale)
+    if (!constantIsoIndex(isoValues, boundLo, boundHi, scale, hit.isoIndex))
     {
       return false;
     }
-    hit.isoIndex = static_cast<std::size_t>(it - sorted.begin());
     hit.t = tCentre + sEntry;
     hit.regionEnd = tCentre + sExit;
     hit.cellId = cellId;

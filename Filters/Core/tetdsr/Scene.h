@@ -101,6 +101,16 @@ public:
 
   const std::vector<double>& sorted() const { return Sorted_; }
 
+  /// The sorted() positions [first, last) of the values within [lo, hi]; false if none is.
+  bool within(double lo, double hi, std::size_t& first, std::size_t& last) const
+  {
+    first = static_cast<std::size_t>(
+      std::lower_bound(Sorted_.begin(), Sorted_.end(), lo) - Sorted_.begin());
+    last = static_cast<std::size_t>(
+      std::upper_bound(Sorted_.begin(), Sorted_.end(), hi) - Sorted_.begin());
+    return first < last;
+  }
+
   /// The position, in the list given to the constructor, of the k-th smallest value.
   std::size_t originalIndex(std::size_t k) const { return OriginalIndex_[k]; }
 
