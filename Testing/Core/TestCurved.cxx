@@ -69,6 +69,23 @@ LatticeMesh warpedLattice(int n, const Warp& warp, std::vector<glm::dvec3>& prei
   return mesh;
 }
 
+/// |q - centre|^2 of the point's preimage q: its isosurfaces are warped spheres.
+double sphereField(const glm::dvec3& q, const glm::dvec3& centre)
+{
+  return glm::dot(q - centre, q - centre);
+}
+
+/// The warped lattice (n = 2) holding sphereField of each node's preimage, exactly.
+LatticeMesh warpedSphereLattice(const Warp& warp, const glm::dvec3& centre)
+{
+  std::vector<glm::dvec3> preimage;
+  LatticeMesh mesh = warpedLattice(2, warp, preimage);
+  mesh.values.resize(preimage.size());
+  for (std::size_t p = 0; p < preimage.size(); ++p)
+    mesh.values[p] = sphereField(preimage[p], centre);
+  return mesh;
+}
+
 double distanceToCubeBoundary(const glm::dvec3& q)
 {
   double d = 1e300;
@@ -272,14 +289,10 @@ TEST(CurvedTet, PlaneInWarpedLatticeIsExact)
 TEST(CurvedTet, WarpedSphereAgainstSampledTruth)
 {
   const Warp warp{ 0.5 };
-  std::vector<glm::dvec3> preimage;
-  LatticeMesh mesh = warpedLattice(2, warp, preimage);
   const glm::dvec3 centre(0.5, 0.45, 0.55);
   const double radius2 = 0.3 * 0.3;
-  auto Q = [&](const glm::dvec3& q) { return glm::dot(q - centre, q - centre); };
-  mesh.values.resize(preimage.size());
-  for (std::size_t p = 0; p < preimage.size(); ++p)
-    mesh.values[p] = Q(preimage[p]);
+  auto Q = [&](const glm::dvec3& q) { return sphereField(q, centre); };
+  const LatticeMesh mesh = warpedSphereLattice(warp, centre);
   const tetdsr::Scene scene(mesh.view());
   const tetdsr::IsoValues iso({ radius2 });
   const int pixels = 48;
@@ -435,16 +448,13 @@ TEST(CurvedTet, ColourClipCapsTranslucencyAndNormalModes)
   // The warped sphere with a second array linear in world coordinates (exact in curved cells),
   // rendered through the Renderer with each feature; truth as above.
   const Warp warp{ 0.5 };
-  std::vector<glm::dvec3> preimage;
-  LatticeMesh mesh = warpedLattice(2, warp, preimage);
   const glm::dvec3 centre(0.5, 0.45, 0.55);
-  auto Q = [&](const glm::dvec3& q) { return glm::dot(q - centre, q - centre); };
-  mesh.values.resize(preimage.size());
-  std::vector<double> colour(preimage.size());
+  auto Q = [&](const glm::dvec3& q) { return sphereField(q, centre); };
+  const LatticeMesh mesh = warpedSphereLattice(warp, centre);
+  std::vector<double> colour(mesh.values.size());
   const glm::dvec3 b(0.2, 0.7, -0.4);
-  for (std::size_t p = 0; p < preimage.size(); ++p)
+  for (std::size_t p = 0; p < colour.size(); ++p)
   {
-    mesh.values[p] = Q(preimage[p]);
     colour[p] = glm::dot(b, mesh.point(static_cast<tetdsr::NodeId>(p)));
   }
   tetdsr::Scene scene(mesh.view());
@@ -583,13 +593,9 @@ TEST(CurvedTet, ManyIsoValuesInOneSolve)
   // 40 nested warped spheres: the first crossing of any of them, and which one, against sampled
   // truth. The curved solver takes all the levels a cell admits in one subdivision.
   const Warp warp{ 0.5 };
-  std::vector<glm::dvec3> preimage;
-  LatticeMesh mesh = warpedLattice(2, warp, preimage);
   const glm::dvec3 centre(0.5, 0.45, 0.55);
-  auto Q = [&](const glm::dvec3& q) { return glm::dot(q - centre, q - centre); };
-  mesh.values.resize(preimage.size());
-  for (std::size_t p = 0; p < preimage.size(); ++p)
-    mesh.values[p] = Q(preimage[p]);
+  auto Q = [&](const glm::dvec3& q) { return sphereField(q, centre); };
+  const LatticeMesh mesh = warpedSphereLattice(warp, centre);
   const tetdsr::Scene scene(mesh.view());
   std::vector<double> levels;
   for (int k = 0; k < 40; ++k)
