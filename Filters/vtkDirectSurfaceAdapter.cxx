@@ -86,6 +86,15 @@ vtkMTimeType MeshModifiedTime(vtkUnstructuredGrid* grid)
   return time;
 }
 
+namespace
+{
+/// The core's ParallelFor on vtkSMPTools' threads.
+void SMPParallelFor(NodeId count, const std::function<void(NodeId, NodeId)>& body)
+{
+  vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) { body(begin, end); });
+}
+} // namespace
+
 struct PreparedMesh::Internals
 {
   Stamp BuiltFrom;
@@ -104,6 +113,9 @@ struct PreparedMesh::Internals
   NodeId NumberOfPoints = 0;
 
   std::unique_ptr<Scene> TheScene;
+  /// The surface index of the last iso-values asked for (GetSurface), and those values as given.
+  std::unique_ptr<SurfaceIndex> Surface;
+  std::vector<double> SurfaceValues;
   PreprocessSummary EmptySummary;
   vtkIdType UnsupportedCells = 0;
   vtkIdType MalformedCells = 0;
@@ -155,10 +167,24 @@ vtkIdType PreparedMesh::InputCellId(NodeId sceneCell) const
   return ids.empty() ? sceneCell : ids[static_cast<std::size_t>(sceneCell)];
 }
 
+const SurfaceIndex& PreparedMesh::GetSurface(const std::vector<double>& isoValues, int numberOfThreads)
+{
+  Internals& in = *this->Internal;
+  if (!in.Surface || isoValues != in.SurfaceValues)
+  {
+    in.Surface.reset();
+    WithThreads(numberOfThreads, [&]() {
+      in.Surface.reset(new SurfaceIndex(*in.TheScene, IsoValues(isoValues), SMPParallelFor));
+    });
+    in.SurfaceValues = isoValues;
+  }
+  return *in.Surface;
+}
+
 std::size_t PreparedMesh::MemoryBytes() const
 {
   const Internals& in = *this->Internal;
-  return (in.TheScene ? in.TheScene->memoryBytes() : 0) +
+  return (in.TheScene ? in.TheScene->memoryBytes() : 0) + (in.Surface ? in.Surface->memoryBytes() : 0) +
     sizeof(double) * (in.PointsCopy.capacity() + in.ValuesCopy.capacity()) +
     sizeof(vtkIdType) * (in.CellNodesCopy.capacity() + in.InputCellIds.capacity());
 }
@@ -183,13 +209,8 @@ bool PreparedMesh::Prepare(vtkUnstructuredGrid* input, vtkDataArray* scalars, in
     {
       return false;
     }
-    WithThreads(numberOfThreads, [&]() {
-      fresh.TheScene.reset(new Scene(mesh,
-        [](NodeId count, const std::function<void(NodeId, NodeId)>& body) {
-          vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) { body(begin, end); });
-        },
-        transverse));
-    });
+    WithThreads(numberOfThreads,
+      [&]() { fresh.TheScene.reset(new Scene(mesh, SMPParallelFor, transverse)); });
   }
   Internals& current = *this->Internal;
   current.Valid = false;

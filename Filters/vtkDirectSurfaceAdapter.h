@@ -15,6 +15,7 @@
 
 #include "tetdsr/Renderer.h"
 #include "tetdsr/Scene.h"
+#include "tetdsr/SurfaceIndex.h"
 
 #include <functional>
 #include <memory>
@@ -60,6 +61,11 @@ public:
 
   /// The scene of the last successful Prepare (null before).
   Scene* GetScene() const;
+
+  /// The surface index of the scene for these iso-values (as given: order matters for styles,
+  /// not for the index), built on `numberOfThreads` threads (0: all cores) when the values or
+  /// the scene changed since the last call. Only after a successful Prepare.
+  const SurfaceIndex& GetSurface(const std::vector<double>& isoValues, int numberOfThreads);
 
   /// Counts of the last Prepare: the core's, and cells the adapter left out before it.
   const PreprocessSummary& GetSummary() const;

@@ -927,8 +927,8 @@ int vtkDirectSurfaceRayCaster::RequestData(
   bool aborted = false;
   if (scene)
   {
-    const tetdsr::IsoValues isoValues(values);
-    const tetdsr::Renderer renderer(*scene, camera, isoValues, settings, view);
+    const tetdsr::Renderer renderer(
+      prepared.GetSurface(values, this->NumberOfThreads), camera, settings, view);
     const vtkIdType tiles = renderer.numberOfTiles();
     const tetdsr::NodeId uncertifiedBefore = scene->uncertifiedHits();
     const vtkIdType tilesDone = adapter::Cast(renderer,

@@ -663,7 +663,6 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   settings.lighting = lighting;
   settings.clipPlanes = clipPlanes;
   settings.isoStyles = in.Styles.Styles(values.size(), diffuseColor, property->GetOpacity());
-  const tetdsr::IsoValues isoValues(values);
   const tetdsr::RayGenerator rays(ndcToModel, castWidth, castHeight);
 
   const std::size_t pixels = static_cast<std::size_t>(castWidth) * castHeight;
@@ -778,7 +777,8 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
     image.normals = in.Normals.data();
     image.cellIds = several ? blockCellIds.data() : in.CellIds.data();
     image.rayLimits = translucent ? in.RayLimits.data() : nullptr;
-    const tetdsr::Renderer caster(*prepared.GetScene(), rays, isoValues, settings, image);
+    const tetdsr::Renderer caster(
+      prepared.GetSurface(values, this->NumberOfThreads), rays, settings, image);
     const tetdsr::NodeId done = adapter::Cast(caster, false, this->NumberOfThreads,
       [window]() { return window->CheckAbortStatus() != 0; }, [](double) {});
     if (done < caster.numberOfTiles())

@@ -17,6 +17,7 @@
 
 #include "tetdsr/Camera.h"
 #include "tetdsr/Scene.h"
+#include "tetdsr/SurfaceIndex.h"
 
 #include <glm/glm.hpp>
 
@@ -323,10 +324,10 @@ inline Figures evaluate(const Case& c, const HitFunction& firstHit)
 inline Figures evaluateScene(const Case& c)
 {
   const tetdsr::Scene scene(c.mesh.view());
-  const tetdsr::IsoValues iso({ c.iso });
+  const tetdsr::SurfaceIndex surface(scene, tetdsr::IsoValues({ c.iso }));
   return evaluate(c, [&](const tetdsr::Ray& ray, std::size_t, int, int, double& t, glm::dvec3& n) {
     tetdsr::SurfaceHit hit;
-    if (!scene.firstHit(ray, iso, hit))
+    if (!surface.firstHit(ray, hit))
       return false;
     t = hit.t;
     const double length = glm::length(hit.gradient);

@@ -16,6 +16,7 @@
 #include "tetdsr/QuadraticTet.h"
 #include "tetdsr/Renderer.h"
 #include "tetdsr/Scene.h"
+#include "tetdsr/SurfaceIndex.h"
 
 #include <gtest/gtest.h>
 
@@ -214,7 +215,7 @@ Tally planeInWarpedLattice(int n, double alpha, const tetdsr::Camera& camera, in
   const tetdsr::Scene scene(mesh.view());
   EXPECT_EQ(scene.summary().validCells, 6 * n * n * n);
   EXPECT_EQ(scene.summary().curvedCells, 6 * n * n * n);
-  const tetdsr::IsoValues iso({ c });
+  const tetdsr::SurfaceIndex surface(scene, tetdsr::IsoValues({ c }));
   const tetdsr::RayGenerator rays(camera, pixels, pixels);
   diagonal = scene.diagonal();
   Tally tally;
@@ -234,7 +235,7 @@ Tally planeInWarpedLattice(int n, double alpha, const tetdsr::Camera& camera, in
       }
       ++tally.compared;
       tetdsr::SurfaceHit hit;
-      const bool found = scene.firstHit(ray, iso, hit);
+      const bool found = surface.firstHit(ray, hit);
       if (inside > 0.0 && !found)
       {
         ++tally.misses;
@@ -294,7 +295,7 @@ TEST(CurvedTet, WarpedSphereAgainstSampledTruth)
   auto Q = [&](const glm::dvec3& q) { return sphereField(q, centre); };
   const LatticeMesh mesh = warpedSphereLattice(warp, centre);
   const tetdsr::Scene scene(mesh.view());
-  const tetdsr::IsoValues iso({ radius2 });
+  const tetdsr::SurfaceIndex surface(scene, tetdsr::IsoValues({ radius2 }));
   const int pixels = 48;
   const glm::dvec3 middle = warp(centre);
   const tetdsr::RayGenerator rays(
@@ -355,7 +356,7 @@ TEST(CurvedTet, WarpedSphereAgainstSampledTruth)
       }
       ++tally.compared;
       tetdsr::SurfaceHit hit;
-      const bool found = scene.firstHit(ray, iso, hit);
+      const bool found = surface.firstHit(ray, hit);
       if (tTrue > 0.0 && !found)
         ++tally.misses;
       else if (tTrue < 0.0 && found)
@@ -395,7 +396,7 @@ TEST(CurvedTet, RaysThroughSharedNodesAndEdgesDoNotLeak)
     if (distanceToCubeBoundary(preimage[p]) < 0.2)
       continue; // interior nodes only: the plane then passes inside the mesh around them
     const glm::dvec3 node = mesh.point(static_cast<tetdsr::NodeId>(p));
-    const tetdsr::IsoValues iso({ glm::dot(a, node) });
+    const tetdsr::SurfaceIndex surface(scene, tetdsr::IsoValues({ glm::dot(a, node) }));
     for (int k = 0; k < 6; ++k)
     {
       glm::dvec3 d(normal(random), normal(random), normal(random));
@@ -403,7 +404,7 @@ TEST(CurvedTet, RaysThroughSharedNodesAndEdgesDoNotLeak)
       tetdsr::Ray ray{ node - 4.0 * d, d };
       tetdsr::SurfaceHit hit;
       ++rays;
-      if (!scene.firstHit(ray, iso, hit))
+      if (!surface.firstHit(ray, hit))
       {
         ++misses;
         continue;
@@ -459,7 +460,7 @@ TEST(CurvedTet, ColourClipCapsTranslucencyAndNormalModes)
   }
   tetdsr::Scene scene(mesh.view());
   scene.computeNodalGradients();
-  const tetdsr::IsoValues iso({ 0.09, 0.04 });
+  const tetdsr::SurfaceIndex surface(scene, tetdsr::IsoValues({ 0.09, 0.04 }));
   const int pixels = 40;
   const glm::dvec3 middle = warp(centre);
   const tetdsr::Camera camera =
@@ -486,7 +487,7 @@ TEST(CurvedTet, ColourClipCapsTranslucencyAndNormalModes)
     view.normals = image.normals.data();
     view.cellIds = image.cells.data();
     view.colorValues = image.values.data();
-    const tetdsr::Renderer renderer(scene, camera, iso, settings, view);
+    const tetdsr::Renderer renderer(surface, camera, settings, view);
     renderer.renderTiles(0, renderer.numberOfTiles());
     return image;
   };
@@ -601,6 +602,7 @@ TEST(CurvedTet, ManyIsoValuesInOneSolve)
   for (int k = 0; k < 40; ++k)
     levels.push_back(0.01 + 0.0022 * k); // radii 0.1 to 0.315
   const tetdsr::IsoValues iso(levels);
+  const tetdsr::SurfaceIndex surface(scene, iso);
   const int pixels = 32;
   const glm::dvec3 middle = warp(centre);
   const tetdsr::RayGenerator rays(
@@ -656,7 +658,7 @@ TEST(CurvedTet, ManyIsoValuesInOneSolve)
       }
       ++compared;
       tetdsr::SurfaceHit hit;
-      const bool found = scene.firstHit(ray, iso, hit);
+      const bool found = surface.firstHit(ray, hit);
       if (level >= 0 && !found)
         ++misses;
       else if (level < 0 && found)

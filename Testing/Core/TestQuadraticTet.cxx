@@ -7,6 +7,7 @@
 #include "tetdsr/QuadraticTet.h"
 #include "tetdsr/Roots.h"
 #include "tetdsr/Scene.h"
+#include "tetdsr/SurfaceIndex.h"
 
 #include <gtest/gtest.h>
 
@@ -260,7 +261,7 @@ TEST(Scene, SphereMatchesExactRaySphereIntersection)
   mesh.sample([&](const glm::dvec3& x) { return glm::dot(x - sphere.centre, x - sphere.centre); });
   const tetdsr::Scene scene(mesh.view());
   ASSERT_EQ(scene.summary().validCells, 4 * 4 * 4 * 6);
-  const tetdsr::IsoValues iso({ sphere.radius * sphere.radius });
+  const tetdsr::SurfaceIndex surface(scene, tetdsr::IsoValues({ sphere.radius * sphere.radius }));
   const double diagonal = std::sqrt(3.0);
 
   for (bool parallel : { false, true })
@@ -288,7 +289,7 @@ TEST(Scene, SphereMatchesExactRaySphereIntersection)
           continue;
         }
         tetdsr::SurfaceHit hit;
-        const bool got = scene.firstHit(ray, iso, hit);
+        const bool got = surface.firstHit(ray, hit);
         if (got != expected)
         {
           ++wrongCoverage;
@@ -341,10 +342,10 @@ TEST(Scene, RaysThroughSharedVerticesAndEdgesNeverFallThroughCracks)
         const tetdsr::Ray ray = generator.pixelRay(i, j);
         const glm::dvec3 p = ray.origin;
         const double fieldOffset = -0.1 * p.x + 0.05 * p.y; // f = z + offset; iso planeZ + ...
-        const tetdsr::IsoValues iso({ planeZ + fieldOffset });
+        const tetdsr::SurfaceIndex surface(scene, tetdsr::IsoValues({ planeZ + fieldOffset }));
         tetdsr::SurfaceHit hit;
         ++rays;
-        if (!scene.firstHit(ray, iso, hit))
+        if (!surface.firstHit(ray, hit))
         {
           ++holes;
           continue;
@@ -363,7 +364,7 @@ TEST(Scene, RaysThroughSharedVerticesAndEdgesNeverFallThroughCracks)
     const tetdsr::Ray ray{ onPlane - 0.1 * glm::dvec3(1.0), glm::normalize(glm::dvec3(1.0)) };
     const double value = onPlane.z - 0.1 * onPlane.x + 0.05 * onPlane.y;
     tetdsr::SurfaceHit hit;
-    diagonalHoles += !scene.firstHit(ray, tetdsr::IsoValues({ value }), hit);
+    diagonalHoles += !tetdsr::SurfaceIndex(scene, tetdsr::IsoValues({ value })).firstHit(ray, hit);
   }
   EXPECT_EQ(diagonalHoles, 0);
 }
@@ -391,6 +392,7 @@ TEST(Scene, InvertedCellsRenderIdenticallyAndAreCounted)
   EXPECT_EQ(mixed.summary().validCells, cells);
 
   const tetdsr::IsoValues iso({ sphere.radius * sphere.radius });
+  const tetdsr::SurfaceIndex originalSurface(original, iso), mixedSurface(mixed, iso);
   tetdsr::Camera camera;
   camera.position = glm::dvec3(0.3, 0.2, 4.0);
   const tetdsr::RayGenerator rays(camera, 40, 40);
@@ -400,8 +402,8 @@ TEST(Scene, InvertedCellsRenderIdenticallyAndAreCounted)
     {
       const tetdsr::Ray ray = rays.pixelRay(i, j);
       tetdsr::SurfaceHit a, b;
-      const bool hitA = original.firstHit(ray, iso, a);
-      ASSERT_EQ(hitA, mixed.firstHit(ray, iso, b));
+      const bool hitA = originalSurface.firstHit(ray, a);
+      ASSERT_EQ(hitA, mixedSurface.firstHit(ray, b));
       if (!hitA)
         continue;
       ++compared;
@@ -481,15 +483,17 @@ TEST(Scene, WidenedNodalRangeHeuristicLeavesHolesTheBernsteinBoundDoesNot)
   const glm::dvec3 centroid(0.25);
   const tetdsr::Ray ray{ centroid + glm::dvec3(0.0, 0.0, 3.0), glm::dvec3(0.0, 0.0, -1.0) };
   tetdsr::SurfaceHit hit;
-  ASSERT_TRUE(exact.firstHit(ray, iso, hit));
+  ASSERT_TRUE(tetdsr::SurfaceIndex(exact, iso).firstHit(ray, hit));
   // Truth along the ray: sum L^2 = 3 * (1/4)^2 + (1/4 + 3 - t)^2... solve f = 0.86 directly.
   // Along x = y = 1/4, z = 3.25 - t: L = (1/2 - z, 1/4, 1/4, z); f = 0.8 + 0.2 sum L^2.
   const double target = (0.86 - 0.8) / 0.2 - 2.0 / 16.0; // (1/2 - z)^2 + z^2
   const double z = 0.25 + std::sqrt(target / 2.0 - 1.0 / 16.0); // the root nearer the camera
   EXPECT_NEAR(hit.t, 3.25 - z, 1e-12);
-  EXPECT_FALSE(paper.firstHit(ray, iso, hit)) << "the 25% heuristic leaves a hole here";
+  EXPECT_FALSE(tetdsr::SurfaceIndex(paper, iso).firstHit(ray, hit))
+    << "the 25% heuristic leaves a hole here";
   heuristic.widening = 0.5; // [0.85, 1.05]: wide enough again
-  EXPECT_TRUE(tetdsr::Scene(mesh.view(), tetdsr::serialFor, heuristic).firstHit(ray, iso, hit));
+  const tetdsr::Scene wider(mesh.view(), tetdsr::serialFor, heuristic);
+  EXPECT_TRUE(tetdsr::SurfaceIndex(wider, iso).firstHit(ray, hit));
 }
 
 TEST(Scene, CurvedCellsAreCounted)
@@ -522,6 +526,7 @@ TEST(Scene, LinearTetEqualsQuadraticTetWithMidpointValues)
   linearView.straightEdgeMarkers = true;
   const tetdsr::Scene a(quadratic.view()), b(linearView);
   const tetdsr::IsoValues iso({ 0.2 });
+  const tetdsr::SurfaceIndex surfaceA(a, iso), surfaceB(b, iso);
   tetdsr::Camera camera;
   camera.position = glm::dvec3(2.0, 1.5, 3.0);
   camera.focalPoint = glm::dvec3(0.5);
@@ -532,8 +537,8 @@ TEST(Scene, LinearTetEqualsQuadraticTetWithMidpointValues)
     {
       tetdsr::SurfaceHit ha, hb;
       const tetdsr::Ray ray = rays.pixelRay(i, j);
-      const bool hitA = a.firstHit(ray, iso, ha);
-      ASSERT_EQ(hitA, b.firstHit(ray, iso, hb));
+      const bool hitA = surfaceA.firstHit(ray, ha);
+      ASSERT_EQ(hitA, surfaceB.firstHit(ray, hb));
       if (hitA)
       {
         ++hits;
@@ -555,15 +560,15 @@ TEST(Scene, SeveralIsoValuesGiveTheNearestCrossingAndThinShellsTheFirstRoot)
   const double r1 = 0.3, r2 = 0.7;
   const double rho2 = 0.05 * 0.05 + 0.02 * 0.02;
   tetdsr::SurfaceHit hit;
-  ASSERT_TRUE(scene.firstHit(ray, tetdsr::IsoValues({ r1 * r1, r2 * r2 }), hit));
+  ASSERT_TRUE(tetdsr::SurfaceIndex(scene, tetdsr::IsoValues({ r1 * r1, r2 * r2 })).firstHit(ray, hit));
   EXPECT_NEAR(hit.t, 5.0 - std::sqrt(r2 * r2 - rho2), 1e-12) << "outer sphere first";
   // A thin shell: both roots of one sphere lie within the cells; the first one is returned.
-  ASSERT_TRUE(scene.firstHit(ray, tetdsr::IsoValues({ r1 * r1 }), hit));
+  ASSERT_TRUE(tetdsr::SurfaceIndex(scene, tetdsr::IsoValues({ r1 * r1 })).firstHit(ray, hit));
   EXPECT_NEAR(hit.t, 5.0 - std::sqrt(r1 * r1 - rho2), 1e-12);
   // A sphere of radius 1e-3 of the cell size, entirely inside one cell.
   const double tiny = 2e-3;
   const tetdsr::Ray centred{ glm::dvec3(0.0, 0.0, 5.0), glm::dvec3(0.0, 0.0, -1.0) };
-  ASSERT_TRUE(scene.firstHit(centred, tetdsr::IsoValues({ tiny * tiny }), hit));
+  ASSERT_TRUE(tetdsr::SurfaceIndex(scene, tetdsr::IsoValues({ tiny * tiny })).firstHit(centred, hit));
   EXPECT_NEAR(hit.t, 5.0 - tiny, 1e-12);
 }
 
@@ -577,6 +582,7 @@ TEST(Scene, RayWindowGivesEveryCrossingInOrderWithItsIsoValue)
   const tetdsr::Ray ray{ glm::dvec3(0.05, -0.02, 5.0), glm::dvec3(0.0, 0.0, -1.0) };
   const double r1 = 0.3, r2 = 0.7, rho2 = 0.05 * 0.05 + 0.02 * 0.02;
   const tetdsr::IsoValues iso({ r2 * r2, r1 * r1 });
+  const tetdsr::SurfaceIndex surface(scene, iso);
   EXPECT_EQ(iso.originalIndex(0), 1u) << "the smaller value was given second";
   EXPECT_EQ(iso.originalIndex(1), 0u);
   const double h1 = std::sqrt(r1 * r1 - rho2), h2 = std::sqrt(r2 * r2 - rho2);
@@ -586,14 +592,14 @@ TEST(Scene, RayWindowGivesEveryCrossingInOrderWithItsIsoValue)
   for (int k = 0; k < 4; ++k)
   {
     tetdsr::SurfaceHit hit;
-    ASSERT_TRUE(scene.firstHit(ray, iso, hit, from)) << "crossing " << k;
+    ASSERT_TRUE(surface.firstHit(ray, hit, from)) << "crossing " << k;
     EXPECT_NEAR(hit.t, expected[k], 1e-12) << "crossing " << k;
     EXPECT_EQ(hit.isoIndex, expectedValue[k]) << "crossing " << k;
     from = hit.t + 1e-9;
   }
   tetdsr::SurfaceHit hit;
-  EXPECT_FALSE(scene.firstHit(ray, iso, hit, from)) << "no fifth crossing";
-  EXPECT_FALSE(scene.firstHit(ray, iso, hit, 0.0, expected[0] - 1e-9)) << "window ends before";
+  EXPECT_FALSE(surface.firstHit(ray, hit, from)) << "no fifth crossing";
+  EXPECT_FALSE(surface.firstHit(ray, hit, 0.0, expected[0] - 1e-9)) << "window ends before";
 }
 
 TEST(Scene, PointLocationAndInterpolationOfAnotherArray)
@@ -633,6 +639,7 @@ TEST(Scene, CopiesOfOneCellKeepLeavesSmallAndTraversalFinite)
     one.cellNodes.insert(one.cellNodes.end(), cell.begin(), cell.end());
   const tetdsr::Scene scene(one.view());
   ASSERT_EQ(scene.summary().validCells, 70000);
+  const tetdsr::SurfaceIndex surface(scene, tetdsr::IsoValues({ 0.2 }));
   tetdsr::Camera camera;
   camera.position = glm::dvec3(2.0, 1.5, 3.0);
   camera.focalPoint = glm::dvec3(0.1);
@@ -643,7 +650,7 @@ TEST(Scene, CopiesOfOneCellKeepLeavesSmallAndTraversalFinite)
     for (int i = 0; i < 8; ++i)
     {
       tetdsr::SurfaceHit hit;
-      hits += scene.firstHit(rays.pixelRay(i, j), tetdsr::IsoValues({ 0.2 }), hit);
+      hits += surface.firstHit(rays.pixelRay(i, j), hit);
     }
   EXPECT_GT(hits, 0);
 }
@@ -660,14 +667,14 @@ TEST(Scene, HitsDoNotDependOnTheScaleOfFieldOrCoordinates)
     scaled.position *= lengthScale;
     scaled.focalPoint *= lengthScale;
     const tetdsr::Scene scene(mesh.view());
+    const tetdsr::SurfaceIndex surface(scene, tetdsr::IsoValues({ 0.15 * fieldScale }));
     const tetdsr::RayGenerator rays(scaled, 16, 16);
     std::vector<double> depths;
     for (int j = 0; j < 16; ++j)
       for (int i = 0; i < 16; ++i)
       {
         tetdsr::SurfaceHit hit;
-        const bool found =
-          scene.firstHit(rays.pixelRay(i, j), tetdsr::IsoValues({ 0.15 * fieldScale }), hit);
+        const bool found = surface.firstHit(rays.pixelRay(i, j), hit);
         depths.push_back(found ? hit.t / lengthScale : -1.0);
       }
     return depths;

@@ -5,6 +5,7 @@
 
 #include "tetdsr/QuadraticTet.h"
 #include "tetdsr/Scene.h"
+#include "tetdsr/SurfaceIndex.h"
 
 #include <gtest/gtest.h>
 
@@ -130,6 +131,8 @@ TEST(Stability, ConstantFields)
   LatticeMesh mesh = makeLattice(3, glm::dvec3(0.0), 1.0);
   mesh.sample([](const glm::dvec3&) { return 0.7; });
   const tetdsr::Scene scene(mesh.view());
+  const tetdsr::SurfaceIndex below(scene, tetdsr::IsoValues({ 0.6 }));
+  const tetdsr::SurfaceIndex equal(scene, tetdsr::IsoValues({ 0.7 }));
   Domain box;
   box.lo = glm::dvec3(0.0);
   box.hi = glm::dvec3(1.0);
@@ -142,13 +145,13 @@ TEST(Stability, ConstantFields)
       {
         const tetdsr::Ray ray = rays.pixelRay(i, j);
         tetdsr::SurfaceHit hit;
-        falseHits += scene.firstHit(ray, tetdsr::IsoValues({ 0.6 }), hit);
+        falseHits += below.firstHit(ray, hit);
         long double tIn, tOut;
         const bool enters = box.clip(ray, tIn, tOut) && tOut - tIn > 1e-9;
         if (!enters)
           continue;
         ++entering;
-        wrong += !scene.firstHit(ray, tetdsr::IsoValues({ 0.7 }), hit) ||
+        wrong += !equal.firstHit(ray, hit) ||
           std::abs(hit.t - static_cast<double>(tIn)) > 1e-9 || glm::length(hit.gradient) != 0.0;
       }
   }
@@ -167,6 +170,7 @@ TEST(Stability, DoubleRootsAreDrawn)
   LatticeMesh mesh = makeLattice(4, glm::dvec3(0.0), 1.0);
   mesh.sample([](const glm::dvec3& x) { return (x.x - 0.5) * (x.x - 0.5); });
   const tetdsr::Scene scene(mesh.view());
+  const tetdsr::SurfaceIndex surface(scene, tetdsr::IsoValues({ 0.0 }));
   Domain box;
   box.lo = glm::dvec3(0.0);
   box.hi = glm::dvec3(1.0);
@@ -188,7 +192,7 @@ TEST(Stability, DoubleRootsAreDrawn)
           continue;
         ++crossing;
         tetdsr::SurfaceHit hit;
-        if (scene.firstHit(ray, tetdsr::IsoValues({ 0.0 }), hit))
+        if (surface.firstHit(ray, hit))
         {
           ++drawn;
           worst = std::max(worst, std::abs(hit.t - t));

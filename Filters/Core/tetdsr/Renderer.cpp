@@ -73,24 +73,25 @@ glm::dvec3 shade(const Material& material, const glm::dvec3& color, const glm::d
     material.specular * specular * material.specularColor;
 }
 
-Renderer::Renderer(const Scene& scene, const Camera& camera, const IsoValues& isoValues,
+Renderer::Renderer(const SurfaceIndex& surface, const Camera& camera,
   const RenderSettings& settings, const ImageView& image)
-  : Renderer(scene, RayGenerator(camera, image.width, image.height), isoValues, settings, image)
+  : Renderer(surface, RayGenerator(camera, image.width, image.height), settings, image)
 {
 }
 
-Renderer::Renderer(const Scene& scene, const RayGenerator& rays, const IsoValues& isoValues,
+Renderer::Renderer(const SurfaceIndex& surface, const RayGenerator& rays,
   const RenderSettings& settings, const ImageView& image)
-  : Scene_(scene)
+  : Surface_(surface)
+  , Scene_(surface.scene())
   , Rays_(rays)
-  , IsoValues_(isoValues)
+  , IsoValues_(surface.isoValues())
   , Settings_(settings)
   , Image_(image)
   , TilesPerRow_((image.width + kTileSize - 1) / kTileSize)
 {
-  for (std::size_t k = 0; k < isoValues.sorted().size(); ++k)
+  for (std::size_t k = 0; k < IsoValues_.sorted().size(); ++k)
   {
-    const std::size_t original = isoValues.originalIndex(k);
+    const std::size_t original = IsoValues_.originalIndex(k);
     SurfaceStyle style{ settings.material.color, 1.0 };
     if (original < settings.isoStyles.size())
     {
@@ -106,7 +107,7 @@ Renderer::Renderer(const Scene& scene, const RayGenerator& rays, const IsoValues
   // Crossings nearer than this are one: the same surface found again in the neighbouring cell
   // differs by rounding (~1e-15 of the scene), far below it; surfaces truly this close are
   // below any pixel's footprint.
-  LayerGap_ = 1e-9 * scene.diagonal();
+  LayerGap_ = 1e-9 * Scene_.diagonal();
   if (settings.normals.mode == NormalMode::DepthBuffer)
   {
     Nearest_.resize(static_cast<std::size_t>(image.width) * image.height);
@@ -279,7 +280,7 @@ void Renderer::renderPixel(int i, int j) const
   for (int layer = 0; layer < kMaxLayers && opacity < kOpaque; ++layer)
   {
     SurfaceHit hit;
-    if (!Scene_.firstHit(ray, IsoValues_, hit, tFrom, tMax))
+    if (!Surface_.firstHit(ray, hit, tFrom, tMax))
     {
       break;
     }

@@ -3,6 +3,7 @@
 
 #include "tetdsr/Camera.h"
 #include "tetdsr/Scene.h"
+#include "tetdsr/SurfaceIndex.h"
 
 #include <glm/glm.hpp>
 
@@ -157,12 +158,13 @@ glm::dvec3 shade(const Material& material, const glm::dvec3& color, const glm::d
 class Renderer
 {
 public:
-  /// NodalInterpolation needs scene.computeNodalGradients() to have run.
-  Renderer(const Scene& scene, const Camera& camera, const IsoValues& isoValues,
-    const RenderSettings& settings, const ImageView& image);
+  /// Casts rays into `surface` (its scene and iso-values). NodalInterpolation needs
+  /// scene.computeNodalGradients() to have run.
+  Renderer(const SurfaceIndex& surface, const Camera& camera, const RenderSettings& settings,
+    const ImageView& image);
   /// With any rays (e.g. from an inverse projection); `rays` must be for image's size.
-  Renderer(const Scene& scene, const RayGenerator& rays, const IsoValues& isoValues,
-    const RenderSettings& settings, const ImageView& image);
+  Renderer(const SurfaceIndex& surface, const RayGenerator& rays, const RenderSettings& settings,
+    const ImageView& image);
 
   /// Square tiles of kTileSize pixels a side (clipped at the image's edges), row-major from the
   /// bottom left. Neighbouring rays visit the same cells, so a tile keeps them in cache.
@@ -204,6 +206,7 @@ private:
   void writePixel(std::size_t pixel, const glm::dvec3& premultiplied, double opacity) const;
   void writeMiss(std::size_t pixel) const;
 
+  const SurfaceIndex& Surface_;
   const Scene& Scene_;
   RayGenerator Rays_;
   const IsoValues& IsoValues_;

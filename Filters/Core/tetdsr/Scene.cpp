@@ -1,6 +1,7 @@
 #include "tetdsr/Scene.h"
 
 #include "tetdsr/CurvedTet.h"
+#include "tetdsr/Hierarchy.h"
 #include "tetdsr/QuadraticTet.h"
 #include "tetdsr/Roots.h"
 
@@ -13,15 +14,8 @@ namespace tetdsr
 
 namespace
 {
-constexpr int kLeafSize = 4;
-constexpr int kBins = 16;
-constexpr int kMaxSahDepth = 48; // below this, split at the median: depth stays < 48 + log2(n)
-// Traversal keeps at most one pending sibling per level; the tree depth is below
-// kMaxSahDepth + 64, so this stack cannot overflow.
-constexpr int kStackSize = kMaxSahDepth + 64;
-// Subtrees below this depth, or smaller than this, are built as one task each.
-constexpr int kParallelBuildDepth = 4;
-constexpr std::size_t kSerialBuildSize = 4096;
+// Preprocessing works in chunks of this many cells (merged in order: deterministic).
+constexpr NodeId kChunkCells = 1 << 14;
 constexpr float kFloatInfinity = std::numeric_limits<float>::infinity();
 
 // A mid-edge node farther than this many times the coordinates' rounding (MeshView::
@@ -49,24 +43,6 @@ bool distinctIds(const NodeId ids[10])
   return true;
 }
 
-// Slab test of the ray against an axis-aligned box, clipped to [tLo, tHi]. `inverse` holds
-// 1/direction with zero components replaced by +-1e300 (see rayInverse): a ray parallel to a slab
-// then gets t = +-huge outside it and an unbounded interval inside it, without a branch, and
-// never 0 * inf = NaN.
-inline bool rayBox(const glm::dvec3& origin, const glm::dvec3& inverse, const float lo[3],
-  const float hi[3], double tLo, double tHi, double& tEnter)
-{
-  for (int axis = 0; axis < 3; ++axis)
-  {
-    const double t0 = (static_cast<double>(lo[axis]) - origin[axis]) * inverse[axis];
-    const double t1 = (static_cast<double>(hi[axis]) - origin[axis]) * inverse[axis];
-    tLo = std::max(tLo, std::min(t0, t1));
-    tHi = std::min(tHi, std::max(t0, t1));
-  }
-  tEnter = tLo;
-  return tLo <= tHi;
-}
-
 /// A power of two that brings `largest` (a magnitude) near 1; 1 for zero or non-finite.
 /// Clamped so the factor itself stays a normal double.
 double scaleFor(double largest)
@@ -76,6 +52,19 @@ double scaleFor(double largest)
     return 1.0;
   }
   return std::ldexp(1.0, -std::clamp(std::ilogb(largest), -1020, 1020));
+}
+
+/// The longest edge of a tet. sqrt is monotonic and correctly rounded: one root of the largest
+/// square is the largest length.
+double longestEdge(const glm::dvec3 vertices[4])
+{
+  double longest2 = 0.0;
+  for (const auto& edge : kEdgeVertices)
+  {
+    const glm::dvec3 d = vertices[edge[0]] - vertices[edge[1]];
+    longest2 = std::max(longest2, glm::dot(d, d));
+  }
+  return std::sqrt(longest2);
 }
 
 /// scaleFor the largest magnitude of 10 nodal values.
@@ -89,16 +78,6 @@ double unitScale(const double values[10])
   return scaleFor(largest);
 }
 
-glm::dvec3 rayInverse(const glm::dvec3& direction)
-{
-  glm::dvec3 inverse;
-  for (int axis = 0; axis < 3; ++axis)
-  {
-    inverse[axis] = direction[axis] != 0.0 ? 1.0 / direction[axis]
-                                           : std::copysign(1e300, direction[axis]);
-  }
-  return inverse;
-}
 } // namespace
 
 IsoValues::IsoValues(const std::vector<double>& values)
@@ -115,74 +94,6 @@ IsoValues::IsoValues(const std::vector<double>& values)
     Sorted_.push_back(values[k]);
   }
 }
-
-struct Scene::BuildItem
-{
-  float boxLo[3]; ///< relative to Origin_, rounded outward
-  float boxHi[3];
-  float valueLo; ///< Bernstein range, rounded outward
-  float valueHi;
-  std::uint32_t cellId;
-
-  float centroid(int axis) const { return 0.5f * (boxLo[axis] + boxHi[axis]); }
-};
-
-struct Scene::Bounds
-{
-  float boxLo[3] = { kFloatInfinity, kFloatInfinity, kFloatInfinity };
-  float boxHi[3] = { -kFloatInfinity, -kFloatInfinity, -kFloatInfinity };
-  float centroidLo[3] = { kFloatInfinity, kFloatInfinity, kFloatInfinity };
-  float centroidHi[3] = { -kFloatInfinity, -kFloatInfinity, -kFloatInfinity };
-  float valueLo = kFloatInfinity;
-  float valueHi = -kFloatInfinity;
-
-  void grow(const BuildItem& item)
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      boxLo[a] = std::min(boxLo[a], item.boxLo[a]);
-      boxHi[a] = std::max(boxHi[a], item.boxHi[a]);
-      centroidLo[a] = std::min(centroidLo[a], item.centroid(a));
-      centroidHi[a] = std::max(centroidHi[a], item.centroid(a));
-    }
-    valueLo = std::min(valueLo, item.valueLo);
-    valueHi = std::max(valueHi, item.valueHi);
-  }
-
-  void merge(const Bounds& other)
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      boxLo[a] = std::min(boxLo[a], other.boxLo[a]);
-      boxHi[a] = std::max(boxHi[a], other.boxHi[a]);
-      centroidLo[a] = std::min(centroidLo[a], other.centroidLo[a]);
-      centroidHi[a] = std::max(centroidHi[a], other.centroidHi[a]);
-    }
-    valueLo = std::min(valueLo, other.valueLo);
-    valueHi = std::max(valueHi, other.valueHi);
-  }
-
-  /// Half the surface area of the box; 0 when empty.
-  double area() const
-  {
-    if (!(boxLo[0] <= boxHi[0]))
-    {
-      return 0.0;
-    }
-    const double dx = boxHi[0] - boxLo[0], dy = boxHi[1] - boxLo[1], dz = boxHi[2] - boxLo[2];
-    return dx * dy + dy * dz + dz * dx;
-  }
-
-  static Bounds of(const std::vector<BuildItem>& items, std::size_t begin, std::size_t end)
-  {
-    Bounds bounds;
-    for (std::size_t i = begin; i < end; ++i)
-    {
-      bounds.grow(items[i]);
-    }
-    return bounds;
-  }
-};
 
 namespace
 {
@@ -249,76 +160,176 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
       }
     }
   }
+  // Work in fixed chunks of cells, each chunk's results merged in chunk order: the outcome does
+  // not depend on how parallelFor spreads the chunks over threads.
+  const NodeId chunks = (mesh.numberOfCells + kChunkCells - 1) / kChunkCells;
+  auto forChunks = [&](const std::function<void(NodeId chunk, NodeId begin, NodeId end)>& body) {
+    parallelFor(chunks, [&](NodeId first, NodeId last) {
+      for (NodeId chunk = first; chunk < last; ++chunk)
+      {
+        body(chunk, chunk * kChunkCells, std::min(mesh.numberOfCells, (chunk + 1) * kChunkCells));
+      }
+    });
+  };
+
   // The boxes' unit: a power of two near the extent of the cells' vertices around Origin_, so
   // float boxes resolve scenes of any size in double range (float alone stops near 1e-38).
-  double extent = 0.0;
-  for (NodeId n = 0; n < 10 * mesh.numberOfCells; ++n)
-  {
-    const NodeId id = mesh.cellNodes[n];
-    if (n % 10 < 4 && id >= 0 && id < mesh.numberOfPoints)
+  std::vector<double> chunkExtent(static_cast<std::size_t>(chunks), 0.0);
+  forChunks([&](NodeId chunk, NodeId begin, NodeId end) {
+    double extent = 0.0;
+    for (NodeId cell = begin; cell < end; ++cell)
     {
-      for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 4; ++k)
       {
-        const double offset = std::abs(mesh.points[3 * id + a] - Origin_[a]);
-        extent = std::isfinite(offset) ? std::max(extent, offset) : extent;
+        const NodeId id = mesh.cellNodes[10 * cell + k];
+        if (id >= 0 && id < mesh.numberOfPoints)
+        {
+          for (int a = 0; a < 3; ++a)
+          {
+            const double offset = std::abs(mesh.points[3 * id + a] - Origin_[a]);
+            extent = std::isfinite(offset) ? std::max(extent, offset) : extent;
+          }
+        }
       }
     }
+    chunkExtent[static_cast<std::size_t>(chunk)] = extent;
+  });
+  double extent = 0.0;
+  for (const double chunk : chunkExtent)
+  {
+    extent = std::max(extent, chunk);
   }
   BoxScale_ = scaleFor(extent);
 
-  // Validate every cell in parallel, each writing only its own slot...
-  std::vector<BuildItem> items(static_cast<std::size_t>(mesh.numberOfCells));
-  std::vector<std::uint8_t> status(static_cast<std::size_t>(mesh.numberOfCells));
-  parallelFor(mesh.numberOfCells, [&](NodeId begin, NodeId end) {
+  // Validate every cell, each writing only its own slot, and count per chunk...
+  const auto cells = static_cast<std::size_t>(mesh.numberOfCells);
+  ValidCells_.resize(cells);
+  FillLaterVector<std::uint8_t> status(cells);
+  std::vector<PreprocessSummary> chunkSummary(static_cast<std::size_t>(chunks));
+  std::vector<BoxItem> chunkBox(static_cast<std::size_t>(chunks));
+  forChunks([&](NodeId chunk, NodeId begin, NodeId end) {
+    PreprocessSummary& summary = chunkSummary[static_cast<std::size_t>(chunk)];
+    BoxItem& around = chunkBox[static_cast<std::size_t>(chunk)];
+    around = BoxItem{ { kFloatInfinity, kFloatInfinity, kFloatInfinity },
+      { -kFloatInfinity, -kFloatInfinity, -kFloatInfinity }, 0 };
     for (NodeId cell = begin; cell < end; ++cell)
     {
-      status[static_cast<std::size_t>(cell)] = validate(cell, items[static_cast<std::size_t>(cell)]);
+      const auto c = static_cast<std::size_t>(cell);
+      BoxItem box;
+      const std::uint8_t flags = validate(cell, ValidCells_[c], box);
+      if (flags & kValid)
+      {
+        for (int a = 0; a < 3; ++a)
+        {
+          around.lo[a] = std::min(around.lo[a], box.lo[a]);
+          around.hi[a] = std::max(around.hi[a], box.hi[a]);
+        }
+      }
+      status[c] = flags;
+      summary.validCells += (flags & kValid) != 0;
+      summary.invertedCells += (flags & kInverted) != 0;
+      summary.curvedCells += (flags & kCurved) != 0;
+      summary.degenerateCells += (flags & kDegenerate) != 0;
+      summary.nonFiniteCells += (flags & kNonFinite) != 0;
+      summary.invalidIdCells += (flags & kInvalidId) != 0;
+      summary.outOfScaleCells += (flags & kOutOfScale) != 0;
+      summary.tangledCells += (flags & kTangled) != 0;
     }
   });
-  // ...then count and keep the valid ones, in cell order.
-  std::size_t valid = 0;
-  for (std::size_t cell = 0; cell < status.size(); ++cell)
+  for (const PreprocessSummary& summary : chunkSummary)
   {
-    const std::uint8_t flags = status[cell];
-    Summary_.invertedCells += (flags & kInverted) != 0;
-    Summary_.curvedCells += (flags & kCurved) != 0;
-    Summary_.degenerateCells += (flags & kDegenerate) != 0;
-    Summary_.nonFiniteCells += (flags & kNonFinite) != 0;
-    Summary_.invalidIdCells += (flags & kInvalidId) != 0;
-    Summary_.outOfScaleCells += (flags & kOutOfScale) != 0;
-    Summary_.tangledCells += (flags & kTangled) != 0;
-    if ((flags & kValid) && (flags & kCurved))
+    Summary_.validCells += summary.validCells;
+    Summary_.invertedCells += summary.invertedCells;
+    Summary_.curvedCells += summary.curvedCells;
+    Summary_.degenerateCells += summary.degenerateCells;
+    Summary_.nonFiniteCells += summary.nonFiniteCells;
+    Summary_.invalidIdCells += summary.invalidIdCells;
+    Summary_.outOfScaleCells += summary.outOfScaleCells;
+    Summary_.tangledCells += summary.tangledCells;
+  }
+  if (Summary_.curvedCells > 0)
+  {
+    Curved_.assign(cells, 0);
+    for (std::size_t cell = 0; cell < cells; ++cell)
     {
-      if (Curved_.empty())
+      Curved_[cell] = (status[cell] & kValid) && (status[cell] & kCurved);
+    }
+  }
+  // ...then keep the valid ones, in cell order (nothing moves when all are valid).
+  const auto valid = static_cast<std::size_t>(Summary_.validCells);
+  if (valid < cells)
+  {
+    std::size_t kept = 0;
+    for (std::size_t cell = 0; cell < cells; ++cell)
+    {
+      if (status[cell] & kValid)
       {
-        Curved_.assign(status.size(), 0);
+        ValidCells_[kept++] = ValidCells_[cell];
       }
-      Curved_[cell] = 1;
     }
-    if (flags & kValid)
+    ValidCells_.resize(valid);
+    ValidCells_.shrink_to_fit();
+  }
+  // The box around every valid cell.
+  for (int a = 0; a < 3; ++a)
+  {
+    BoxLo_[a] = kFloatInfinity;
+    BoxHi_[a] = -kFloatInfinity;
+    for (const BoxItem& box : chunkBox)
     {
-      items[valid++] = items[cell];
+      BoxLo_[a] = std::min(BoxLo_[a], box.lo[a]);
+      BoxHi_[a] = std::max(BoxHi_[a], box.hi[a]);
     }
-  }
-  Summary_.validCells = static_cast<NodeId>(valid);
-  items.resize(valid);
-  std::vector<std::uint8_t>().swap(status);
-
-  if (!items.empty())
-  {
-    buildInParallel(items, parallelFor);
-  }
-  SlotCell_.resize(items.size());
-  SlotRange_.resize(2 * items.size());
-  for (std::size_t slot = 0; slot < items.size(); ++slot)
-  {
-    SlotCell_[slot] = items[slot].cellId;
-    SlotRange_[2 * slot] = items[slot].valueLo;
-    SlotRange_[2 * slot + 1] = items[slot].valueHi;
   }
 }
 
-std::uint8_t Scene::validate(NodeId cell, BuildItem& item) const
+Scene::~Scene() = default;
+
+bool Scene::boxOf(const glm::dvec3 nodes[10], double maxEdge, bool curved, BoxItem& box) const
+{
+  // The cell's extent: its vertices' box, or for a curved cell its control points' (the curved
+  // cell lies in their convex hull).
+  glm::dvec3 extentLo = nodes[0], extentHi = nodes[0];
+  for (int k = 1; k < 4; ++k)
+  {
+    extentLo = glm::min(extentLo, nodes[k]);
+    extentHi = glm::max(extentHi, nodes[k]);
+  }
+  if (curved)
+  {
+    CurvedGeometry::fromNodes(nodes, scaleFor(maxEdge)).box(extentLo, extentHi);
+    if (!isFinite(extentLo) || !isFinite(extentHi))
+    {
+      return false;
+    }
+  }
+  // Pad boxes so that rounding in the slab test never drops a ray that the (widened) cell
+  // clip accepts: relative to the cell size and to the coordinates' own magnitude.
+  double magnitude = 0.0;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    magnitude = std::max({ magnitude, std::abs(extentLo[axis]), std::abs(extentHi[axis]) });
+  }
+  const double pad = 1e-8 * maxEdge + 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    box.lo[axis] = roundDown((extentLo[axis] - pad - Origin_[axis]) * BoxScale_);
+    box.hi[axis] = roundUp((extentHi[axis] + pad - Origin_[axis]) * BoxScale_);
+  }
+  return true;
+}
+
+BoxItem Scene::cellBox(NodeId cellId) const
+{
+  glm::dvec3 nodes[10];
+  loadNodes(cellId, nodes);
+  BoxItem box;
+  boxOf(nodes, longestEdge(nodes), isCurved(cellId), box); // succeeded when validated
+  box.id = static_cast<std::uint32_t>(cellId);
+  return box;
+}
+
+std::uint8_t Scene::validate(NodeId cell, ValidCell& validCell, BoxItem& box) const
 {
   const NodeId* ids = Mesh_.cellNodes + 10 * cell;
   for (int n = 0; n < 10; ++n)
@@ -333,33 +344,21 @@ std::uint8_t Scene::validate(NodeId cell, BuildItem& item) const
   {
     return kDegenerate;
   }
-  glm::dvec3 vertices[4];
+  // Every node's value and coordinates (a missing mid-edge node: its edge's midpoint).
+  glm::dvec3 nodes[10];
   double values[10];
-  loadCell(cell, vertices, values);
+  loadNodes(cell, nodes);
+  loadCell(cell, nodes, values);
   for (int n = 0; n < 10; ++n)
   {
-    if (!std::isfinite(values[n]))
+    if (!std::isfinite(values[n]) || (ids[n] >= 0 && !isFinite(nodes[n])))
     {
       return kNonFinite;
     }
   }
-  for (int n = 0; n < 10; ++n)
-  {
-    // Every node's coordinates, mid-edge ones too (they are not used: cells render
-    // straight-sided; but a NaN there is as broken an input as at a vertex).
-    if (ids[n] >= 0 &&
-      !isFinite(glm::dvec3(Mesh_.points[3 * ids[n]], Mesh_.points[3 * ids[n] + 1],
-        Mesh_.points[3 * ids[n] + 2])))
-    {
-      return kNonFinite;
-    }
-  }
+  const glm::dvec3* vertices = nodes;
   TetFrame frame;
-  double maxEdge = 0.0;
-  for (const auto& edge : kEdgeVertices)
-  {
-    maxEdge = std::max(maxEdge, glm::length(vertices[edge[0]] - vertices[edge[1]]));
-  }
+  const double maxEdge = longestEdge(vertices);
   if (!(maxEdge >= kMinCellSize && maxEdge <= kMaxCellSize)) // also an overflowed (Inf) length
   {
     return kOutOfScale;
@@ -387,273 +386,37 @@ std::uint8_t Scene::validate(NodeId cell, BuildItem& item) const
   const double curvedTolerance = kCurvedRoundings * Mesh_.pointRounding * reach;
   for (int e = 0; e < 6; ++e)
   {
-    if (ids[4 + e] >= 0)
+    const glm::dvec3 offset =
+      nodes[4 + e] - 0.5 * (vertices[kEdgeVertices[e][0]] + vertices[kEdgeVertices[e][1]]);
+    // Components within half the tolerance put the length within it (sqrt(3) / 2 < 1): the
+    // length is only needed for the rare others.
+    const double largest = std::max({ std::abs(offset.x), std::abs(offset.y), std::abs(offset.z) });
+    if (largest > 0.5 * curvedTolerance && glm::length(offset) > curvedTolerance)
     {
-      const double* p = Mesh_.points + 3 * ids[4 + e];
-      const glm::dvec3 midpoint =
-        0.5 * (vertices[kEdgeVertices[e][0]] + vertices[kEdgeVertices[e][1]]);
-      if (glm::length(glm::dvec3(p[0], p[1], p[2]) - midpoint) > curvedTolerance)
-      {
-        flags |= kCurved;
-        break;
-      }
+      flags |= kCurved;
+      break;
     }
-  }
-  // The cell's extent: its vertices' box, or for a curved cell its control points' (the curved
-  // cell lies in their convex hull).
-  glm::dvec3 extentLo = vertices[0], extentHi = vertices[0];
-  for (int k = 1; k < 4; ++k)
-  {
-    extentLo = glm::min(extentLo, vertices[k]);
-    extentHi = glm::max(extentHi, vertices[k]);
   }
   if (flags & kCurved)
   {
-    glm::dvec3 nodes[10];
-    loadNodes(cell, nodes);
-    const CurvedGeometry geometry = CurvedGeometry::fromNodes(nodes, scaleFor(maxEdge));
-    const JacobianSign sign = jacobianSign(geometry);
+    const JacobianSign sign = jacobianSign(CurvedGeometry::fromNodes(nodes, scaleFor(maxEdge)));
     if (sign == JacobianSign::Changes)
     {
       return kTangled;
     }
     flags = static_cast<std::uint8_t>((flags & ~kInverted) | (sign == JacobianSign::Negative ? kInverted : 0));
-    geometry.box(extentLo, extentHi);
-    if (!isFinite(extentLo) || !isFinite(extentHi))
-    {
-      return kOutOfScale;
-    }
   }
-
-  item.cellId = static_cast<std::uint32_t>(cell);
+  if (!boxOf(nodes, maxEdge, (flags & kCurved) != 0, box))
+  {
+    return kOutOfScale;
+  }
+  box.id = static_cast<std::uint32_t>(cell);
+  validCell.id = static_cast<std::uint32_t>(cell);
   double lo, hi;
   Transverse_.range(values, lo, hi);
-  item.valueLo = roundDown(lo);
-  item.valueHi = roundUp(hi);
-  // Pad boxes so that rounding in the slab test never drops a ray that the (widened) cell
-  // clip accepts: relative to the cell size and to the coordinates' own magnitude.
-  double boxLo[3], boxHi[3], magnitude = 0.0;
-  for (int axis = 0; axis < 3; ++axis)
-  {
-    boxLo[axis] = extentLo[axis];
-    boxHi[axis] = extentHi[axis];
-    magnitude = std::max({ magnitude, std::abs(boxLo[axis]), std::abs(boxHi[axis]) });
-  }
-  const double pad = 1e-8 * maxEdge + 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
-  for (int axis = 0; axis < 3; ++axis)
-  {
-    item.boxLo[axis] = roundDown((boxLo[axis] - pad - Origin_[axis]) * BoxScale_);
-    item.boxHi[axis] = roundUp((boxHi[axis] + pad - Origin_[axis]) * BoxScale_);
-  }
+  validCell.valueLo = roundDown(lo);
+  validCell.valueHi = roundUp(hi);
   return flags;
-}
-
-bool Scene::split(std::vector<BuildItem>& items, std::size_t begin, std::size_t end, int depth,
-  const Bounds& bounds, Node& node, std::size_t& middle, Bounds& left, Bounds& right)
-{
-  node = Node{};
-  for (int a = 0; a < 3; ++a)
-  {
-    node.boxLo[a] = bounds.boxLo[a];
-    node.boxHi[a] = bounds.boxHi[a];
-  }
-  node.valueLo = bounds.valueLo;
-  node.valueHi = bounds.valueHi;
-  const std::size_t count = end - begin;
-  int axis = 0;
-  for (int a = 1; a < 3; ++a)
-  {
-    if (bounds.centroidHi[a] - bounds.centroidLo[a] >
-      bounds.centroidHi[axis] - bounds.centroidLo[axis])
-    {
-      axis = a;
-    }
-  }
-  const float extent = bounds.centroidHi[axis] - bounds.centroidLo[axis];
-  if (count <= static_cast<std::size_t>(kLeafSize))
-  {
-    node.firstOrSecondChild = static_cast<std::uint32_t>(begin);
-    node.count = static_cast<std::uint32_t>(count);
-    return false;
-  }
-  node.count = 0;
-
-  // Cells whose centroids coincide (extent 0) are split at the median too: leaves never hold
-  // more than kLeafSize cells, however many copies of a cell the mesh has.
-  if (depth < kMaxSahDepth && extent > 0.0f)
-  {
-    // Binned surface area heuristic over centroids: cost of a split = area * count per side.
-    // The bins also collect each side's bounds, so children need no pass of their own.
-    Bounds bins[kBins];
-    std::size_t binCount[kBins] = {};
-    const float scale = kBins / extent;
-    const float lo = bounds.centroidLo[axis];
-    auto binOf = [&](const BuildItem& item) {
-      return std::min(kBins - 1, static_cast<int>((item.centroid(axis) - lo) * scale));
-    };
-    for (std::size_t i = begin; i < end; ++i)
-    {
-      const int bin = binOf(items[i]);
-      ++binCount[bin];
-      bins[bin].grow(items[i]);
-    }
-    Bounds rightOf[kBins];
-    std::size_t rightCount[kBins];
-    Bounds accumulated;
-    std::size_t accumulatedCount = 0;
-    for (int b = kBins - 1; b > 0; --b)
-    {
-      accumulated.merge(bins[b]);
-      accumulatedCount += binCount[b];
-      rightOf[b] = accumulated;
-      rightCount[b] = accumulatedCount;
-    }
-    Bounds leftOf;
-    std::size_t leftCount = 0;
-    double bestCost = std::numeric_limits<double>::infinity();
-    int bestBin = -1;
-    Bounds bestLeft;
-    for (int b = 1; b < kBins; ++b)
-    {
-      leftOf.merge(bins[b - 1]);
-      leftCount += binCount[b - 1];
-      if (leftCount == 0 || rightCount[b] == 0)
-      {
-        continue;
-      }
-      const double cost = leftOf.area() * leftCount + rightOf[b].area() * rightCount[b];
-      if (cost < bestCost)
-      {
-        bestCost = cost;
-        bestBin = b;
-        bestLeft = leftOf;
-      }
-    }
-    if (bestBin > 0)
-    {
-      const auto it = std::partition(items.begin() + begin, items.begin() + end,
-        [&](const BuildItem& item) { return binOf(item) < bestBin; });
-      middle = static_cast<std::size_t>(it - items.begin());
-      if (middle > begin && middle < end)
-      {
-        left = bestLeft;
-        right = rightOf[bestBin];
-        return true;
-      }
-    }
-  }
-  // Median split (deep trees, or no useful SAH split).
-  middle = begin + count / 2;
-  std::nth_element(items.begin() + begin, items.begin() + middle, items.begin() + end,
-    [axis](const BuildItem& x, const BuildItem& y) { return x.centroid(axis) < y.centroid(axis); });
-  left = Bounds::of(items, begin, middle);
-  right = Bounds::of(items, middle, end);
-  return true;
-}
-
-std::uint32_t Scene::build(std::vector<BuildItem>& items, std::size_t begin, std::size_t end,
-  int depth, const Bounds& bounds, std::vector<Node>& nodes)
-{
-  const auto index = static_cast<std::uint32_t>(nodes.size());
-  nodes.emplace_back();
-  Node node;
-  std::size_t middle;
-  Bounds left, right;
-  if (split(items, begin, end, depth, bounds, node, middle, left, right))
-  {
-    build(items, begin, middle, depth + 1, left, nodes);
-    node.firstOrSecondChild = build(items, middle, end, depth + 1, right, nodes);
-  }
-  nodes[index] = node;
-  return index;
-}
-
-void Scene::buildInParallel(std::vector<BuildItem>& items, const ParallelFor& parallelFor)
-{
-  // The top levels are split serially; the subtrees below them (disjoint ranges of `items`)
-  // are built concurrently, each into its own node list, then laid out in preorder.
-  struct TopNode
-  {
-    Node node;
-    int left = -1;  ///< top-level children, or -1
-    int right = -1;
-    int task = -1;  ///< >= 0: this node is the subtree built by that task
-  };
-  struct Task
-  {
-    std::size_t begin, end;
-    int depth;
-    Bounds bounds;
-  };
-  std::vector<TopNode> top;
-  std::vector<Task> tasks;
-  std::function<int(std::size_t, std::size_t, int, const Bounds&)> splitTop =
-    [&](std::size_t begin, std::size_t end, int depth, const Bounds& bounds) {
-      const int index = static_cast<int>(top.size());
-      top.emplace_back();
-      if (depth == kParallelBuildDepth || end - begin <= kSerialBuildSize)
-      {
-        top[index].task = static_cast<int>(tasks.size());
-        tasks.push_back({ begin, end, depth, bounds });
-        return index;
-      }
-      Node node;
-      std::size_t middle;
-      Bounds leftBounds, rightBounds;
-      const bool interior =
-        split(items, begin, end, depth, bounds, node, middle, leftBounds, rightBounds);
-      top[index].node = node;
-      if (interior)
-      {
-        const int left = splitTop(begin, middle, depth + 1, leftBounds);
-        const int right = splitTop(middle, end, depth + 1, rightBounds);
-        top[index].left = left;
-        top[index].right = right;
-      }
-      return index;
-    };
-  splitTop(0, items.size(), 0, Bounds::of(items, 0, items.size()));
-
-  std::vector<std::vector<Node>> subtrees(tasks.size());
-  parallelFor(static_cast<NodeId>(tasks.size()), [&](NodeId first, NodeId last) {
-    for (NodeId t = first; t < last; ++t)
-    {
-      const Task& task = tasks[static_cast<std::size_t>(t)];
-      build(items, task.begin, task.end, task.depth, task.bounds,
-        subtrees[static_cast<std::size_t>(t)]);
-    }
-  });
-
-  std::size_t total = top.size();
-  for (const auto& subtree : subtrees)
-  {
-    total += subtree.size();
-  }
-  Nodes_.reserve(total);
-  std::function<std::uint32_t(int)> emit = [&](int t) {
-    const auto index = static_cast<std::uint32_t>(Nodes_.size());
-    if (top[t].task >= 0)
-    {
-      for (Node node : subtrees[static_cast<std::size_t>(top[t].task)])
-      {
-        if (node.count == 0)
-        {
-          node.firstOrSecondChild += index; // interior: child indices were subtree-relative
-        }
-        Nodes_.push_back(node);
-      }
-      std::vector<Node>().swap(subtrees[static_cast<std::size_t>(top[t].task)]);
-      return index;
-    }
-    Nodes_.push_back(top[t].node);
-    if (top[t].left >= 0)
-    {
-      emit(top[t].left);
-      Nodes_[index].firstOrSecondChild = emit(top[t].right);
-    }
-    return index;
-  };
-  emit(0);
 }
 
 void Scene::loadVertices(NodeId cellId, glm::dvec3 vertices[4]) const
@@ -930,12 +693,14 @@ NodeId Scene::uncertifiedHits() const
   return UncertifiedHits_.load(std::memory_order_relaxed);
 }
 
-bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues, double tMin,
-  double tLimit, SurfaceHit& hit) const
+bool Scene::prepareCell(NodeId cellId, const IsoValues& isoValues, CellRecord& cell) const
 {
+  cell.cellId = static_cast<std::uint32_t>(cellId);
+  cell.kind = CellRecord::Kind::Empty;
   if (isCurved(cellId))
   {
-    return intersectCurvedCell(cellId, ray, isoValues, tMin, tLimit, hit);
+    cell.kind = CellRecord::Kind::Curved;
+    return true; // solved from the mesh (intersectCurvedCell)
   }
   glm::dvec3 vertices[4];
   double values[10];
@@ -945,191 +710,67 @@ bool Scene::intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoVal
   {
     return false;
   }
-  // Re-origin the ray at its point nearest the cell centroid: the barycentric coordinates and the
-  // quadratic's coefficients are then of the cell's own scale, not of the camera distance.
-  // The point is formed as offsets from the cell's vertices (origin - vertex first, both of the
-  // scene's magnitude, then the small step): never rounded at the coordinates' own magnitude.
-  const glm::dvec3 fromVertex0 = ray.origin - vertices[0];
-  const glm::dvec3 centroidOffset =
+  cell.vertex0 = vertices[0];
+  cell.vertex1 = vertices[1];
+  cell.centroidOffset =
     0.25 * ((vertices[1] - vertices[0]) + (vertices[2] - vertices[0]) + (vertices[3] - vertices[0]));
-  const double tCentre = glm::dot(centroidOffset - fromVertex0, ray.direction);
-  double L[4], dL[4];
-  frame.barycentricOfOffsets(fromVertex0 + tCentre * ray.direction,
-    (ray.origin - vertices[1]) + tCentre * ray.direction, L);
-  frame.barycentricDirection(ray.direction, dL);
-
-  // Entry and exit: the tet is {L_k >= 0}; each L_k(s) = L_k + s dL_k is affine in s.
-  double sEntry = tMin - tCentre;
-  double sExit = tLimit - tCentre;
-  for (int k = 0; k < 4; ++k)
+  for (int k = 0; k < 3; ++k)
   {
-    const double bound = (-kBarycentricTolerance - L[k]);
-    if (dL[k] > 0.0)
-    {
-      sEntry = std::max(sEntry, bound / dL[k]);
-    }
-    else if (dL[k] < 0.0)
-    {
-      sExit = std::min(sExit, bound / dL[k]);
-    }
-    else if (L[k] < -kBarycentricTolerance)
-    {
-      return false; // parallel to face k and outside it
-    }
+    cell.gradient[k] = frame.gradient[k + 1];
   }
-  if (!(sEntry <= sExit))
-  {
-    return false;
-  }
-
+  // The iso-values this cell can contain: sorted()[first, last).
   double cellLo, cellHi;
   Transverse_.range(values, cellLo, cellHi);
-  const std::vector<double>& sorted = isoValues.sorted();
-  // The iso-values this cell can contain: sorted[first, last).
   std::size_t first, last;
   if (!isoValues.within(cellLo, cellHi, first, last))
   {
     return false;
   }
+  cell.firstIso = static_cast<std::uint32_t>(first);
+  cell.lastIso = static_cast<std::uint32_t>(last);
 
   // Scale the field by a power of two (exact) so that its largest nodal magnitude is about 1:
   // the products in the quadratic's coefficients and its discriminant (field^2) then neither
   // overflow nor underflow, whatever the field's scale within double range.
-  const double scale = unitScale(values);
+  cell.scale = unitScale(values);
   for (double& value : values)
   {
-    value *= scale;
+    value *= cell.scale;
   }
   const BernsteinForm form = BernsteinForm::fromNodeValues(values);
-
+  for (int i = 0; i < 4; ++i)
+  {
+    cell.form[i] = form.b[i][i];
+  }
+  for (int e = 0; e < 6; ++e)
+  {
+    cell.form[4 + e] = form.b[kEdgeVertices[e][0]][kEdgeVertices[e][1]];
+  }
   // A field constant over the cell (to rounding) and equal to an iso-value: the whole cell is on
   // the "surface"; the ray meets it where it enters, with no gradient. Rounding would otherwise
   // scatter the roots of a quadratic whose coefficients are all noise. (The Bernstein bound, a
-  // true bound whatever the transverse test.)
+  // true bound whatever the transverse test.) Constant at no iso-value: never hit.
   double boundLo, boundHi;
   form.range(boundLo, boundHi);
   if (constantToRounding(boundLo, boundHi))
   {
-    if (!constantIsoIndex(isoValues, boundLo, boundHi, scale, hit.isoIndex))
+    std::size_t index;
+    if (!constantIsoIndex(isoValues, boundLo, boundHi, cell.scale, index))
     {
       return false;
     }
-    hit.t = tCentre + sEntry;
-    hit.regionEnd = tCentre + sExit;
-    hit.cellId = cellId;
-    hit.gradient = glm::dvec3(0.0);
+    cell.kind = CellRecord::Kind::Constant;
+    cell.firstIso = static_cast<std::uint32_t>(index);
     return true;
   }
-
-  // The field along the ray, exactly: f(s) = a s^2 + b s + c (see QuadraticTet.h).
-  const double a = form.bilinear(dL, dL);
-  const double b = 2.0 * form.bilinear(L, dL);
-  const double c = form.bilinear(L, L);
-
-  bool found = false;
-  double sHit = sExit;
-  for (std::size_t k = first; k < last; ++k)
-  {
-    double s;
-    if (firstRootInInterval(a, b, c - sorted[k] * scale, sEntry, sHit, s))
-    {
-      found = true;
-      sHit = s;
-      hit.isoIndex = k;
-    }
-  }
-  if (!found)
-  {
-    return false;
-  }
-  double LHit[4];
-  for (int k = 0; k < 4; ++k)
-  {
-    LHit[k] = L[k] + sHit * dL[k];
-  }
-  hit.t = tCentre + sHit;
-  hit.regionEnd = hit.t;
-  hit.cellId = cellId;
-  // Unscaled exactly (a power of two), unless that overflows (a field near the largest double):
-  // then the scaled gradient, whose direction is the same.
-  const glm::dvec3 gradient = fieldGradient(form, frame, LHit);
-  hit.gradient = isFinite(gradient / scale) ? gradient / scale : gradient;
+  cell.kind = CellRecord::Kind::Quadratic;
   return true;
-}
-
-bool Scene::firstHit(
-  const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit, double tMin, double tMax) const
-{
-  if (Nodes_.empty() || !isoValues.anyWithin(Nodes_[0].valueLo, Nodes_[0].valueHi))
-  {
-    return false;
-  }
-  // Boxes are relative to Origin_ in units of 1 / BoxScale_; scaling the direction too keeps
-  // the slab test's t in world units. Cells are tested in world coordinates.
-  const glm::dvec3 origin = (ray.origin - Origin_) * BoxScale_;
-  const glm::dvec3 inverse = rayInverse(ray.direction * BoxScale_);
-  struct Entry
-  {
-    std::uint32_t node;
-    double tEnter;
-  } stack[kStackSize];
-  int top = 0;
-  double best = tMax;
-  double tEnter;
-  if (rayBox(origin, inverse, Nodes_[0].boxLo, Nodes_[0].boxHi, tMin, best, tEnter))
-  {
-    stack[top++] = { 0, tEnter };
-  }
-  bool found = false;
-  while (top > 0)
-  {
-    const Entry entry = stack[--top];
-    if (entry.tEnter > best)
-    {
-      continue; // a hit nearer than this subtree's box was found meanwhile
-    }
-    const Node& node = Nodes_[entry.node];
-    if (node.count > 0)
-    {
-      for (std::uint32_t slot = node.firstOrSecondChild; slot < node.firstOrSecondChild + node.count;
-           ++slot)
-      {
-        if (isoValues.anyWithin(SlotRange_[2 * slot], SlotRange_[2 * slot + 1]) &&
-          intersectCell(SlotCell_[slot], ray, isoValues, tMin, best, hit))
-        {
-          best = hit.t;
-          found = true;
-        }
-      }
-      continue;
-    }
-    // Children whose value range misses every iso-value are skipped before their boxes are
-    // tested; the nearer of the others is visited first (pushed last): front to back.
-    const std::uint32_t children[2] = { entry.node + 1, node.firstOrSecondChild };
-    double enter[2];
-    bool hits[2];
-    for (int c = 0; c < 2; ++c)
-    {
-      const Node& child = Nodes_[children[c]];
-      hits[c] = isoValues.anyWithin(child.valueLo, child.valueHi) &&
-        rayBox(origin, inverse, child.boxLo, child.boxHi, tMin, best, enter[c]);
-    }
-    const int nearer = (hits[0] && hits[1] && enter[1] < enter[0]) ? 1 : 0;
-    for (int c : { 1 - nearer, nearer })
-    {
-      if (hits[c])
-      {
-        stack[top++] = { children[c], enter[c] };
-      }
-    }
-  }
-  return found;
 }
 
 std::size_t Scene::memoryBytes() const
 {
-  return Nodes_.capacity() * sizeof(Node) + SlotCell_.capacity() * sizeof(std::uint32_t) +
-    SlotRange_.capacity() * sizeof(float) + NodalGradients_.capacity() * sizeof(glm::dvec3) +
+  return ValidCells_.capacity() * sizeof(ValidCell) +
+    (Locator_ ? Locator_->memoryBytes() : 0) + NodalGradients_.capacity() * sizeof(glm::dvec3) +
     Curved_.capacity();
 }
 
@@ -1155,89 +796,61 @@ double Scene::cellSize(NodeId cellId) const
 {
   glm::dvec3 vertices[4];
   loadVertices(cellId, vertices);
-  double size = 0.0;
-  for (const auto& edge : kEdgeVertices)
-  {
-    size = std::max(size, glm::length(vertices[edge[0]] - vertices[edge[1]]));
-  }
-  return size;
+  return longestEdge(vertices);
 }
 
 bool Scene::locate(const glm::dvec3& point, NodeId& cellId) const
 {
-  if (Nodes_.empty())
+  if (ValidCells_.empty())
   {
     return false;
   }
-  const glm::dvec3 relative = (point - Origin_) * BoxScale_;
-  auto contains = [&](const Node& node) {
-    for (int a = 0; a < 3; ++a)
+  std::call_once(LocatorBuilt_, [this] {
+    std::vector<BoxItem> boxes(ValidCells_.size());
+    for (std::size_t k = 0; k < boxes.size(); ++k)
     {
-      if (relative[a] < node.boxLo[a] || relative[a] > node.boxHi[a])
-      {
-        return false;
-      }
+      boxes[k] = cellBox(ValidCells_[k].id);
     }
-    return true;
-  };
-  std::uint32_t stack[kStackSize];
-  int top = 0;
-  if (contains(Nodes_[0]))
-  {
-    stack[top++] = 0;
-  }
-  while (top > 0)
-  {
-    const std::uint32_t index = stack[--top];
-    const Node& node = Nodes_[index];
-    if (node.count == 0)
-    {
-      for (const std::uint32_t child : { index + 1, node.firstOrSecondChild })
-      {
-        if (contains(Nodes_[child]))
-        {
-          stack[top++] = child;
-        }
-      }
-      continue;
-    }
-    for (std::uint32_t slot = node.firstOrSecondChild; slot < node.firstOrSecondChild + node.count;
-         ++slot)
+    Locator_ = std::make_unique<Hierarchy>();
+    Locator_->build(std::move(boxes), serialFor);
+  });
+  const std::vector<std::uint32_t>& ids = Locator_->ids();
+  return Locator_->containing(toBoxUnits(point), [&](std::uint32_t first, std::uint32_t count) {
+    for (std::uint32_t k = first; k < first + count; ++k)
     {
       double L[4];
-      if (inCell(SlotCell_[slot], point, L))
+      if (inCell(ids[k], point, L))
       {
-        cellId = SlotCell_[slot];
+        cellId = ids[k];
         return true;
       }
     }
-  }
-  return false;
+    return false;
+  });
 }
 
 bool Scene::bounds(double box[6]) const
 {
-  if (Nodes_.empty())
+  if (ValidCells_.empty())
   {
     return false;
   }
   for (int a = 0; a < 3; ++a)
   {
-    box[2 * a] = Origin_[a] + static_cast<double>(Nodes_[0].boxLo[a]) / BoxScale_;
-    box[2 * a + 1] = Origin_[a] + static_cast<double>(Nodes_[0].boxHi[a]) / BoxScale_;
+    box[2 * a] = Origin_[a] + static_cast<double>(BoxLo_[a]) / BoxScale_;
+    box[2 * a + 1] = Origin_[a] + static_cast<double>(BoxHi_[a]) / BoxScale_;
   }
   return true;
 }
 
 double Scene::diagonal() const
 {
-  if (Nodes_.empty())
+  if (ValidCells_.empty())
   {
     return 0.0;
   }
-  const Node& root = Nodes_[0];
-  return glm::length(glm::dvec3(root.boxHi[0] - root.boxLo[0], root.boxHi[1] - root.boxLo[1],
-           root.boxHi[2] - root.boxLo[2])) / BoxScale_;
+  return glm::length(glm::dvec3(BoxHi_[0] - BoxLo_[0], BoxHi_[1] - BoxLo_[1],
+           BoxHi_[2] - BoxLo_[2])) / BoxScale_;
 }
 
 void Scene::computeNodalGradients()
@@ -1251,8 +864,9 @@ void Scene::computeNodalGradients()
   // One power of two for the whole field (from the valid cells' nodal values), so that
   // gradients of a field near the largest double do not overflow: only directions are used.
   double largest = 0.0;
-  for (const std::uint32_t cell : SlotCell_)
+  for (const ValidCell& valid : ValidCells_)
   {
+    const std::uint32_t cell = valid.id;
     glm::dvec3 vertices[4];
     double values[10];
     loadCell(cell, vertices, values);
@@ -1262,8 +876,9 @@ void Scene::computeNodalGradients()
     }
   }
   const double scale = scaleFor(largest);
-  for (const std::uint32_t cell : SlotCell_)
+  for (const ValidCell& valid : ValidCells_)
   {
+    const std::uint32_t cell = valid.id;
     glm::dvec3 vertices[4];
     double values[10];
     loadCell(cell, vertices, values);

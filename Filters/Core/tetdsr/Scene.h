@@ -1,9 +1,11 @@
-// A quadratic tetrahedral mesh prepared for ray casting: per-cell validation and rigorous
-// value ranges, and a bounding volume hierarchy whose nodes carry the value interval of their
-// subtree, so a ray skips every subtree that cannot reach an iso-value.
+// A quadratic tetrahedral mesh prepared for ray casting: per-cell validation, rigorous value
+// ranges and boxes. Rays are cast into a SurfaceIndex (SurfaceIndex.h): the cells whose ranges
+// hold one of a set of iso-values, with a hierarchy over them.
 #pragma once
 
 #include "tetdsr/Camera.h"
+#include "tetdsr/QuadraticTet.h"
+#include "tetdsr/Roots.h"
 
 #include <glm/glm.hpp>
 
@@ -13,6 +15,8 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 namespace tetdsr
@@ -41,6 +45,36 @@ struct MeshView
   /// (isoparametric); closer ones are rounding.
   double pointRounding = 0x1p-52;
 };
+
+/// An allocator that leaves new elements default-initialised (for plain structs: unwritten), so
+/// that large arrays are first written, and their pages first touched, by the parallel loops
+/// that fill them rather than zeroed serially beforehand.
+template <typename T>
+struct DefaultInitAllocator : std::allocator<T>
+{
+  template <typename U>
+  struct rebind
+  {
+    using other = DefaultInitAllocator<U>;
+  };
+  DefaultInitAllocator() = default;
+  template <typename U>
+  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept
+  {
+  }
+  template <typename U>
+  void construct(U* p) noexcept
+  {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args)
+  {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <typename T>
+using FillLaterVector = std::vector<T, DefaultInitAllocator<T>>;
 
 /// The mid-edge id of a straight edge (MeshView::straightEdgeMarkers).
 constexpr NodeId kStraightEdge = -1;
@@ -119,6 +153,35 @@ private:
   std::vector<std::size_t> OriginalIndex_;
 };
 
+class Hierarchy;
+struct BoxItem;
+
+/// A transverse cell prepared for ray tests (Scene::prepareCell): for a straight cell, its
+/// barycentric map and the Bernstein coefficients of its field, so a test reads 4 cache lines
+/// in a row instead of 10 node ids, 10 points and 10 values scattered over the mesh.
+struct alignas(64) CellRecord
+{
+  enum class Kind : std::uint8_t
+  {
+    Quadratic, ///< straight, the field a quadratic
+    Constant,  ///< straight, the field constant (to rounding) at iso-value firstIso
+    Curved,    ///< isoparametric: solved from the mesh
+    Empty      ///< cannot hold any of the iso-values: never hit
+  };
+  glm::dvec3 vertex0;
+  glm::dvec3 vertex1;
+  glm::dvec3 centroidOffset; ///< centroid - vertex0
+  glm::dvec3 gradient[3];    ///< grad L_1, L_2, L_3 (grad L_0 is minus their sum)
+  /// Bernstein coefficients of the field times `scale`: B_00, B_11, B_22, B_33, then B_ab of
+  /// the edges in mid-edge node order.
+  double form[10];
+  double scale; ///< a power of two bringing the largest nodal magnitude near 1
+  std::uint32_t cellId;
+  std::uint32_t firstIso; ///< sorted iso-values [firstIso, lastIso) within the cell's range
+  std::uint32_t lastIso;
+  Kind kind;
+};
+
 struct SurfaceHit
 {
   double t = 0.0; ///< ray parameter (distance along the unit direction)
@@ -154,21 +217,50 @@ public:
   static constexpr double kMinCellSize = 1e-100;
   static constexpr double kMaxCellSize = 1e100;
 
-  /// Validates every cell (in parallel through `parallelFor`) and builds the hierarchy. The
-  /// mesh's arrays must outlive the scene, and hold the counts the view gives.
+  /// Validates every cell (in parallel through `parallelFor`). The mesh's arrays must outlive
+  /// the scene, and hold the counts the view gives.
   explicit Scene(const MeshView& mesh, const ParallelFor& parallelFor = serialFor,
     const TransverseTest& transverseTest = TransverseTest());
+  ~Scene();
+  Scene(const Scene&) = delete;
+  Scene& operator=(const Scene&) = delete;
 
   const PreprocessSummary& summary() const { return Summary_; }
 
-  /// The first crossing of any iso-value along the ray with tMin <= t <= tMax; false if there
-  /// is none.
-  bool firstHit(const Ray& ray, const IsoValues& isoValues, SurfaceHit& hit, double tMin = 0.0,
-    double tMax = std::numeric_limits<double>::infinity()) const;
+  /// What a valid cell's ray test needs for a set of iso-values, computed once (prepareCell);
+  /// false when the cell cannot hold any of them (its exact range misses them all, or it is
+  /// constant at another value).
+  bool prepareCell(NodeId cellId, const IsoValues& isoValues, CellRecord& cell) const;
+
+  /// The first crossing along the ray, with tMin <= t <= tLimit, of one of the iso-values (the
+  /// ones the record was prepared for) in one cell; false if there is none there.
+  bool intersectCell(const CellRecord& cell, const Ray& ray, const IsoValues& isoValues,
+    double tMin, double tLimit, SurfaceHit& hit) const;
 
   /// Point location: the valid cell containing `point` (the first found where cells share a
-  /// face); false if no valid cell contains it.
+  /// face); false if no valid cell contains it. The first call builds a hierarchy over every
+  /// valid cell (serially; thread-safe), which only point location needs.
   bool locate(const glm::dvec3& point, NodeId& cellId) const;
+
+  /// A valid cell: its id and its value range (the transverse test's, rounded outward to float).
+  struct ValidCell
+  {
+    float valueLo;
+    float valueHi;
+    std::uint32_t id;
+  };
+  /// The valid cells, in cell order.
+  const FillLaterVector<ValidCell>& validCells() const { return ValidCells_; }
+
+  /// A valid cell's box in box units (see toBoxUnits), padded and rounded outward: every
+  /// point of the cell, widened by kBarycentricTolerance, lies in it. Its id is the cell's.
+  BoxItem cellBox(NodeId cellId) const;
+
+  /// A point in box units: boxes hold (x - origin) * boxScale(), a power of two that brings
+  /// the scene's extent near 1 (so float boxes resolve scenes of any size and position in
+  /// double range).
+  glm::dvec3 toBoxUnits(const glm::dvec3& point) const { return (point - Origin_) * BoxScale_; }
+  double boxScale() const { return BoxScale_; }
 
   /// A point array (`components` values per point, this one's `component`) interpolated at
   /// `point` with the quadratic shape functions of one cell (their extension, if the point is
@@ -210,9 +302,9 @@ public:
   /// (paper's eq. 2).
   glm::dvec3 interpolateNodalGradient(NodeId cellId, const glm::dvec3& point) const;
 
-  /// Bytes this scene keeps (the mesh it views is not counted): 12 per valid cell plus the
-  /// hierarchy's nodes (about one per 2 cells, 40 bytes each), plus 24 per point once nodal
-  /// gradients are computed, plus 1 per input cell when any cell is curved.
+  /// Bytes this scene keeps (the mesh it views is not counted): 12 per valid cell (id and
+  /// range), the point-location hierarchy once built, 24 per point once nodal gradients are
+  /// computed, and 1 per input cell when any cell is curved.
   std::size_t memoryBytes() const;
 
   /// Barycentric tolerance by which a cell is widened when clipping a ray to it. Rounding in
@@ -223,21 +315,6 @@ public:
   static constexpr double kBarycentricTolerance = 1e-10;
 
 private:
-  // Boxes and value ranges are stored in float, rounded outward, so every test on them is
-  // conservative; boxes are relative to Origin_ and in units of the scene's extent, so their
-  // precision follows the scene's size, not its distance from the world origin or its scale. Exact (double) tests happen per cell.
-  struct Node
-  {
-    float boxLo[3];
-    float boxHi[3];
-    float valueLo;
-    float valueHi;
-    std::uint32_t firstOrSecondChild; ///< leaf: first slot; interior: index of the second child
-    std::uint32_t count; ///< leaf: number of cells (at most kLeafSize); interior: 0 (first child: next)
-  };
-  struct BuildItem;
-  struct Bounds;
-
   /// A cell's 4 vertices.
   void loadVertices(NodeId cellId, glm::dvec3 vertices[4]) const;
   /// A cell's vertices and the values at its 10 nodes of a point array (a missing mid-edge node
@@ -258,28 +335,133 @@ private:
   bool inCell(NodeId cellId, const glm::dvec3& point, double L[4]) const;
   bool intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues, double tMin,
     double tLimit, SurfaceHit& hit) const;
-  std::uint8_t validate(NodeId cellId, BuildItem& item) const;
-  /// Makes `node` for items [begin, end), whose bounds are given. Returns false for a leaf, or
-  /// true with the items partitioned at `middle` and the two sides' bounds.
-  bool split(std::vector<BuildItem>& items, std::size_t begin, std::size_t end, int depth,
-    const Bounds& bounds, Node& node, std::size_t& middle, Bounds& left, Bounds& right);
-  std::uint32_t build(std::vector<BuildItem>& items, std::size_t begin, std::size_t end,
-    int depth, const Bounds& bounds, std::vector<Node>& nodes);
-  void buildInParallel(std::vector<BuildItem>& items, const ParallelFor& parallelFor);
-  bool intersectCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues, double tMin,
-    double tLimit, SurfaceHit& hit) const;
+  /// Checks a cell; for a valid one, fills its entry and its box.
+  std::uint8_t validate(NodeId cellId, ValidCell& validCell, BoxItem& box) const;
+  /// The box (box units) of a cell with these nodes and longest edge; false if not finite.
+  bool boxOf(const glm::dvec3 nodes[10], double maxEdge, bool curved, BoxItem& box) const;
 
   MeshView Mesh_;
   TransverseTest Transverse_;
   glm::dvec3 Origin_{ 0.0 };
   double BoxScale_ = 1.0; ///< boxes hold (x - Origin_) * BoxScale_, a power of two
   PreprocessSummary Summary_;
-  std::vector<Node> Nodes_;
-  std::vector<std::uint32_t> SlotCell_; ///< cell id of each leaf slot
-  std::vector<float> SlotRange_;        ///< outward-rounded Bernstein min and max per slot
+  FillLaterVector<ValidCell> ValidCells_;
+  float BoxLo_[3] = { 0.0f, 0.0f, 0.0f }; ///< around every valid cell (box units)
+  float BoxHi_[3] = { 0.0f, 0.0f, 0.0f };
+  mutable std::once_flag LocatorBuilt_;
+  mutable std::unique_ptr<Hierarchy> Locator_;
   std::vector<glm::dvec3> NodalGradients_; ///< per point, once computed
   std::vector<std::uint8_t> Curved_; ///< per input cell, 1 if curved; empty when none is
   mutable std::atomic<NodeId> UncertifiedHits_{ 0 };
 };
+
+// Inline: the innermost test of every ray (the traversal inlines it).
+inline bool Scene::intersectCell(const CellRecord& cell, const Ray& ray, const IsoValues& isoValues,
+  double tMin, double tLimit, SurfaceHit& hit) const
+{
+  if (cell.kind == CellRecord::Kind::Empty)
+  {
+    return false;
+  }
+  if (cell.kind == CellRecord::Kind::Curved)
+  {
+    return intersectCurvedCell(cell.cellId, ray, isoValues, tMin, tLimit, hit);
+  }
+  TetFrame frame;
+  for (int k = 0; k < 3; ++k)
+  {
+    frame.gradient[k + 1] = cell.gradient[k];
+  }
+  frame.gradient[0] = -(frame.gradient[1] + frame.gradient[2] + frame.gradient[3]);
+  // Re-origin the ray at its point nearest the cell centroid: the barycentric coordinates and the
+  // quadratic's coefficients are then of the cell's own scale, not of the camera distance.
+  // The point is formed as offsets from the cell's vertices (origin - vertex first, both of the
+  // scene's magnitude, then the small step): never rounded at the coordinates' own magnitude.
+  const glm::dvec3 fromVertex0 = ray.origin - cell.vertex0;
+  const double tCentre = glm::dot(cell.centroidOffset - fromVertex0, ray.direction);
+  double L[4], dL[4];
+  frame.barycentricOfOffsets(fromVertex0 + tCentre * ray.direction,
+    (ray.origin - cell.vertex1) + tCentre * ray.direction, L);
+  frame.barycentricDirection(ray.direction, dL);
+
+  // Entry and exit: the tet is {L_k >= 0}; each L_k(s) = L_k + s dL_k is affine in s.
+  double sEntry = tMin - tCentre;
+  double sExit = tLimit - tCentre;
+  for (int k = 0; k < 4; ++k)
+  {
+    const double bound = (-kBarycentricTolerance - L[k]);
+    if (dL[k] > 0.0)
+    {
+      sEntry = std::max(sEntry, bound / dL[k]);
+    }
+    else if (dL[k] < 0.0)
+    {
+      sExit = std::min(sExit, bound / dL[k]);
+    }
+    else if (L[k] < -kBarycentricTolerance)
+    {
+      return false; // parallel to face k and outside it
+    }
+  }
+  if (!(sEntry <= sExit))
+  {
+    return false;
+  }
+  if (cell.kind == CellRecord::Kind::Constant)
+  {
+    hit.t = tCentre + sEntry;
+    hit.regionEnd = tCentre + sExit;
+    hit.cellId = cell.cellId;
+    hit.gradient = glm::dvec3(0.0);
+    hit.isoIndex = cell.firstIso;
+    return true;
+  }
+
+  BernsteinForm form;
+  for (int i = 0; i < 4; ++i)
+  {
+    form.b[i][i] = cell.form[i];
+  }
+  for (int e = 0; e < 6; ++e)
+  {
+    const int a = kEdgeVertices[e][0], c = kEdgeVertices[e][1];
+    form.b[a][c] = form.b[c][a] = cell.form[4 + e];
+  }
+  // The field along the ray, exactly: f(s) = a s^2 + b s + c (see QuadraticTet.h).
+  const double a = form.bilinear(dL, dL);
+  const double b = 2.0 * form.bilinear(L, dL);
+  const double c = form.bilinear(L, L);
+
+  const std::vector<double>& sorted = isoValues.sorted();
+  bool found = false;
+  double sHit = sExit;
+  for (std::size_t k = cell.firstIso; k < cell.lastIso; ++k)
+  {
+    double s;
+    if (firstRootInInterval(a, b, c - sorted[k] * cell.scale, sEntry, sHit, s))
+    {
+      found = true;
+      sHit = s;
+      hit.isoIndex = k;
+    }
+  }
+  if (!found)
+  {
+    return false;
+  }
+  double LHit[4];
+  for (int k = 0; k < 4; ++k)
+  {
+    LHit[k] = L[k] + sHit * dL[k];
+  }
+  hit.t = tCentre + sHit;
+  hit.regionEnd = hit.t;
+  hit.cellId = cell.cellId;
+  // Unscaled exactly (a power of two), unless that overflows (a field near the largest double):
+  // then the scaled gradient, whose direction is the same.
+  const glm::dvec3 gradient = fieldGradient(form, frame, LHit);
+  hit.gradient = isFinite(gradient / cell.scale) ? gradient / cell.scale : gradient;
+  return true;
+}
 
 } // namespace tetdsr
