@@ -172,9 +172,9 @@ const SurfaceIndex& PreparedMesh::GetSurface(const std::vector<double>& isoValue
   Internals& in = *this->Internal;
   if (!in.Surface || isoValues != in.SurfaceValues)
   {
-    in.Surface.reset();
     WithThreads(numberOfThreads, [&]() {
-      in.Surface.reset(new SurfaceIndex(*in.TheScene, IsoValues(isoValues), SMPParallelFor));
+      in.Surface.reset(new SurfaceIndex(
+        *in.TheScene, IsoValues(isoValues), SMPParallelFor, in.Surface.get()));
     });
     in.SurfaceValues = isoValues;
   }

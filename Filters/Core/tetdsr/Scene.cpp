@@ -693,22 +693,24 @@ NodeId Scene::uncertifiedHits() const
   return UncertifiedHits_.load(std::memory_order_relaxed);
 }
 
-bool Scene::prepareCell(NodeId cellId, const IsoValues& isoValues, CellRecord& cell) const
+void Scene::prepareCell(NodeId cellId, CellRecord& cell) const
 {
   cell.cellId = static_cast<std::uint32_t>(cellId);
   cell.kind = CellRecord::Kind::Empty;
-  if (isCurved(cellId))
-  {
-    cell.kind = CellRecord::Kind::Curved;
-    return true; // solved from the mesh (intersectCurvedCell)
-  }
   glm::dvec3 vertices[4];
   double values[10];
   loadCell(cellId, vertices, values);
+  // The range the transverse test gives (which iso-values the cell can hold).
+  Transverse_.range(values, cell.valueLo, cell.valueHi);
+  if (isCurved(cellId))
+  {
+    cell.kind = CellRecord::Kind::Curved; // solved from the mesh (intersectCurvedCell)
+    return;
+  }
   TetFrame frame;
   if (!TetFrame::fromVertices(vertices, frame))
   {
-    return false;
+    return; // (not for a valid cell)
   }
   cell.vertex0 = vertices[0];
   cell.vertex1 = vertices[1];
@@ -718,17 +720,6 @@ bool Scene::prepareCell(NodeId cellId, const IsoValues& isoValues, CellRecord& c
   {
     cell.gradient[k] = frame.gradient[k + 1];
   }
-  // The iso-values this cell can contain: sorted()[first, last).
-  double cellLo, cellHi;
-  Transverse_.range(values, cellLo, cellHi);
-  std::size_t first, last;
-  if (!isoValues.within(cellLo, cellHi, first, last))
-  {
-    return false;
-  }
-  cell.firstIso = static_cast<std::uint32_t>(first);
-  cell.lastIso = static_cast<std::uint32_t>(last);
-
   // Scale the field by a power of two (exact) so that its largest nodal magnitude is about 1:
   // the products in the quadratic's coefficients and its discriminant (field^2) then neither
   // overflow nor underflow, whatever the field's scale within double range.
@@ -746,26 +737,14 @@ bool Scene::prepareCell(NodeId cellId, const IsoValues& isoValues, CellRecord& c
   {
     cell.form[4 + e] = form.b[kEdgeVertices[e][0]][kEdgeVertices[e][1]];
   }
-  // A field constant over the cell (to rounding) and equal to an iso-value: the whole cell is on
-  // the "surface"; the ray meets it where it enters, with no gradient. Rounding would otherwise
-  // scatter the roots of a quadratic whose coefficients are all noise. (The Bernstein bound, a
-  // true bound whatever the transverse test.) Constant at no iso-value: never hit.
+  // A field constant over the cell (to rounding): the Bernstein bound (a true bound whatever
+  // the transverse test) is within rounding of one value.
   double boundLo, boundHi;
   form.range(boundLo, boundHi);
-  if (constantToRounding(boundLo, boundHi))
-  {
-    std::size_t index;
-    if (!constantIsoIndex(isoValues, boundLo, boundHi, cell.scale, index))
-    {
-      return false;
-    }
-    cell.kind = CellRecord::Kind::Constant;
-    cell.firstIso = static_cast<std::uint32_t>(index);
-    return true;
-  }
-  cell.kind = CellRecord::Kind::Quadratic;
-  return true;
+  cell.kind = constantToRounding(boundLo, boundHi) ? CellRecord::Kind::Constant
+                                                   : CellRecord::Kind::Quadratic;
 }
+
 
 std::size_t Scene::memoryBytes() const
 {

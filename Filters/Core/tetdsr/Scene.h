@@ -156,17 +156,17 @@ private:
 class Hierarchy;
 struct BoxItem;
 
-/// A transverse cell prepared for ray tests (Scene::prepareCell): for a straight cell, its
-/// barycentric map and the Bernstein coefficients of its field, so a test reads 4 cache lines
-/// in a row instead of 10 node ids, 10 points and 10 values scattered over the mesh.
+/// A cell prepared for ray tests (Scene::prepareCell), whatever the iso-values: for a straight
+/// cell, its barycentric map and the Bernstein coefficients of its field, so a test reads 4
+/// cache lines in a row instead of 10 node ids, 10 points and 10 values scattered over the mesh.
 struct alignas(64) CellRecord
 {
   enum class Kind : std::uint8_t
   {
     Quadratic, ///< straight, the field a quadratic
-    Constant,  ///< straight, the field constant (to rounding) at iso-value firstIso
+    Constant,  ///< straight, the field constant to rounding
     Curved,    ///< isoparametric: solved from the mesh
-    Empty      ///< cannot hold any of the iso-values: never hit
+    Empty      ///< never hit (not a valid cell)
   };
   glm::dvec3 vertex0;
   glm::dvec3 vertex1;
@@ -176,9 +176,9 @@ struct alignas(64) CellRecord
   /// the edges in mid-edge node order.
   double form[10];
   double scale; ///< a power of two bringing the largest nodal magnitude near 1
+  double valueLo; ///< the transverse test's range: which iso-values the cell can hold
+  double valueHi;
   std::uint32_t cellId;
-  std::uint32_t firstIso; ///< sorted iso-values [firstIso, lastIso) within the cell's range
-  std::uint32_t lastIso;
   Kind kind;
 };
 
@@ -227,13 +227,11 @@ public:
 
   const PreprocessSummary& summary() const { return Summary_; }
 
-  /// What a valid cell's ray test needs for a set of iso-values, computed once (prepareCell);
-  /// false when the cell cannot hold any of them (its exact range misses them all, or it is
-  /// constant at another value).
-  bool prepareCell(NodeId cellId, const IsoValues& isoValues, CellRecord& cell) const;
+  /// What a valid cell's ray test needs, computed once.
+  void prepareCell(NodeId cellId, CellRecord& cell) const;
 
-  /// The first crossing along the ray, with tMin <= t <= tLimit, of one of the iso-values (the
-  /// ones the record was prepared for) in one cell; false if there is none there.
+  /// The first crossing along the ray, with tMin <= t <= tLimit, of one of the iso-values in
+  /// one prepared cell; false if there is none there.
   bool intersectCell(const CellRecord& cell, const Ray& ray, const IsoValues& isoValues,
     double tMin, double tLimit, SurfaceHit& hit) const;
 
@@ -359,7 +357,9 @@ private:
 inline bool Scene::intersectCell(const CellRecord& cell, const Ray& ray, const IsoValues& isoValues,
   double tMin, double tLimit, SurfaceHit& hit) const
 {
-  if (cell.kind == CellRecord::Kind::Empty)
+  // The iso-values this cell can hold: sorted()[first, last).
+  std::size_t first, last;
+  if (cell.kind == CellRecord::Kind::Empty || !isoValues.within(cell.valueLo, cell.valueHi, first, last))
   {
     return false;
   }
@@ -407,16 +407,6 @@ inline bool Scene::intersectCell(const CellRecord& cell, const Ray& ray, const I
   {
     return false;
   }
-  if (cell.kind == CellRecord::Kind::Constant)
-  {
-    hit.t = tCentre + sEntry;
-    hit.regionEnd = tCentre + sExit;
-    hit.cellId = cell.cellId;
-    hit.gradient = glm::dvec3(0.0);
-    hit.isoIndex = cell.firstIso;
-    return true;
-  }
-
   BernsteinForm form;
   for (int i = 0; i < 4; ++i)
   {
@@ -427,6 +417,25 @@ inline bool Scene::intersectCell(const CellRecord& cell, const Ray& ray, const I
     const int a = kEdgeVertices[e][0], c = kEdgeVertices[e][1];
     form.b[a][c] = form.b[c][a] = cell.form[4 + e];
   }
+  if (cell.kind == CellRecord::Kind::Constant)
+  {
+    // The field constant over the cell (to rounding) and equal to an iso-value: the whole cell
+    // is on the "surface"; the ray meets it where it enters, with no gradient. Rounding would
+    // otherwise scatter the roots of a quadratic whose coefficients are all noise.
+    double boundLo, boundHi;
+    form.range(boundLo, boundHi);
+    std::size_t equal, beyond;
+    if (!isoValues.within(boundLo / cell.scale, boundHi / cell.scale, equal, beyond))
+    {
+      return false;
+    }
+    hit.t = tCentre + sEntry;
+    hit.regionEnd = tCentre + sExit;
+    hit.cellId = cell.cellId;
+    hit.gradient = glm::dvec3(0.0);
+    hit.isoIndex = equal;
+    return true;
+  }
   // The field along the ray, exactly: f(s) = a s^2 + b s + c (see QuadraticTet.h).
   const double a = form.bilinear(dL, dL);
   const double b = 2.0 * form.bilinear(L, dL);
@@ -435,7 +444,7 @@ inline bool Scene::intersectCell(const CellRecord& cell, const Ray& ray, const I
   const std::vector<double>& sorted = isoValues.sorted();
   bool found = false;
   double sHit = sExit;
-  for (std::size_t k = cell.firstIso; k < cell.lastIso; ++k)
+  for (std::size_t k = first; k < last; ++k)
   {
     double s;
     if (firstRootInInterval(a, b, c - sorted[k] * cell.scale, sEntry, sHit, s))

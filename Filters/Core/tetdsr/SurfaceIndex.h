@@ -8,6 +8,7 @@
 #include "tetdsr/Scene.h"
 
 #include <limits>
+#include <memory>
 
 namespace tetdsr
 {
@@ -16,9 +17,11 @@ class SurfaceIndex
 {
 public:
   /// Selects the transverse cells of `scene` (which must outlive the index) and builds the
-  /// hierarchy over them, concurrently through `parallelFor`.
+  /// hierarchy over them, concurrently through `parallelFor`. When `previous` (an index of the
+  /// same scene) selected the very same cells, its hierarchy and records are shared instead of
+  /// rebuilt: an iso-value change that keeps the set of transverse cells costs one scan.
   SurfaceIndex(const Scene& scene, const IsoValues& isoValues,
-    const ParallelFor& parallelFor = serialFor);
+    const ParallelFor& parallelFor = serialFor, const SurfaceIndex* previous = nullptr);
 
   const Scene& scene() const { return Scene_; }
   const IsoValues& isoValues() const { return IsoValues_; }
@@ -29,20 +32,28 @@ public:
     double tMax = std::numeric_limits<double>::infinity()) const;
 
   /// How many cells can hold one of the iso-values.
-  NodeId transverseCells() const { return static_cast<NodeId>(Records_.size()); }
+  NodeId transverseCells() const { return static_cast<NodeId>(Cells_->records.size()); }
 
-  /// Bytes this index keeps: per transverse cell a 256-byte record, 4 bytes of hierarchy order
-  /// and about 40 bytes of hierarchy nodes (128 bytes per node of up to 4 leaves).
+  /// Bytes this index keeps: per transverse cell a 256-byte record, 8 bytes of selection and
+  /// hierarchy order, and about 40 bytes of hierarchy nodes (128 bytes per node of up to 4
+  /// leaves).
   std::size_t memoryBytes() const
   {
-    return Hierarchy_.memoryBytes() + Records_.capacity() * sizeof(CellRecord);
+    return Cells_->hierarchy.memoryBytes() + Cells_->records.capacity() * sizeof(CellRecord) +
+      Cells_->selection.capacity() * sizeof(std::uint32_t);
   }
 
 private:
+  /// What depends only on which cells are selected.
+  struct Cells
+  {
+    std::vector<std::uint32_t> selection; ///< cell ids, ascending
+    Hierarchy hierarchy;
+    FillLaterVector<CellRecord> records; ///< in the hierarchy's leaf order
+  };
   const Scene& Scene_;
   IsoValues IsoValues_;
-  Hierarchy Hierarchy_;
-  FillLaterVector<CellRecord> Records_; ///< in the hierarchy's leaf order
+  std::shared_ptr<const Cells> Cells_;
 };
 
 } // namespace tetdsr
