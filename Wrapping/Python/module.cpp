@@ -355,6 +355,9 @@ void CheckTiles(const PyRenderer& renderer, tetdsr::NodeId begin, tetdsr::NodeId
 NB_MODULE(_core, m)
 {
   m.doc() = "The VTK-free TetDSR core: scenes of 10-node tetrahedra and their ray-cast images.";
+  // ParaView finalizes Python while its proxies still hold Python algorithms (and so scenes):
+  // nanobind would list those as leaks at every pvpython exit.
+  nb::set_leak_warnings(false);
 
   nb::class_<PyScene>(m, "Scene",
     "A validated mesh of 10-node tetrahedra (VTK node order) with its acceleration structure. "
