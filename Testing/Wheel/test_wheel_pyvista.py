@@ -81,6 +81,7 @@ def test_interaction_casts_coarse_then_full(sphere):
     surface = add_isosurface(plotter, grid, 0.0, "sphere", interactive_scale=0.25)
     plotter.camera.focal_point = centre
     plotter.camera.position = centre + np.array([0.0, 0.0, 2.0])
+    plotter.camera.up = (0.0, 1.0, 0.0)
     plotter.screenshot(return_img=True)  # the first render (PyVista's render() waits for it)
     assert tuple(surface.caster.GetImageSize()) == (W, H)
     interactor = plotter.iren.interactor
@@ -96,6 +97,7 @@ def test_interaction_casts_coarse_then_full(sphere):
     expected, unsure = sphere_coverage(plotter.camera, centre, radius)
     background = tuple(int(round(255 * c)) for c in plotter.renderer.GetBackground())
     wrong = int(np.count_nonzero((covered(shot, background) != expected) & ~unsure))
+    assert expected.sum() > 1000, f"expected the sphere on more than 1000 pixels, got {expected.sum()}"
     assert wrong == 0, f"expected the full-resolution sphere after the interaction, {wrong} pixels differ"
     surface.remove()
     assert plotter.renderer.GetLayer() == 0
