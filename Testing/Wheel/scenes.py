@@ -1,0 +1,171 @@
+"""Scenes both builds render: the C++ filter (cxx_reference.py, in /usr/bin/python3 with the C++
+build's `tetdsr` and ParaView's VTK 9.2) and the wheel's filter (test_agreement.py, in the venv
+with pip's VTK). Only VTK API common to both versions is used here.
+
+Each scene is a function (caster class, data folder) -> (caster ready to Update, objects to keep
+alive, the scene's diagonal)."""
+import itertools
+import os
+
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
+from vtkmodules.vtkCommonCore import vtkPoints
+from vtkmodules.vtkCommonDataModel import (VTK_HEXAHEDRON, VTK_QUADRATIC_TETRA, VTK_TETRA,
+                                           vtkCellArray, vtkPlane, vtkUnstructuredGrid)
+from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+from vtkmodules.vtkRenderingCore import vtkCamera
+
+EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
+# A fixed quadric |x|_M^2 + g.x: nested ellipsoids in [-1, 1]^3 (scene "quadric_lattice").
+QUADRIC_M = np.array([[1.0, 0.3, -0.2], [0.3, 0.7, 0.1], [-0.2, 0.1, 1.3]])
+QUADRIC_G = np.array([0.2, -0.1, 0.3])
+
+
+def read(data, name):
+    reader = vtkXMLUnstructuredGridReader()
+    reader.SetFileName(os.path.join(data, name))
+    reader.Update()
+    return reader.GetOutput()
+
+
+def lattice(n, lo=-1.0, hi=1.0):
+    """[lo, hi]^3 as n^3 cubes of 6 positively oriented quadratic tets, VTK node order."""
+    m = 2 * n + 1
+    g = np.linspace(lo, hi, m)
+    points = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
+
+    def index(v):
+        return (v[0] * m + v[1]) * m + v[2]
+
+    cells = []
+    for corner in itertools.product(range(n), repeat=3):
+        for order in itertools.permutations(range(3)):
+            v = [2 * np.array(corner)]
+            for axis in order:
+                step = v[-1].copy()
+                step[axis] += 2
+                v.append(step)
+            if np.linalg.det(np.array([points[index(x)] for x in v[1:]]) - points[index(v[0])]) < 0:
+                v[1], v[2] = v[2], v[1]
+            cells.append([index(x) for x in v] + [index((v[a] + v[b]) // 2) for a, b in EDGES])
+    return points, np.array(cells, dtype=np.int64)
+
+
+def grid(points, cells, fields):
+    """A vtkUnstructuredGrid of quadratic tets with point arrays {name: values}."""
+    ug = vtkUnstructuredGrid()
+    p = vtkPoints()
+    p.SetData(numpy_to_vtk(np.ascontiguousarray(points, dtype=np.float64), deep=1))
+    ug.SetPoints(p)
+    ca = vtkCellArray()
+    ca.SetData(numpy_to_vtkIdTypeArray(np.arange(0, 10 * len(cells) + 1, 10, dtype=np.int64), deep=1),
+               numpy_to_vtkIdTypeArray(np.ascontiguousarray(cells, dtype=np.int64).ravel(), deep=1))
+    ug.SetCells(numpy_to_vtk(np.full(len(cells), VTK_QUADRATIC_TETRA, np.uint8), deep=1), ca)
+    for name, values in fields.items():
+        array = numpy_to_vtk(np.ascontiguousarray(values, dtype=np.float64), deep=1)
+        array.SetName(name)
+        ug.GetPointData().AddArray(array)
+    ug.GetPointData().SetActiveScalars(next(iter(fields)))
+    return ug
+
+
+def camera(position, focal_point=(0.0, 0.0, 0.0), view_angle=30.0, parallel=False, scale=1.0):
+    c = vtkCamera()
+    c.SetFocalPoint(*focal_point)
+    c.SetPosition(*position)
+    c.SetViewUp(0.0, 1.0, 0.0)
+    c.SetViewAngle(view_angle)
+    c.SetParallelProjection(parallel)
+    c.SetParallelScale(scale)
+    return c
+
+
+def _caster(cls, mesh, iso, cam, size):
+    caster = cls()
+    caster.SetInputData(mesh) if hasattr(caster, "SetInputData") else caster.SetInputDataObject(0, mesh)
+    for i, v in enumerate(iso):
+        caster.SetValue(i, v)
+    if cam is not None:
+        caster.SetCamera(cam)
+    caster.SetImageSize(*size)
+    return caster
+
+
+def cube(cls, data, parallel):
+    mesh = read(data, "cube27.vtu")
+    cam = camera((3.0, 2.2, 4.1), view_angle=24.0, parallel=parallel, scale=0.9)
+    return _caster(cls, mesh, [0.8], cam, (220, 180)), (mesh, cam), mesh.GetLength()
+
+
+def sphere_in_cell(cls, data):
+    mesh = read(data, "sphere_in_cell.vtu")
+    fd = mesh.GetFieldData()
+    centre = np.array([fd.GetArray("SphereCentre").GetValue(k) for k in range(3)])
+    cam = camera(centre + [0.4, -0.7, 1.3], centre, view_angle=18.0)
+    return _caster(cls, mesh, [0.0], cam, (160, 120)), (mesh, cam), mesh.GetLength()
+
+
+def quadric_lattice(cls, data):
+    """Two nested ellipsoids, the outer one translucent, coloured by x, cut by a plane and capped."""
+    points, cells = lattice(3)
+    field = np.einsum("ij,jk,ik->i", points, QUADRIC_M, points) + points @ QUADRIC_G
+    mesh = grid(points, cells, {"quadric": field, "x": points[:, 0].copy()})
+    cam = camera((2.6, 1.9, 3.3), view_angle=32.0)
+    caster = _caster(cls, mesh, [0.3, 0.8], cam, (200, 160))
+    caster.SetIsoValueOpacity(1, 0.5)
+    caster.ColorByArrayOn()
+    caster.SetInputArrayToProcess(1, 0, 0, 0, "x")
+    plane = vtkPlane()
+    plane.SetOrigin(0.0, 0.0, 0.3)
+    plane.SetNormal(0.0, 0.0, -1.0)
+    caster.AddClippingPlane(plane)
+    caster.SetCapping(1)  # CAP_BELOW_ISO_VALUE
+    return caster, (mesh, cam, plane), mesh.GetLength()
+
+
+def flow(cls, data):
+    """The expansion flow, speed = 0.25 coloured by pressure, with the default camera."""
+    mesh = read(data, "expansion_flow.vtu")
+    caster = _caster(cls, mesh, [0.25], None, (240, 120))
+    caster.SetInputArrayToProcess(0, 0, 0, 0, "speed")
+    caster.ColorByArrayOn()
+    caster.SetInputArrayToProcess(1, 0, 0, 0, "pressure")
+    caster.SetSpecular(0.4)
+    return caster, (mesh,), mesh.GetLength()
+
+
+def mixed_cells(cls, data):
+    """The sphere in a cell, plus a hexahedron (skipped) and a linear tet: the copying path."""
+    mesh = vtkUnstructuredGrid()
+    mesh.DeepCopy(read(data, "sphere_in_cell.vtu"))
+    base = mesh.GetNumberOfPoints()
+    for p in range(8):
+        mesh.GetPoints().InsertNextPoint(0.2 + 0.5 * (p & 1), 0.2 + 0.5 * ((p >> 1) & 1), 1.5 + 0.5 * (p >> 2))
+        mesh.GetPointData().GetArray("sphere").InsertNextValue(-0.5 + 0.3 * p)
+    mesh.InsertNextCell(VTK_HEXAHEDRON, 8, [base + k for k in (0, 1, 3, 2, 4, 5, 7, 6)])
+    mesh.InsertNextCell(VTK_TETRA, 4, [base, base + 1, base + 2, base + 4])
+    cam = camera((1.5, 1.2, 5.0), (0.0, 0.0, 0.5), view_angle=35.0)
+    return _caster(cls, mesh, [0.0], cam, (150, 150)), (mesh, cam), mesh.GetLength()
+
+
+SCENES = {
+    "cube_perspective": lambda cls, data: cube(cls, data, False),
+    "cube_parallel": lambda cls, data: cube(cls, data, True),
+    "sphere_in_cell": sphere_in_cell,
+    "quadric_lattice": quadric_lattice,
+    "flow": flow,
+    "mixed_cells": mixed_cells,
+}
+OUTPUTS = ("Colors", "Depth", "Normals", "CellId", "ColorValues")
+
+
+def render(cls, data, name):
+    """The scene's output arrays as numpy arrays (copies) and its diagonal."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    caster, keep, diagonal = SCENES[name](cls, data)
+    caster.Update()
+    point_data = caster.GetOutputDataObject(0).GetPointData()
+    arrays = {k: vtk_to_numpy(point_data.GetArray(k)).copy() for k in OUTPUTS
+              if point_data.GetArray(k) is not None}
+    del keep
+    return arrays, diagonal
