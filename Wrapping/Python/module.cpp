@@ -4,6 +4,7 @@
 // the core views alive, and renders image tiles on std::threads without the GIL.
 #include "tetdsr/Camera.h"
 #include "tetdsr/Renderer.h"
+#include "tetdsr/SurfaceIndex.h"
 #include "tetdsr/Scene.h"
 
 #include <nanobind/nanobind.h>
@@ -102,6 +103,10 @@ struct PyScene
   Array<const std::int64_t> Cells;
   Array<const double> Values;
   std::unique_ptr<tetdsr::Scene> Scene;
+  int Threads = 0;
+  /// The surface index of the last iso-values rendered (as given), rebuilt when they change.
+  std::shared_ptr<const tetdsr::SurfaceIndex> Surface;
+  std::vector<double> SurfaceValues;
 };
 
 PyScene* MakeScene(Array<const double> points, Array<const std::int64_t> cells,
@@ -137,7 +142,7 @@ PyScene* MakeScene(Array<const double> points, Array<const std::int64_t> cells,
   {
     throw nb::value_error("point_rounding must be positive and widening not negative");
   }
-  auto* result = new PyScene{ points, cells, values, nullptr };
+  auto* result = new PyScene{ points, cells, values, nullptr, threads, nullptr, {} };
   tetdsr::MeshView mesh;
   mesh.points = points.data();
   mesh.numberOfPoints = numberOfPoints;
@@ -189,7 +194,7 @@ struct PyRenderer
   Array<std::int64_t> CellIds;
   std::optional<Array<double>> ColorValues;
   std::optional<Array<const double>> ColorByValues;
-  std::unique_ptr<tetdsr::IsoValues> IsoValues;
+  std::shared_ptr<const tetdsr::SurfaceIndex> Surface;
   std::unique_ptr<tetdsr::Renderer> Renderer;
   std::vector<bool> TileDone;
 };
@@ -326,9 +331,23 @@ PyRenderer* MakeRenderer(nb::object sceneObject, const std::vector<double>& isoV
     scene.Scene->computeNodalGradients(); // once per scene: kept with it
   }
 
+  if (!scene.Surface || scene.SurfaceValues != isoValues)
+  {
+    nb::gil_scoped_release release;
+    const int threads = scene.Threads;
+    const tetdsr::NodeId grain =
+      std::max<tetdsr::NodeId>(1024, scene.Scene->summary().validCells / 256);
+    scene.Surface = std::make_shared<const tetdsr::SurfaceIndex>(*scene.Scene,
+      tetdsr::IsoValues(isoValues),
+      [threads, grain](tetdsr::NodeId count,
+        const std::function<void(tetdsr::NodeId, tetdsr::NodeId)>& body) {
+        ParallelFor(threads, count, grain, body);
+      },
+      scene.Surface.get());
+    scene.SurfaceValues = isoValues;
+  }
   auto* result = new PyRenderer{ sceneObject, colors, depth, normals, cellIds, colorValues,
-    colorByValues, nullptr, nullptr, {} };
-  result->IsoValues.reset(new tetdsr::IsoValues(isoValues));
+    colorByValues, scene.Surface, nullptr, {} };
   tetdsr::ImageView view;
   view.width = width;
   view.height = height;
@@ -337,8 +356,7 @@ PyRenderer* MakeRenderer(nb::object sceneObject, const std::vector<double>& isoV
   view.normals = normals.data();
   view.cellIds = reinterpret_cast<tetdsr::NodeId*>(cellIds.data());
   view.colorValues = colorValues ? colorValues->data() : nullptr;
-  result->Renderer.reset(
-    new tetdsr::Renderer(*scene.Scene, camera, *result->IsoValues, settings, view));
+  result->Renderer.reset(new tetdsr::Renderer(*result->Surface, camera, settings, view));
   result->TileDone.assign(static_cast<std::size_t>(result->Renderer->numberOfTiles()), false);
   return result;
 }
