@@ -6,6 +6,12 @@
 #   SIZES="12 26" IMAGE=512 bash Testing/Benchmark/run.sh
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+# Embree, for the comparison of ray hierarchies at the end (built only where it is installed).
+if ! dpkg -s libembree-dev > /dev/null 2>&1; then
+  SUDO=""; if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+  { $SUDO apt-get update -q && $SUDO apt-get install -y -q --no-install-recommends libembree-dev; } > /dev/null ||
+    echo "libembree-dev could not be installed: the Embree comparison is skipped"
+fi
 bash Scripts/setup.sh > /dev/null
 
 SIZES=${SIZES:-"12 26 61"}
@@ -34,3 +40,8 @@ build/bin/tetdsr-benchmark --options "$IMAGE" 26
 echo
 echo "Curved cells against their straightened copies (Testing/Benchmark/curved_cost.py), ${IMAGE}x${IMAGE}:"
 PYTHONPATH="$PWD/build/lib/python3/dist-packages" /usr/bin/python3 Testing/Benchmark/curved_cost.py "$IMAGE"
+if [ -x build/bin/tetdsr-embree-comparison ]; then
+  echo
+  echo "Our ray hierarchy against Embree's BVH over the same cells (tetdsr-embree-comparison), ${IMAGE}x${IMAGE}:"
+  build/bin/tetdsr-embree-comparison "$IMAGE" 61
+fi
