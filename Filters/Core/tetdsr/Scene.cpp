@@ -16,7 +16,6 @@ namespace
 {
 // Preprocessing works in chunks of this many cells (merged in order: deterministic).
 constexpr NodeId kChunkCells = 1 << 14;
-constexpr float kFloatInfinity = std::numeric_limits<float>::infinity();
 
 // A mid-edge node farther than this many times the coordinates' rounding (MeshView::
 // pointRounding), relative to the cell's longest edge, from its edge's midpoint makes the cell
@@ -127,7 +126,20 @@ void TransverseTest::range(const double nodeValues[10], double& lo, double& hi) 
 {
   if (mode == Mode::BernsteinBound)
   {
-    BernsteinForm::fromNodeValues(nodeValues).range(lo, hi);
+    // The min and max of the Bernstein coefficients (BernsteinForm), without forming the matrix.
+    lo = hi = nodeValues[0];
+    for (int i = 1; i < 4; ++i)
+    {
+      lo = std::min(lo, nodeValues[i]);
+      hi = std::max(hi, nodeValues[i]);
+    }
+    for (int e = 0; e < 6; ++e)
+    {
+      const double coefficient = 2.0 * nodeValues[4 + e] -
+        0.5 * (nodeValues[kEdgeVertices[e][0]] + nodeValues[kEdgeVertices[e][1]]);
+      lo = std::min(lo, coefficient);
+      hi = std::max(hi, coefficient);
+    }
     return;
   }
   lo = *std::min_element(nodeValues, nodeValues + 10);
@@ -206,24 +218,22 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
   ValidCells_.resize(cells);
   FillLaterVector<std::uint8_t> status(cells);
   std::vector<PreprocessSummary> chunkSummary(static_cast<std::size_t>(chunks));
-  std::vector<BoxItem> chunkBox(static_cast<std::size_t>(chunks));
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  std::vector<glm::dvec3> chunkLo(static_cast<std::size_t>(chunks), glm::dvec3(kInfinity));
+  std::vector<glm::dvec3> chunkHi(static_cast<std::size_t>(chunks), glm::dvec3(-kInfinity));
   forChunks([&](NodeId chunk, NodeId begin, NodeId end) {
     PreprocessSummary& summary = chunkSummary[static_cast<std::size_t>(chunk)];
-    BoxItem& around = chunkBox[static_cast<std::size_t>(chunk)];
-    around = BoxItem{ { kFloatInfinity, kFloatInfinity, kFloatInfinity },
-      { -kFloatInfinity, -kFloatInfinity, -kFloatInfinity }, 0 };
+    glm::dvec3& aroundLo = chunkLo[static_cast<std::size_t>(chunk)];
+    glm::dvec3& aroundHi = chunkHi[static_cast<std::size_t>(chunk)];
     for (NodeId cell = begin; cell < end; ++cell)
     {
       const auto c = static_cast<std::size_t>(cell);
-      BoxItem box;
-      const std::uint8_t flags = validate(cell, ValidCells_[c], box);
+      glm::dvec3 lo, hi;
+      const std::uint8_t flags = validate(cell, ValidCells_[c], lo, hi);
       if (flags & kValid)
       {
-        for (int a = 0; a < 3; ++a)
-        {
-          around.lo[a] = std::min(around.lo[a], box.lo[a]);
-          around.hi[a] = std::max(around.hi[a], box.hi[a]);
-        }
+        aroundLo = glm::min(aroundLo, lo);
+        aroundHi = glm::max(aroundHi, hi);
       }
       status[c] = flags;
       summary.validCells += (flags & kValid) != 0;
@@ -270,15 +280,26 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
     ValidCells_.resize(valid);
     ValidCells_.shrink_to_fit();
   }
-  // The box around every valid cell.
-  for (int a = 0; a < 3; ++a)
+  // The box around every valid cell (box units), padded as cell boxes are (boxOf).
+  glm::dvec3 lo(kInfinity), hi(-kInfinity);
+  for (std::size_t chunk = 0; chunk < chunkLo.size(); ++chunk)
   {
-    BoxLo_[a] = kFloatInfinity;
-    BoxHi_[a] = -kFloatInfinity;
-    for (const BoxItem& box : chunkBox)
+    lo = glm::min(lo, chunkLo[chunk]);
+    hi = glm::max(hi, chunkHi[chunk]);
+  }
+  if (valid > 0)
+  {
+    double magnitude = 0.0;
+    for (int a = 0; a < 3; ++a)
     {
-      BoxLo_[a] = std::min(BoxLo_[a], box.lo[a]);
-      BoxHi_[a] = std::max(BoxHi_[a], box.hi[a]);
+      magnitude = std::max({ magnitude, std::abs(lo[a]), std::abs(hi[a]) });
+    }
+    const double pad =
+      1e-8 * glm::length(hi - lo) + 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
+    for (int a = 0; a < 3; ++a)
+    {
+      BoxLo_[a] = roundDown((lo[a] - pad - Origin_[a]) * BoxScale_);
+      BoxHi_[a] = roundUp((hi[a] + pad - Origin_[a]) * BoxScale_);
     }
   }
 }
@@ -329,7 +350,8 @@ BoxItem Scene::cellBox(NodeId cellId) const
   return box;
 }
 
-std::uint8_t Scene::validate(NodeId cell, ValidCell& validCell, BoxItem& box) const
+std::uint8_t Scene::validate(
+  NodeId cell, ValidCell& validCell, glm::dvec3& extentLo, glm::dvec3& extentHi) const
 {
   const NodeId* ids = Mesh_.cellNodes + 10 * cell;
   for (int n = 0; n < 10; ++n)
@@ -344,11 +366,24 @@ std::uint8_t Scene::validate(NodeId cell, ValidCell& validCell, BoxItem& box) co
   {
     return kDegenerate;
   }
-  // Every node's value and coordinates (a missing mid-edge node: its edge's midpoint).
+  // Every node's value and coordinates (a missing mid-edge node: its edge's midpoint and mean).
   glm::dvec3 nodes[10];
   double values[10];
-  loadNodes(cell, nodes);
-  loadCell(cell, nodes, values);
+  for (int n = 0; n < 10; ++n)
+  {
+    const NodeId id = ids[n];
+    if (id >= 0)
+    {
+      nodes[n] = glm::dvec3(Mesh_.points[3 * id], Mesh_.points[3 * id + 1], Mesh_.points[3 * id + 2]);
+      values[n] = Mesh_.values[id];
+    }
+    else
+    {
+      const int a = kEdgeVertices[n - 4][0], b = kEdgeVertices[n - 4][1];
+      nodes[n] = 0.5 * (nodes[a] + nodes[b]);
+      values[n] = 0.5 * (values[a] + values[b]);
+    }
+  }
   for (int n = 0; n < 10; ++n)
   {
     if (!std::isfinite(values[n]) || (ids[n] >= 0 && !isFinite(nodes[n])))
@@ -357,19 +392,22 @@ std::uint8_t Scene::validate(NodeId cell, ValidCell& validCell, BoxItem& box) co
     }
   }
   const glm::dvec3* vertices = nodes;
-  TetFrame frame;
   const double maxEdge = longestEdge(vertices);
   if (!(maxEdge >= kMinCellSize && maxEdge <= kMaxCellSize)) // also an overflowed (Inf) length
   {
     return kOutOfScale;
   }
-  if (!TetFrame::fromVertices(vertices, frame) ||
-    std::abs(frame.orientedVolume6) <= kDegenerateVolumeRatio * maxEdge * maxEdge * maxEdge)
+  // 6 x the signed volume, as TetFrame::fromVertices computes it (its frame is not needed here).
+  const glm::dvec3 e1 = vertices[1] - vertices[0];
+  const double volume6 =
+    glm::dot(e1, glm::cross(vertices[2] - vertices[0], vertices[3] - vertices[0]));
+  if (!std::isfinite(volume6) ||
+    std::abs(volume6) <= kDegenerateVolumeRatio * maxEdge * maxEdge * maxEdge)
   {
     return kDegenerate;
   }
   std::uint8_t flags = kValid;
-  if (frame.orientedVolume6 < 0.0)
+  if (volume6 < 0.0)
   {
     flags |= kInverted;
   }
@@ -406,11 +444,17 @@ std::uint8_t Scene::validate(NodeId cell, ValidCell& validCell, BoxItem& box) co
     }
     flags = static_cast<std::uint8_t>((flags & ~kInverted) | (sign == JacobianSign::Negative ? kInverted : 0));
   }
-  if (!boxOf(nodes, maxEdge, (flags & kCurved) != 0, box))
+  // The cell's extent: its vertices' box, or for a curved cell its control points'.
+  extentLo = glm::min(glm::min(nodes[0], nodes[1]), glm::min(nodes[2], nodes[3]));
+  extentHi = glm::max(glm::max(nodes[0], nodes[1]), glm::max(nodes[2], nodes[3]));
+  if (flags & kCurved)
   {
-    return kOutOfScale;
+    CurvedGeometry::fromNodes(nodes, scaleFor(maxEdge)).box(extentLo, extentHi);
+    if (!isFinite(extentLo) || !isFinite(extentHi))
+    {
+      return kOutOfScale;
+    }
   }
-  box.id = static_cast<std::uint32_t>(cell);
   validCell.id = static_cast<std::uint32_t>(cell);
   double lo, hi;
   Transverse_.range(values, lo, hi);

@@ -333,8 +333,10 @@ private:
   bool inCell(NodeId cellId, const glm::dvec3& point, double L[4]) const;
   bool intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues, double tMin,
     double tLimit, SurfaceHit& hit) const;
-  /// Checks a cell; for a valid one, fills its entry and its box.
-  std::uint8_t validate(NodeId cellId, ValidCell& validCell, BoxItem& box) const;
+  /// Checks a cell; for a valid one, fills its entry and its extent (vertices' box, or for a
+  /// curved cell its control points').
+  std::uint8_t validate(
+    NodeId cellId, ValidCell& validCell, glm::dvec3& extentLo, glm::dvec3& extentHi) const;
   /// The box (box units) of a cell with these nodes and longest edge; false if not finite.
   bool boxOf(const glm::dvec3 nodes[10], double maxEdge, bool curved, BoxItem& box) const;
 
