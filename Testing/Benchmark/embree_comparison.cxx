@@ -687,6 +687,15 @@ bool nativePackets(RTCDevice device, Mode mode)
 
 int main(int argc, char* argv[])
 {
+  // --tsv <file>: also write the summary's one-thread rows as tab-separated values (report.py
+  // joins them into the main benchmark table).
+  std::string tsvPath;
+  if (argc > 2 && std::strcmp(argv[1], "--tsv") == 0)
+  {
+    tsvPath = argv[2];
+    argv += 2;
+    argc -= 2;
+  }
   const int size = argc > 1 ? std::atoi(argv[1]) : 1024;
   const int n = argc > 2 ? std::atoi(argv[2]) : 61;
   std::vector<const Field*> fields;
@@ -862,6 +871,12 @@ int main(int argc, char* argv[])
   std::printf("| field | threads | transverse cells | build s ours / Embree | ours render s | ours M rays/s/core "
               "| Embree 1 render s | Embree 1 M rays/s/core | Embree packets render s | Embree packets M rays/s/core |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  FILE* tsv = tsvPath.empty() ? nullptr : std::fopen(tsvPath.c_str(), "w");
+  if (tsv)
+  {
+    std::fprintf(tsv, "n\tfield\tours_Mrays_core\tembree_Mrays_core\tembree_packets_Mrays_core\t"
+                      "ours_build_s\tembree_build_s\n");
+  }
   for (const BuildRow& build : builds)
   {
     const RenderRow* ours = findRender(build.field, build.threads, "ours (SurfaceIndex::firstHit)");
@@ -889,6 +904,17 @@ int main(int argc, char* argv[])
     {
       std::printf(" - | - |\n");
     }
+    if (tsv && build.threads == 1)
+    {
+      std::fprintf(tsv, "%d\t%s\t%.2f\t%.2f\t%.2f\t%.3f\t%.3f\n", n, build.field.c_str(),
+        raysPerSecondPerCore(size, size, 1, ours->timing), raysPerSecondPerCore(size, size, 1, single->timing),
+        packets ? raysPerSecondPerCore(size, size, 1, packets->timing) : 0.0, build.ours.wall,
+        build.embree[kMainBuild].wall);
+    }
+  }
+  if (tsv)
+  {
+    std::fclose(tsv);
   }
 
   std::printf("\nBuilds (selection, boxes, records and hierarchy), wall s / CPU s; the first column is the "

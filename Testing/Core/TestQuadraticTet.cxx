@@ -700,3 +700,51 @@ TEST(Scene, HitsDoNotDependOnTheScaleOfFieldOrCoordinates)
       EXPECT_NEAR(depths[p], reference[p], 1e-9) << "length scale " << lengthScale << " pixel " << p;
   }
 }
+
+TEST(SurfaceIndex, RecordsMadeAsNeededAndSharedIndicesGiveTheSameHits)
+{
+  // A smooth non-polynomial field on a 6^3 lattice: the index with records, without them (the
+  // memory limit at 0: each candidate's record made as it is tested), and one sharing the cells
+  // of an index for another iso-value with the same transverse cells must give the same hits,
+  // bit for bit, on every pixel.
+  LatticeMesh mesh = makeLattice(6, glm::dvec3(0.0), 1.0);
+  mesh.sample([](const glm::dvec3& x) { return std::sin(7.0 * x.x) * std::cos(5.0 * x.y) + std::sin(6.0 * x.z + 1.0); });
+  const tetdsr::Scene scene(mesh.view());
+  const tetdsr::IsoValues iso({ 0.3, -0.5 });
+  const tetdsr::SurfaceIndex withRecords(scene, iso);
+  const tetdsr::SurfaceIndex withoutRecords(scene, iso, tetdsr::serialFor, nullptr, 0);
+  ASSERT_TRUE(withRecords.keepsRecords());
+  ASSERT_FALSE(withoutRecords.keepsRecords());
+  ASSERT_EQ(withRecords.transverseCells(), withoutRecords.transverseCells());
+  // A nearby iso-value pair whose transverse cells are the same: the shared index must answer
+  // for the new values (records do not depend on them).
+  const tetdsr::IsoValues moved({ 0.3 + 1e-9, -0.5 - 1e-9 });
+  const tetdsr::SurfaceIndex fresh(scene, moved);
+  const tetdsr::SurfaceIndex shared(scene, moved, tetdsr::serialFor, &withRecords);
+  ASSERT_EQ(fresh.transverseCells(), withRecords.transverseCells()) << "the test needs the same cells";
+  tetdsr::Camera camera;
+  camera.position = glm::dvec3(2.1, 1.6, 3.0);
+  camera.focalPoint = glm::dvec3(0.5);
+  const tetdsr::RayGenerator rays(camera, 48, 48);
+  int hits = 0, differences = 0;
+  auto same = [](bool foundA, const tetdsr::SurfaceHit& a, bool foundB, const tetdsr::SurfaceHit& b) {
+    return foundA == foundB &&
+      (!foundA ||
+        (a.t == b.t && a.cellId == b.cellId && a.isoIndex == b.isoIndex && a.gradient == b.gradient));
+  };
+  for (int j = 0; j < 48; ++j)
+    for (int i = 0; i < 48; ++i)
+    {
+      const tetdsr::Ray ray = rays.pixelRay(i, j);
+      tetdsr::SurfaceHit a, b, c, d;
+      const bool foundA = withRecords.firstHit(ray, a);
+      const bool foundB = withoutRecords.firstHit(ray, b);
+      const bool foundC = fresh.firstHit(ray, c);
+      const bool foundD = shared.firstHit(ray, d);
+      hits += foundA;
+      differences += !same(foundA, a, foundB, b) + !same(foundC, c, foundD, d);
+    }
+  std::printf("record limit and shared cells: %d hits of 2304 rays, %d differences\n", hits, differences);
+  EXPECT_GT(hits, 500);
+  EXPECT_EQ(differences, 0);
+}

@@ -1,10 +1,23 @@
 #include "tetdsr/SurfaceIndex.h"
 
+#include <unistd.h>
+
 namespace tetdsr
 {
 
+std::size_t SurfaceIndex::defaultRecordBytesLimit()
+{
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long pageSize = sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || pageSize <= 0)
+  {
+    return std::size_t(2) << 30;
+  }
+  return static_cast<std::size_t>(pages) / 4 * static_cast<std::size_t>(pageSize);
+}
+
 SurfaceIndex::SurfaceIndex(const Scene& scene, const IsoValues& isoValues,
-  const ParallelFor& parallelFor, const SurfaceIndex* previous)
+  const ParallelFor& parallelFor, const SurfaceIndex* previous, std::size_t recordBytesLimit)
   : Scene_(scene)
   , IsoValues_(isoValues)
 {
@@ -28,7 +41,9 @@ SurfaceIndex::SurfaceIndex(const Scene& scene, const IsoValues& isoValues,
     }
   }
   FillLaterVector<std::uint8_t>().swap(transverse);
-  if (previous && &previous->Scene_ == &scene && previous->Cells_->selection == selection)
+  const bool keepRecords = selection.size() <= recordBytesLimit / sizeof(CellRecord);
+  if (previous && &previous->Scene_ == &scene && previous->Cells_->selection == selection &&
+    previous->keepsRecords() == keepRecords)
   {
     Cells_ = previous->Cells_;
     return;
@@ -45,8 +60,8 @@ SurfaceIndex::SurfaceIndex(const Scene& scene, const IsoValues& isoValues,
   });
   built->hierarchy.build(std::move(boxes), parallelFor);
   const std::vector<std::uint32_t>& order = built->hierarchy.ids();
-  built->records.resize(order.size());
-  parallelFor(static_cast<NodeId>(order.size()), [&](NodeId begin, NodeId end) {
+  built->records.resize(keepRecords ? order.size() : 0);
+  parallelFor(static_cast<NodeId>(built->records.size()), [&](NodeId begin, NodeId end) {
     for (NodeId k = begin; k < end; ++k)
     {
       scene.prepareCell(order[static_cast<std::size_t>(k)], built->records[static_cast<std::size_t>(k)]);
@@ -66,11 +81,17 @@ __attribute__((flatten)) bool SurfaceIndex::firstHit(
   // Boxes are in box units; cells are tested in world coordinates.
   const Hierarchy::BoxRay boxRay{ Scene_.toBoxUnits(ray.origin), ray.direction, Scene_.boxScale() };
   const FillLaterVector<CellRecord>& records = Cells_->records;
+  const std::vector<std::uint32_t>& ids = Cells_->hierarchy.ids();
   Cells_->hierarchy.traverse(boxRay, tMin, best, [&](std::uint32_t first, std::uint32_t count, double& limit) {
     bool nearer = false;
     for (std::uint32_t k = first; k < first + count; ++k)
     {
-      if (Scene_.intersectCell(records[k], ray, IsoValues_, tMin, limit, hit))
+      CellRecord made;
+      if (records.empty())
+      {
+        Scene_.prepareCell(ids[k], made); // beyond the record limit: made as needed
+      }
+      if (Scene_.intersectCell(records.empty() ? made : records[k], ray, IsoValues_, tMin, limit, hit))
       {
         limit = hit.t;
         nearer = true;

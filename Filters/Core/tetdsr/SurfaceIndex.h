@@ -20,8 +20,15 @@ public:
   /// hierarchy over them, concurrently through `parallelFor`. When `previous` (an index of the
   /// same scene) selected the very same cells, its hierarchy and records are shared instead of
   /// rebuilt: an iso-value change that keeps the set of transverse cells costs one scan.
+  /// Records (256 bytes per transverse cell) are kept only within `recordBytesLimit`; beyond
+  /// it (a field with a surface in most of a huge mesh's cells) each candidate cell's record is
+  /// made as it is tested: the same hits, about half the rays per second.
   SurfaceIndex(const Scene& scene, const IsoValues& isoValues,
-    const ParallelFor& parallelFor = serialFor, const SurfaceIndex* previous = nullptr);
+    const ParallelFor& parallelFor = serialFor, const SurfaceIndex* previous = nullptr,
+    std::size_t recordBytesLimit = defaultRecordBytesLimit());
+
+  /// A quarter of the machine's physical memory (2 GiB where it cannot be told).
+  static std::size_t defaultRecordBytesLimit();
 
   const Scene& scene() const { return Scene_; }
   const IsoValues& isoValues() const { return IsoValues_; }
@@ -32,11 +39,14 @@ public:
     double tMax = std::numeric_limits<double>::infinity()) const;
 
   /// How many cells can hold one of the iso-values.
-  NodeId transverseCells() const { return static_cast<NodeId>(Cells_->records.size()); }
+  NodeId transverseCells() const { return static_cast<NodeId>(Cells_->selection.size()); }
 
-  /// Bytes this index keeps: per transverse cell a 256-byte record, 8 bytes of selection and
-  /// hierarchy order, and about 40 bytes of hierarchy nodes (128 bytes per node of up to 4
-  /// leaves).
+  /// Whether records are kept (see the constructor).
+  bool keepsRecords() const { return !Cells_->records.empty() || Cells_->selection.empty(); }
+
+  /// Bytes this index keeps: per transverse cell a 256-byte record (within the limit), 8 bytes
+  /// of selection and hierarchy order, and about 40 bytes of hierarchy nodes (128 bytes per node
+  /// of up to 4 leaves).
   std::size_t memoryBytes() const
   {
     return Cells_->hierarchy.memoryBytes() + Cells_->records.capacity() * sizeof(CellRecord) +
@@ -49,7 +59,7 @@ private:
   {
     std::vector<std::uint32_t> selection; ///< cell ids, ascending
     Hierarchy hierarchy;
-    FillLaterVector<CellRecord> records; ///< in the hierarchy's leaf order
+    FillLaterVector<CellRecord> records; ///< in the hierarchy's leaf order; or none
   };
   const Scene& Scene_;
   IsoValues IsoValues_;
