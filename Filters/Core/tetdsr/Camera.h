@@ -3,6 +3,8 @@
 
 #include <glm/glm.hpp>
 
+#include <vector>
+
 #include <algorithm>
 #include <cmath>
 
@@ -135,6 +137,17 @@ public:
       : std::tan(0.5 * glm::radians(camera.viewAngleDegrees));
     HalfWidth_ = halfHeight * aspect;
     HalfHeight_ = halfHeight;
+    // Each column's and row's part of a ray's offset, computed once (pixelRay adds them).
+    ColumnOffsets_.resize(static_cast<std::size_t>(std::max(width, 0)));
+    for (int i = 0; i < width; ++i)
+    {
+      ColumnOffsets_[static_cast<std::size_t>(i)] = (ndcX(i) * HalfWidth_) * Right_;
+    }
+    RowOffsets_.resize(static_cast<std::size_t>(std::max(height, 0)));
+    for (int j = 0; j < height; ++j)
+    {
+      RowOffsets_[static_cast<std::size_t>(j)] = (ndcY(j) * HalfHeight_) * Up_;
+    }
   }
 
   RayGenerator(const glm::dmat4& ndcToWorld, int width, int height)
@@ -147,14 +160,14 @@ public:
 
   Ray pixelRay(int i, int j) const
   {
-    const double x = 2.0 * (i + 0.5) / Width_ - 1.0;
-    const double y = 2.0 * (j + 0.5) / Height_ - 1.0;
     if (FromMatrix_)
     {
+      const double x = ndcX(i), y = ndcY(j);
       const glm::dvec3 nearPoint = unproject(x, y, -1.0);
       return { nearPoint, unitVector(unproject(x, y, 1.0) - nearPoint) };
     }
-    const glm::dvec3 offset = (x * HalfWidth_) * Right_ + (y * HalfHeight_) * Up_;
+    const glm::dvec3 offset =
+      ColumnOffsets_[static_cast<std::size_t>(i)] + RowOffsets_[static_cast<std::size_t>(j)];
     if (Parallel_)
     {
       return { Position_ + offset, Forward_ };
@@ -191,6 +204,9 @@ public:
   }
 
 private:
+  double ndcX(int i) const { return 2.0 * (i + 0.5) / Width_ - 1.0; }
+  double ndcY(int j) const { return 2.0 * (j + 0.5) / Height_ - 1.0; }
+
   glm::dvec3 unproject(double x, double y, double z) const
   {
     const glm::dvec4 p = NdcToWorld_ * glm::dvec4(x, y, z, 1.0);
@@ -204,6 +220,7 @@ private:
   glm::dvec3 Position_{ 0.0 };
   glm::dvec3 Forward_{ 0.0 }, Right_{ 0.0 }, Up_{ 0.0 };
   double HalfWidth_ = 0.0, HalfHeight_ = 0.0;
+  std::vector<glm::dvec3> ColumnOffsets_, RowOffsets_;
   glm::dmat4 NdcToWorld_{ 1.0 };
 };
 

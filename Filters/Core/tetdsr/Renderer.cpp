@@ -50,7 +50,10 @@ glm::dvec3 shade(const Material& material, const glm::dvec3& color, const glm::d
     const Light& light = lighting.lights[0];
     const double facing = std::max(1e-6, -glm::dot(n, light.direction));
     diffuse = facing * light.color;
-    specular = std::pow(facing, material.specularPower) * light.color;
+    if (material.specular != 0.0) // (pow is most of the shading's cost)
+    {
+      specular = std::pow(facing, material.specularPower) * light.color;
+    }
   }
   else
   {
@@ -62,7 +65,7 @@ glm::dvec3 shade(const Material& material, const glm::dvec3& color, const glm::d
         light.positional ? unitVector(hitPoint - light.position) : light.direction;
       const double facing = std::max(0.0, -glm::dot(n, travel));
       diffuse += facing * light.color;
-      if (facing > 0.0)
+      if (facing > 0.0 && material.specular != 0.0)
       {
         const double highlight = std::max(0.0, glm::dot(glm::reflect(travel, n), toViewer));
         specular += std::pow(highlight, material.specularPower) * light.color;
