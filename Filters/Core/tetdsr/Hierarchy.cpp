@@ -298,6 +298,21 @@ void Hierarchy::build(std::vector<BoxItem> items, const ParallelFor& parallelFor
   };
   emit(0);
 
+  for (int a = 0; a < 3; ++a)
+  {
+    Lo_[a] = binary[0].lo[a];
+    Hi_[a] = binary[0].hi[a];
+  }
+  float magnitude = 0.0f;
+  for (int a = 0; a < 3; ++a)
+  {
+    magnitude = std::max({ magnitude, std::abs(Lo_[a]), std::abs(Hi_[a]), Hi_[a] - Lo_[a] });
+  }
+  // Float rounding of the re-origined ray and of the slab test errs by a few units of 2^-24 of
+  // the coordinates' magnitude over the root box; 2^-16 of it is 256 times that.
+  Pad_ = std::ldexp(magnitude, -16);
+
+
   // Collapse into 4-wide nodes: each takes its binary node's children and opens the interior
   // one of largest area until it has four (Wald et al.'s BVH4 collapse).
   Nodes_.reserve(binary.size() / 2 + 1);
@@ -334,8 +349,8 @@ void Hierarchy::build(std::vector<BoxItem> items, const ParallelFor& parallelFor
         const Binary& child = binary[children[c]];
         for (int a = 0; a < 3; ++a)
         {
-          node.lo[a][c] = child.lo[a];
-          node.hi[a][c] = child.hi[a];
+          node.lo[a][c] = child.lo[a] - Pad_;
+          node.hi[a][c] = child.hi[a] + Pad_;
         }
         node.count[c] = static_cast<std::uint8_t>(child.count);
         node.child[c] = child.count > 0 ? child.firstOrSecondChild : 0;
@@ -354,20 +369,6 @@ void Hierarchy::build(std::vector<BoxItem> items, const ParallelFor& parallelFor
     };
   const std::uint32_t root = 0;
   collapse(&root, 1);
-
-  for (int a = 0; a < 3; ++a)
-  {
-    Lo_[a] = binary[0].lo[a];
-    Hi_[a] = binary[0].hi[a];
-  }
-  float magnitude = 0.0f;
-  for (int a = 0; a < 3; ++a)
-  {
-    magnitude = std::max({ magnitude, std::abs(Lo_[a]), std::abs(Hi_[a]), Hi_[a] - Lo_[a] });
-  }
-  // Float rounding of the re-origined ray and of the slab test errs by a few units of 2^-24 of
-  // the coordinates' magnitude over the root box; 2^-16 of it is 256 times that.
-  Pad_ = std::ldexp(magnitude, -16);
 
   Ids_.resize(items.size());
   for (std::size_t i = 0; i < items.size(); ++i)

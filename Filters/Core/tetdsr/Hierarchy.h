@@ -90,8 +90,9 @@ private:
   std::vector<std::uint32_t> Ids_;
   float Lo_[3] = { 0.0f, 0.0f, 0.0f };
   float Hi_[3] = { 0.0f, 0.0f, 0.0f };
-  /// Boxes are tested padded by this much (box units): the float slab test of a ray re-origined
-  /// near the root box then errs by far less, so it never drops a box the exact ray meets.
+  /// Nodes store their children's boxes padded by this much (box units): the float slab test of
+  /// a ray re-origined near the root box then errs by far less, so it never drops a box the
+  /// exact ray meets.
   float Pad_ = 0.0f;
 };
 
@@ -132,7 +133,6 @@ void Hierarchy::traverse(const BoxRay& ray, double tMin, double& tMax, Leaf&& le
     const float f = static_cast<float>(inv);
     inverse4[a] = Float4{ f, f, f, f };
   }
-  const float pad = Pad_;
   // Pending children: an interior node (count 0) or a leaf, with where the ray enters its box.
   struct Entry
   {
@@ -141,31 +141,38 @@ void Hierarchy::traverse(const BoxRay& ray, double tMin, double& tMax, Leaf&& le
     float tEnter;
   } stack[kStackSize];
   int top = 0;
-  stack[top++] = { 0, 0, 0.0f };
   float farLimit = static_cast<float>(tExit - tBase);
   const float nearLimit = static_cast<float>(tMin * ray.scale - tBase);
-  while (top > 0)
+  // The nearest child met goes on at once; the others wait on the stack.
+  Entry current{ 0, 0, 0.0f };
+  for (;;)
   {
-    const Entry entry = stack[--top];
-    if (entry.tEnter > farLimit)
+    if (current.count != 0)
     {
-      continue; // a hit nearer than this box was found meanwhile
-    }
-    if (entry.count != 0)
-    {
-      if (leaf(entry.child, entry.count, tMax))
+      if (leaf(current.child, current.count, tMax))
       {
         farLimit = static_cast<float>(tMax * ray.scale - tBase);
       }
+      // Next: the nearest pending box not beyond a hit found meanwhile.
+      while (top > 0 && stack[top - 1].tEnter > farLimit)
+      {
+        --top;
+      }
+      if (top == 0)
+      {
+        return;
+      }
+      current = stack[--top];
       continue;
     }
-    const Node& node = Nodes_[entry.child];
+    const Node& node = Nodes_[current.child];
     Float4 lower = Float4{ nearLimit, nearLimit, nearLimit, nearLimit };
     Float4 upper = Float4{ farLimit, farLimit, farLimit, farLimit };
     for (int a = 0; a < 3; ++a)
     {
-      const Float4 t0 = (node.lo[a] - pad - origin[a]) * inverse4[a];
-      const Float4 t1 = (node.hi[a] + pad - origin[a]) * inverse4[a];
+      // (boxes are stored padded)
+      const Float4 t0 = (node.lo[a] - origin[a]) * inverse4[a];
+      const Float4 t1 = (node.hi[a] - origin[a]) * inverse4[a];
       const Float4 tNear = t0 < t1 ? t0 : t1;
       const Float4 tFar = t0 < t1 ? t1 : t0;
       lower = lower > tNear ? lower : tNear;
@@ -186,11 +193,26 @@ void Hierarchy::traverse(const BoxRay& ray, double tMin, double& tMax, Leaf&& le
         order[k] = c;
       }
     }
-    for (int k = 0; k < hits; ++k)
+    for (int k = 0; k + 1 < hits; ++k)
     {
       const int c = order[k];
       stack[top++] = { node.child[c], node.count[c], lower[c] };
     }
+    if (hits > 0)
+    {
+      const int c = order[hits - 1];
+      current = { node.child[c], node.count[c], lower[c] };
+      continue;
+    }
+    while (top > 0 && stack[top - 1].tEnter > farLimit)
+    {
+      --top;
+    }
+    if (top == 0)
+    {
+      return;
+    }
+    current = stack[--top];
   }
 }
 
@@ -222,7 +244,7 @@ bool Hierarchy::containing(const glm::dvec3& point, Leaf&& leaf) const
     Int4 inside = Int4{ -1, -1, -1, -1 };
     for (int a = 0; a < 3; ++a)
     {
-      inside &= (node.lo[a] - Pad_ <= p[a]) & (p[a] <= node.hi[a] + Pad_);
+      inside &= (node.lo[a] <= p[a]) & (p[a] <= node.hi[a]); // (boxes are stored padded)
     }
     for (int c = 0; c < node.size; ++c)
     {
