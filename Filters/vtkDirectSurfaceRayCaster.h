@@ -29,9 +29,10 @@
  * volume or with repeated node ids, and cells with NaN/Inf values or coordinates are skipped
  * with a warning giving their count. Inverted cells are rendered like positive ones.
  *
- * Preprocessing (cell validation and the acceleration structure) is cached against the
- * input's and the scalar array's modification times, so changing only the iso-values, the
- * camera or the shading re-renders without rebuilding.
+ * Preprocessing (cell validation) is cached against the input's and the scalar array's
+ * modification times, and the acceleration structure (the cells that can hold one of the
+ * iso-values, with a hierarchy over them) against the iso-values: changing the camera or the
+ * shading re-renders without rebuilding, changing the iso-values rebuilds only the latter.
  *
  * Distributed input (a vtkMultiProcessController with several processes, e.g. ParaView's server
  * or pvbatch under MPI): each process casts its own piece of the mesh into the whole image, and
@@ -350,8 +351,8 @@ public:
 
   /**
    * Bytes the filter keeps between executions for the current mesh and array (validation
-   * results, the acceleration structure, and copies of input arrays VTK stores in another
-   * layout). 0 before the first execution.
+   * results, the acceleration structure of the current iso-values, and copies of input arrays
+   * VTK stores in another layout). 0 before the first execution.
    */
   vtkIdType GetPreprocessedBytes();
 

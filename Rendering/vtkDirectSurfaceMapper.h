@@ -30,8 +30,8 @@
  * upscaled; a still render is always at full resolution. A render with unchanged camera, viewport, data and
  * settings re-uses the last image. Abort requests are honoured (CheckAbortStatus).
  *
- * @warning The prepared scene (validation and hierarchy) is built once per mesh and field and
- * kept. Iso-value opacities below 1 (or the actor's opacity) composite this mapper's own
+ * @warning The prepared scene (validation) is built once per mesh and field and kept, with the
+ * acceleration structure of the last iso-values. Iso-value opacities below 1 (or the actor's opacity) composite this mapper's own
  * surfaces front to back, up to the opaque geometry's depth, and the result is blended over the
  * finished frame: correct with opaque props, with plain blending, order-independent
  * translucency and depth peeling alike; other translucent props are seen behind it, never in
