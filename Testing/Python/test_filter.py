@@ -9,14 +9,14 @@ import sys
 import unittest
 
 import numpy as np
-from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonCore import VTK_STRING, vtkCommand, vtkDoubleArray
+from vtkmodules.vtkCommonCore import vtkCommand, vtkDoubleArray
 from vtkmodules.vtkCommonDataModel import (VTK_HEXAHEDRON, VTK_TETRA, vtkPlane, vtkUnstructuredGrid)
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction
 
 import vtk  # noqa: F401  (the filter must work next to `import vtk`)
+from shared_helpers import Messages
 from tetdsr import vtkDirectSurfaceRayCaster
 
 DATA = sys.argv.pop(1) if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "..", "Data")
@@ -27,25 +27,6 @@ def read(name):
     reader.SetFileName(os.path.join(DATA, name))
     reader.Update()
     return reader
-
-
-class Messages:
-    """Collects the filter's error and warning texts."""
-
-    def __init__(self, algorithm):
-        self.errors, self.warnings = [], []
-        algorithm.GetExecutive()  # make sure events go through the algorithm itself
-
-        @calldata_type(VTK_STRING)
-        def on_error(obj, event, text):
-            self.errors.append(text)
-
-        @calldata_type(VTK_STRING)
-        def on_warning(obj, event, text):
-            self.warnings.append(text)
-
-        algorithm.AddObserver(vtkCommand.ErrorEvent, on_error)
-        algorithm.AddObserver(vtkCommand.WarningEvent, on_warning)
 
 
 def arrays(image):

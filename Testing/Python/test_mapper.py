@@ -1,7 +1,6 @@
 """vtkDirectSurfaceMapper in a real render window (Xvfb, OpenGL), against independent truth:
 the exact ray/sphere intersection of a field held exactly by the cells, the filter's depth for
 the same camera, a polygon surface lit by the same lights, and the lookup table's colours."""
-import itertools
 import unittest
 
 import numpy as np
@@ -15,6 +14,7 @@ from vtkmodules.vtkRenderingCore import (vtkActor, vtkLightKit, vtkPolyDataMappe
                                          vtkRenderWindow, vtkRenderWindowInteractor)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
 
+from shared_helpers import lattice
 from tetdsr import vtkDirectSurfaceMapper, vtkDirectSurfaceRayCaster
 
 W, H = 160, 120
@@ -22,27 +22,9 @@ RADIUS2 = 0.5  # iso-value of |x|^2: a sphere of radius sqrt(0.5), held exactly 
 # Depth tolerance: the colour and depth images travel as float (24-bit mantissa) into a depth
 # buffer of 24 or 32 bits; 4 units of 2^-24 covers both roundings.
 DEPTH_TOLERANCE = 4 * 2.0 ** -24
-EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
 
 
-def lattice(n, lo=-1.0, hi=1.0):
-    """[lo, hi]^3 as n^3 cubes of 6 quadratic tets (Kuhn), VTK node order."""
-    m = 2 * n + 1
-    g = np.linspace(lo, hi, m)
-    points = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
-    index = lambda v: (v[0] * m + v[1]) * m + v[2]  # noqa: E731
-    cells = []
-    for corner in itertools.product(range(n), repeat=3):
-        for order in itertools.permutations(range(3)):
-            v = [2 * np.array(corner)]
-            for axis in order:
-                step = v[-1].copy()
-                step[axis] += 2
-                v.append(step)
-            if np.linalg.det(np.array([points[index(x)] for x in v[1:]]) - points[index(v[0])]) < 0:
-                v[1], v[2] = v[2], v[1]
-            cells.append([index(x) for x in v] + [index((v[a] + v[b]) // 2) for a, b in EDGES])
-    return points, np.array(cells, dtype=np.int64)
+
 
 
 def grid(n=3, fields=None, cell_range=None):

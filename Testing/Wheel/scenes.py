@@ -4,8 +4,8 @@ with pip's VTK). Only VTK API common to both versions is used here.
 
 Each scene is a function (caster class, data folder) -> (caster ready to Update, objects to keep
 alive, the scene's diagonal)."""
-import itertools
 import os
+import sys
 
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
@@ -15,7 +15,9 @@ from vtkmodules.vtkCommonDataModel import (VTK_HEXAHEDRON, VTK_QUADRATIC_TETRA, 
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 from vtkmodules.vtkRenderingCore import vtkCamera
 
-EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
+from shared_helpers import lattice  # noqa: E402 (also used by the tests through scenes)
+
 # A fixed quadric |x|_M^2 + g.x: nested ellipsoids in [-1, 1]^3 (scene "quadric_lattice").
 QUADRIC_M = np.array([[1.0, 0.3, -0.2], [0.3, 0.7, 0.1], [-0.2, 0.1, 1.3]])
 QUADRIC_G = np.array([0.2, -0.1, 0.3])
@@ -26,29 +28,6 @@ def read(data, name):
     reader.SetFileName(os.path.join(data, name))
     reader.Update()
     return reader.GetOutput()
-
-
-def lattice(n, lo=-1.0, hi=1.0):
-    """[lo, hi]^3 as n^3 cubes of 6 positively oriented quadratic tets, VTK node order."""
-    m = 2 * n + 1
-    g = np.linspace(lo, hi, m)
-    points = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
-
-    def index(v):
-        return (v[0] * m + v[1]) * m + v[2]
-
-    cells = []
-    for corner in itertools.product(range(n), repeat=3):
-        for order in itertools.permutations(range(3)):
-            v = [2 * np.array(corner)]
-            for axis in order:
-                step = v[-1].copy()
-                step[axis] += 2
-                v.append(step)
-            if np.linalg.det(np.array([points[index(x)] for x in v[1:]]) - points[index(v[0])]) < 0:
-                v[1], v[2] = v[2], v[1]
-            cells.append([index(x) for x in v] + [index((v[a] + v[b]) // 2) for a, b in EDGES])
-    return points, np.array(cells, dtype=np.int64)
 
 
 def grid(points, cells, fields):

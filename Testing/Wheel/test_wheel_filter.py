@@ -2,32 +2,14 @@
 truth (truth.py: exact ray/quadric intersection in numpy), and its behaviour on bad input."""
 import numpy as np
 import pytest
-from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import VTK_STRING, vtkCommand, vtkPoints
+from vtkmodules.vtkCommonCore import vtkCommand, vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkPlane, vtkUnstructuredGrid
 
-import scenes
+import scenes  # (puts Testing/Python, with shared_helpers, on the path)
 import truth
+from shared_helpers import Messages
 from tetdsr import vtkDirectSurfaceRayCaster
-
-
-class Messages:
-    """The filter's error and warning texts."""
-
-    def __init__(self, algorithm):
-        self.errors, self.warnings = [], []
-
-        @calldata_type(VTK_STRING)
-        def on_error(obj, event, text):
-            self.errors.append(text)
-
-        @calldata_type(VTK_STRING)
-        def on_warning(obj, event, text):
-            self.warnings.append(text)
-
-        algorithm.AddObserver(vtkCommand.ErrorEvent, on_error)
-        algorithm.AddObserver(vtkCommand.WarningEvent, on_warning)
 
 
 def outputs(caster):
