@@ -33,6 +33,7 @@
 #include "vtkUnstructuredGrid.h"
 #include "vtkXMLUnstructuredGridWriter.h"
 
+#include "BenchmarkLattice.h"
 #include "tetdsr/QuadraticTet.h"
 
 #include <chrono>
@@ -78,84 +79,38 @@ void ResetPeakMemory()
   std::ofstream("/proc/self/clear_refs") << "5";
 }
 
-/// n^3 cubes over [0,1]^3, 6 positively oriented quadratic tets each, nodes on the half-step
-/// lattice. Fields: "quadric" = |x - c|^2 (exactly quadratic), "wave" (smooth, not polynomial),
-/// "bubbles" (1 at vertex nodes, 0.9 at mid-edge nodes: in every cell f = 0.8 + 0.2 sum L_i^2,
-/// dipping to 0.85 at the centroid; at iso 0.86 each cell holds a closed surface that no nodal
-/// value straddles: the paper's widened nodal range [0.875, 1.025] and vtkContourFilter miss
-/// all of them).
+/// The lattice (BenchmarkLattice.h) as a vtkUnstructuredGrid with its three point arrays.
 vtkSmartPointer<vtkUnstructuredGrid> MakeMesh(int n)
 {
-  const int m = 2 * n + 1;
-  auto id = [m](int i, int j, int k) { return static_cast<vtkIdType>(i + m * (j + m * k)); };
+  const Lattice lattice(n);
+  const auto count = static_cast<vtkIdType>(lattice.quadric.size());
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(static_cast<vtkIdType>(m) * m * m);
-  vtkNew<vtkDoubleArray> quadric, wave, bubbles;
-  quadric->SetName("quadric");
-  wave->SetName("wave");
-  bubbles->SetName("bubbles");
-  quadric->SetNumberOfTuples(points->GetNumberOfPoints());
-  wave->SetNumberOfTuples(points->GetNumberOfPoints());
-  bubbles->SetNumberOfTuples(points->GetNumberOfPoints());
-  for (int k = 0; k < m; ++k)
-    for (int j = 0; j < m; ++j)
-      for (int i = 0; i < m; ++i)
-      {
-        const double x = i / (m - 1.0), y = j / (m - 1.0), z = k / (m - 1.0);
-        points->SetPoint(id(i, j, k), x, y, z);
-        quadric->SetValue(id(i, j, k), (x - 0.5) * (x - 0.5) + (y - 0.45) * (y - 0.45) +
-            (z - 0.52) * (z - 0.52));
-        wave->SetValue(id(i, j, k), std::sin(7.0 * x) * std::cos(5.0 * y) + std::sin(6.0 * z + 1.0));
-        const bool vertexNode = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
-        bubbles->SetValue(id(i, j, k), vertexNode ? 1.0 : 0.9);
-      }
-  const int permutations[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 },
-    { 2, 1, 0 } };
-  const bool odd[6] = { false, true, true, false, false, true };
-  const int edges[6][2] = { { 0, 1 }, { 1, 2 }, { 0, 2 }, { 0, 3 }, { 1, 3 }, { 2, 3 } };
-  const vtkIdType cells = 6LL * n * n * n;
-  vtkNew<vtkIdTypeArray> offsets, connectivity;
-  offsets->SetNumberOfTuples(cells + 1);
-  connectivity->SetNumberOfTuples(10 * cells);
-  vtkIdType cell = 0;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-        for (int p = 0; p < 6; ++p)
-        {
-          int v[4][3];
-          v[0][0] = 2 * i, v[0][1] = 2 * j, v[0][2] = 2 * k;
-          for (int s = 0; s < 3; ++s)
-          {
-            for (int a = 0; a < 3; ++a)
-              v[s + 1][a] = v[s][a];
-            v[s + 1][permutations[p][s]] += 2;
-          }
-          if (odd[p])
-            for (int a = 0; a < 3; ++a)
-              std::swap(v[1][a], v[2][a]);
-          vtkIdType* ids = connectivity->GetPointer(10 * cell);
-          for (int c = 0; c < 4; ++c)
-            ids[c] = id(v[c][0], v[c][1], v[c][2]);
-          for (int e = 0; e < 6; ++e)
-          {
-            const int* a = v[edges[e][0]];
-            const int* b = v[edges[e][1]];
-            ids[4 + e] = id((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2);
-          }
-          offsets->SetValue(cell, 10 * cell);
-          ++cell;
-        }
-  offsets->SetValue(cells, 10 * cells);
-  vtkNew<vtkCellArray> cellArray;
-  cellArray->SetData(offsets, connectivity);
+  points->SetNumberOfPoints(count);
+  std::copy(lattice.points.begin(), lattice.points.end(),
+    static_cast<vtkDoubleArray*>(points->GetData())->GetPointer(0));
   auto mesh = vtkSmartPointer<vtkUnstructuredGrid>::New();
   mesh->SetPoints(points);
+  for (const auto& field : { std::make_pair("quadric", &lattice.quadric),
+         std::make_pair("wave", &lattice.wave), std::make_pair("bubbles", &lattice.bubbles) })
+  {
+    vtkNew<vtkDoubleArray> values;
+    values->SetName(field.first);
+    values->SetNumberOfTuples(count);
+    std::copy(field.second->begin(), field.second->end(), values->GetPointer(0));
+    mesh->GetPointData()->AddArray(values);
+  }
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfTuples(lattice.cells + 1);
+  for (vtkIdType cell = 0; cell <= lattice.cells; ++cell)
+  {
+    offsets->SetValue(cell, 10 * cell);
+  }
+  connectivity->SetNumberOfTuples(10 * lattice.cells);
+  std::copy(lattice.cellNodes.begin(), lattice.cellNodes.end(), connectivity->GetPointer(0));
+  vtkNew<vtkCellArray> cellArray;
+  cellArray->SetData(offsets, connectivity);
   mesh->SetCells(VTK_QUADRATIC_TETRA, cellArray);
-  mesh->GetPointData()->AddArray(quadric);
-  mesh->GetPointData()->AddArray(wave);
-  mesh->GetPointData()->AddArray(bubbles);
   return mesh;
 }
 
