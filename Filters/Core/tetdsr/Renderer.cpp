@@ -469,7 +469,8 @@ void Renderer::writePixel(std::size_t pixel, const glm::dvec3& premultiplied, do
   std::uint8_t* rgba = Image_.colors + 4 * pixel;
   for (int c = 0; c < 3; ++c)
   {
-    rgba[c] = toByte(premultiplied[c] / opacity);
+    // (an opaque pixel, the common case, needs no division: x / 1 is x)
+    rgba[c] = toByte(opacity == 1.0 ? premultiplied[c] : premultiplied[c] / opacity);
   }
   rgba[3] = toByte(opacity);
 }

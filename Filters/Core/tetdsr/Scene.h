@@ -138,6 +138,12 @@ public:
   /// The sorted() positions [first, last) of the values within [lo, hi]; false if none is.
   bool within(double lo, double hi, std::size_t& first, std::size_t& last) const
   {
+    if (Sorted_.size() == 1)
+    {
+      first = 0; // the common case, without a search
+      last = lo <= Sorted_[0] && Sorted_[0] <= hi ? 1 : 0;
+      return last == 1;
+    }
     first = static_cast<std::size_t>(
       std::lower_bound(Sorted_.begin(), Sorted_.end(), lo) - Sorted_.begin());
     last = static_cast<std::size_t>(
