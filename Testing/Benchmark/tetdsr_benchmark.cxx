@@ -45,6 +45,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <string>
 #include <thread>
 #include <vector>
@@ -365,10 +366,22 @@ int main(int argc, char* argv[])
       caster->SetCamera(camera);
       caster->SetImageSize(size, size);
       const double first = Seconds([&] { caster->Update(); });
+      // A camera move and an iso-value change, each the best of 3 (a frame is short enough for
+      // the machine's noise to matter).
+      double cameraMove = std::numeric_limits<double>::infinity();
+      double isoChange = cameraMove;
+      for (int repeat = 0; repeat < 3; ++repeat)
+      {
+        camera->Azimuth(10.0);
+        cameraMove = std::min(cameraMove, Seconds([&] { caster->Update(); }));
+        caster->SetValue(0, field.isoChanged);
+        isoChange = std::min(isoChange, Seconds([&] { caster->Update(); }));
+        camera->Azimuth(-10.0);
+        caster->SetValue(0, field.iso);
+        caster->Update();
+      }
       camera->Azimuth(10.0);
-      const double cameraMove = Seconds([&] { caster->Update(); });
       caster->SetValue(0, field.isoChanged);
-      const double isoChange = Seconds([&] { caster->Update(); });
 
       // What a VTK user runs today: contour, then render the triangles at the same size.
       camera->Azimuth(-10.0);

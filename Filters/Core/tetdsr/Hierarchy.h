@@ -82,8 +82,9 @@ private:
     std::uint8_t size;
   };
   struct Binary;
-  /// The tree is deeper than log4(items) by at most the build's depth limit; a stack holds
-  /// three pending siblings per level.
+  /// The binary tree the build makes is under 48 + 32 levels deep (SAH splits to depth 48, then
+  /// median splits of at most 2^32 items), and the 4-wide tree no deeper; traversal keeps at
+  /// most three pending siblings per level (four at the last).
   static constexpr int kStackSize = 3 * 128;
 
   std::vector<Node> Nodes_;
