@@ -11,8 +11,8 @@ over [0,1]^3, built here with numpy exactly as MakeMesh builds it) with its "wav
 iso 0.3, and Data/expansion_flow.vtu ('speed', iso 0.25).
 
 Per dataset, in the same window:
-- first frame: the mapper's first (still) render, which prepares the scene (validation and
-  hierarchy) and casts at full resolution;
+- first frame: the mapper's first (still) render, which prepares the scene (validation and the
+  surface index of the iso-value) and casts at full resolution;
 - interacting: what VTK's interactor styles do while the mouse drags (StartInteraction sets the
   window's DesiredUpdateRate to the interactor's DesiredUpdateRate, 15; StillUpdateRate 0.0001),
   and ParaView's rates (5.0 / 0.002); a vtkRenderWindowInteractor is attached to the window (no
