@@ -12,6 +12,7 @@ from vtkmodules.vtkCommonDataModel import (VTK_QUADRATIC_TETRA, VTK_TETRA, vtkCe
                                            vtkUnstructuredGrid)
 from vtkmodules.vtkRenderingCore import vtkCamera
 
+from shared_helpers import Messages
 from tetdsr import vtkDirectSurfaceRayCaster
 
 # The unit tet's 4 vertices and 6 edge midpoints, in VTK's node order; field |x|^2, iso 0.1.
@@ -46,19 +47,9 @@ class Run:
     """An update of the filter with its errors and warnings collected."""
 
     def __init__(self, grid, iso=0.1, configure=None, size=SIZE):
-        self.errors, self.warnings = [], []
         caster = vtkDirectSurfaceRayCaster()
-
-        @calldata_type(VTK_STRING)
-        def on_error(obj, event, text):
-            self.errors.append(text)
-
-        @calldata_type(VTK_STRING)
-        def on_warning(obj, event, text):
-            self.warnings.append(text)
-
-        caster.AddObserver(vtkCommand.ErrorEvent, on_error)
-        caster.AddObserver(vtkCommand.WarningEvent, on_warning)
+        messages = Messages(caster)
+        self.errors, self.warnings = messages.errors, messages.warnings
         caster.GetExecutive().AddObserver(vtkCommand.ErrorEvent, lambda *args: None)
         caster.SetInputData(grid)
         caster.SetValue(0, iso)
