@@ -210,8 +210,11 @@ void CheckSize(const Array<T>& array, std::size_t expected, const char* name)
   }
 }
 
-PyRenderer* MakeRenderer(nb::object sceneObject, const std::vector<double>& isoValues,
-  const tetdsr::Camera& camera, int width, int height, Array<std::uint8_t> colors,
+/// Renderer.__init__: checks every argument, then constructs the renderer in place at `self`.
+void InitRenderer(PyRenderer* self, nb::object sceneObject, const std::vector<double>& isoValues,
+  const std::array<double, 3>& position, const std::array<double, 3>& focalPoint,
+  const std::array<double, 3>& viewUp, double viewAngle, bool parallel, double parallelScale,
+  int width, int height, Array<std::uint8_t> colors,
   Array<double> depth, Array<double> normals, Array<std::int64_t> cellIds,
   std::optional<Array<double>> colorValues, const std::array<double, 3>& surfaceColor,
   double ambient, double diffuse, double specular, double specularPower,
@@ -221,6 +224,8 @@ PyRenderer* MakeRenderer(nb::object sceneObject, const std::vector<double>& isoV
   Array<const double> colorTableColors, const std::array<double, 3>& nanColor,
   Array<const double> clipPlanes, int cap)
 {
+  const tetdsr::Camera camera =
+    MakeCamera(position, focalPoint, viewUp, viewAngle, parallel, parallelScale);
   PyScene& scene = nb::cast<PyScene&>(sceneObject);
   if (isoValues.empty())
   {
@@ -346,8 +351,8 @@ PyRenderer* MakeRenderer(nb::object sceneObject, const std::vector<double>& isoV
       scene.Surface.get());
     scene.SurfaceValues = isoValues;
   }
-  auto* result = new PyRenderer{ sceneObject, colors, depth, normals, cellIds, colorValues,
-    colorByValues, scene.Surface, nullptr, {} };
+  PyRenderer made{ sceneObject, colors, depth, normals, cellIds, colorValues, colorByValues,
+    scene.Surface, nullptr, {} };
   tetdsr::ImageView view;
   view.width = width;
   view.height = height;
@@ -356,9 +361,9 @@ PyRenderer* MakeRenderer(nb::object sceneObject, const std::vector<double>& isoV
   view.normals = normals.data();
   view.cellIds = reinterpret_cast<tetdsr::NodeId*>(cellIds.data());
   view.colorValues = colorValues ? colorValues->data() : nullptr;
-  result->Renderer.reset(new tetdsr::Renderer(*result->Surface, camera, settings, view));
-  result->TileDone.assign(static_cast<std::size_t>(result->Renderer->numberOfTiles()), false);
-  return result;
+  made.Renderer.reset(new tetdsr::Renderer(*made.Surface, camera, settings, view));
+  made.TileDone.assign(static_cast<std::size_t>(made.Renderer->numberOfTiles()), false);
+  new (self) PyRenderer(std::move(made));
 }
 
 void CheckTiles(const PyRenderer& renderer, tetdsr::NodeId begin, tetdsr::NodeId end)
@@ -449,29 +454,7 @@ NB_MODULE(_core, m)
 
   nb::class_<PyRenderer>(m, "Renderer",
     "One image of a Scene: rays from a camera, written into the given arrays tile by tile.")
-    .def(
-      "__init__",
-      [](PyRenderer* self, nb::object scene, const std::vector<double>& isoValues,
-        const std::array<double, 3>& position, const std::array<double, 3>& focalPoint,
-        const std::array<double, 3>& viewUp, double viewAngle, bool parallel,
-        double parallelScale, int width, int height, Array<std::uint8_t> colors,
-        Array<double> depth, Array<double> normals, Array<std::int64_t> cellIds,
-        std::optional<Array<double>> colorValues, const std::array<double, 3>& surfaceColor,
-        double ambient, double diffuse, double specular, double specularPower,
-        const std::array<double, 3>& lightPosition, int normalMode, double relativeStep,
-        Array<const double> isoStyles, std::optional<Array<const double>> colorByValues,
-        int colorByComponents, int colorByComponent, double colorTableLo, double colorTableHi,
-        Array<const double> colorTableColors, const std::array<double, 3>& nanColor,
-        Array<const double> clipPlanes, int cap) {
-        PyRenderer* made = MakeRenderer(scene, isoValues,
-          MakeCamera(position, focalPoint, viewUp, viewAngle, parallel, parallelScale), width,
-          height, colors, depth, normals, cellIds, colorValues, surfaceColor, ambient, diffuse,
-          specular, specularPower, lightPosition, normalMode, relativeStep, isoStyles,
-          colorByValues, colorByComponents, colorByComponent, colorTableLo, colorTableHi,
-          colorTableColors, nanColor, clipPlanes, cap);
-        new (self) PyRenderer(std::move(*made));
-        delete made;
-      },
+    .def("__init__", &InitRenderer,
       "scene"_a, "iso_values"_a, "position"_a, "focal_point"_a, "view_up"_a, "view_angle"_a,
       "parallel"_a, "parallel_scale"_a, "width"_a, "height"_a,
       // The output arrays are written in place: never a converted temporary copy.
