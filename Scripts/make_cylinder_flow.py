@@ -96,10 +96,12 @@ from skfem import (Basis, BilinearForm, ElementTetP1, ElementTetP2, ElementVecto
 from skfem.helpers import dot, grad, mul
 from skfem.models.general import divergence
 from skfem.models.poisson import laplace, vector_laplace
-from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
-from vtkmodules.vtkCommonCore import mutable, reference, vtkDoubleArray, vtkPoints
-from vtkmodules.vtkCommonDataModel import VTK_QUADRATIC_TETRA, vtkCellArray, vtkUnstructuredGrid
-from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader, vtkXMLUnstructuredGridWriter
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonCore import mutable, reference
+from vtkmodules.vtkCommonDataModel import VTK_QUADRATIC_TETRA
+from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+
+from flow_mesh_io import tetrahedra_nodes, write_vtu
 
 LENGTH, H = 2.5, 0.41                       # channel [0, LENGTH] x [0, H] x [0, H]
 CENTRE, DIAMETER = (0.5, 0.2), 0.1          # cylinder axis (x, y), parallel to z
@@ -184,12 +186,7 @@ def mesh_cylinder_channel(size, cylinder_size, refine_distance, outflow_size):
         _, cell_node_tags = gmsh.model.mesh.getElementsByType(GMSH_TET10)
     finally:
         gmsh.finalize()
-    # Keep the tetrahedra's nodes only, numbered 0..n-1 (gmsh's tags need not be contiguous).
-    node_tags = np.asarray(node_tags, dtype=np.int64)
-    row = np.zeros(node_tags.max() + 1, dtype=np.int64)
-    row[node_tags] = np.arange(len(node_tags))
-    used, cells = np.unique(np.asarray(cell_node_tags, dtype=np.int64), return_inverse=True)
-    points, cells = coords.reshape(-1, 3)[row[used]], cells.reshape(-1, 10)
+    points, cells = tetrahedra_nodes(node_tags, coords, cell_node_tags)
     order = gmsh_to_vtk_order(points, cells)
     return points, cells[:, order], order
 
@@ -420,35 +417,6 @@ def nodal_fields(velocity_basis, velocity, pressure_basis, pressure):
     nodal_pressure = np.concatenate([vertex_pressure,
                                      0.5 * vertex_pressure[mesh.edges].sum(axis=0)])
     return velocity[dofs].T.copy(), nodal_pressure
-
-
-def write_vtu(path, points, cells, arrays, field_data):
-    """Writes the cells as VTK_QUADRATIC_TETRA with the given point arrays and field data."""
-    grid = vtkUnstructuredGrid()
-    vtk_points = vtkPoints()
-    vtk_points.SetData(numpy_to_vtk(points, deep=True))
-    grid.SetPoints(vtk_points)
-    connectivity = vtkCellArray()
-    connectivity.SetData(numpy_to_vtkIdTypeArray(np.arange(0, cells.size + 1, 10), deep=True),
-                         numpy_to_vtkIdTypeArray(cells.ravel().astype(np.int64), deep=True))
-    grid.SetCells(VTK_QUADRATIC_TETRA, connectivity)
-    for name, values in arrays.items():
-        array = numpy_to_vtk(values, deep=True)
-        array.SetName(name)
-        grid.GetPointData().AddArray(array)
-    grid.GetPointData().SetActiveScalars("speed")
-    for name, value in field_data.items():
-        array = vtkDoubleArray()
-        array.SetName(name)
-        array.InsertNextValue(value)
-        grid.GetFieldData().AddArray(array)
-    writer = vtkXMLUnstructuredGridWriter()
-    writer.SetFileName(path)
-    writer.SetInputData(grid)
-    # Inline binary: VTK 9.2's appended mode once wrote files here that it could not read back.
-    writer.SetDataModeToBinary()
-    if not writer.Write():
-        sys.exit(f"could not write {path}")
 
 
 def check_file(path, velocity_basis, velocity, pressure_basis, pressure, cell_count, rng):

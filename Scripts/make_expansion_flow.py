@@ -51,10 +51,12 @@ from skfem import (Basis, BilinearForm, ElementTetP1, ElementTetP2, ElementVecto
 from skfem.helpers import dot, grad, mul
 from skfem.models.general import divergence
 from skfem.models.poisson import mass, vector_laplace
-from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
-from vtkmodules.vtkCommonCore import mutable, vtkPoints
-from vtkmodules.vtkCommonDataModel import VTK_QUADRATIC_TETRA, vtkCellArray, vtkUnstructuredGrid
-from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader, vtkXMLUnstructuredGridWriter
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonCore import mutable
+from vtkmodules.vtkCommonDataModel import VTK_QUADRATIC_TETRA
+from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+
+from flow_mesh_io import tetrahedra_nodes, write_vtu
 
 INLET_X, STEP_X, OUTLET_X = 8.0, 6.0, 0.0
 INLET_HALF_WIDTH, OUTLET_HALF_WIDTH = 0.5, 1.0
@@ -93,12 +95,8 @@ def mesh_expansion(size):
         _, cell_node_tags = gmsh.model.mesh.getElementsByType(GMSH_TET10)
     finally:
         gmsh.finalize()
-    # Keep the tetrahedra's nodes only, numbered 0..n-1 (gmsh's tags need not be contiguous).
-    node_tags = np.asarray(node_tags, dtype=np.int64)
-    row = np.zeros(node_tags.max() + 1, dtype=np.int64)
-    row[node_tags] = np.arange(len(node_tags))
-    used, cells = np.unique(np.asarray(cell_node_tags, dtype=np.int64), return_inverse=True)
-    return coords.reshape(-1, 3)[row[used]], cells.reshape(-1, 10)[:, GMSH_TO_VTK]
+    points, cells = tetrahedra_nodes(node_tags, coords, cell_node_tags)
+    return points, cells[:, GMSH_TO_VTK]
 
 
 def check_mesh(points, cells):
@@ -226,30 +224,6 @@ def nodal_fields(cells, velocity_basis, velocity, pressure_basis, pressure):
         nodal_pressure[cells[:, 4 + k]] = 0.5 * (nodal_pressure[cells[:, a]] +
                                                  nodal_pressure[cells[:, b]])
     return nodal_velocity, nodal_pressure
-
-
-def write_vtu(path, points, cells, arrays):
-    """Writes the cells as VTK_QUADRATIC_TETRA with the given point arrays (name: values)."""
-    grid = vtkUnstructuredGrid()
-    vtk_points = vtkPoints()
-    vtk_points.SetData(numpy_to_vtk(points, deep=True))
-    grid.SetPoints(vtk_points)
-    connectivity = vtkCellArray()
-    connectivity.SetData(numpy_to_vtkIdTypeArray(np.arange(0, cells.size + 1, 10), deep=True),
-                         numpy_to_vtkIdTypeArray(cells.ravel(), deep=True))
-    grid.SetCells(VTK_QUADRATIC_TETRA, connectivity)
-    for name, values in arrays.items():
-        array = numpy_to_vtk(values, deep=True)
-        array.SetName(name)
-        grid.GetPointData().AddArray(array)
-    grid.GetPointData().SetActiveScalars("speed")
-    writer = vtkXMLUnstructuredGridWriter()
-    writer.SetFileName(path)
-    writer.SetInputData(grid)
-    # Inline binary: VTK 9.2's appended mode once wrote files here that it could not read back.
-    writer.SetDataModeToBinary()
-    if not writer.Write():
-        sys.exit(f"could not write {path}")
 
 
 def check_file(path, velocity_basis, velocity, pressure_basis, pressure, cell_count, rng):
