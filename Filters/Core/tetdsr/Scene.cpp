@@ -66,6 +66,19 @@ double longestEdge(const glm::dvec3 vertices[4])
   return std::sqrt(longest2);
 }
 
+/// A cell's extent: its vertices' box, or for a curved cell its control points' (the curved cell
+/// lies in their convex hull); false if that is not finite.
+bool cellExtent(const glm::dvec3 nodes[10], double maxEdge, bool curved, glm::dvec3& lo, glm::dvec3& hi)
+{
+  lo = glm::min(glm::min(nodes[0], nodes[1]), glm::min(nodes[2], nodes[3]));
+  hi = glm::max(glm::max(nodes[0], nodes[1]), glm::max(nodes[2], nodes[3]));
+  if (curved)
+  {
+    CurvedGeometry::fromNodes(nodes, scaleFor(maxEdge)).box(lo, hi);
+  }
+  return isFinite(lo) && isFinite(hi);
+}
+
 /// scaleFor the largest magnitude of 10 nodal values.
 double unitScale(const double values[10])
 {
@@ -308,21 +321,10 @@ Scene::~Scene() = default;
 
 bool Scene::boxOf(const glm::dvec3 nodes[10], double maxEdge, bool curved, BoxItem& box) const
 {
-  // The cell's extent: its vertices' box, or for a curved cell its control points' (the curved
-  // cell lies in their convex hull).
-  glm::dvec3 extentLo = nodes[0], extentHi = nodes[0];
-  for (int k = 1; k < 4; ++k)
+  glm::dvec3 extentLo, extentHi;
+  if (!cellExtent(nodes, maxEdge, curved, extentLo, extentHi))
   {
-    extentLo = glm::min(extentLo, nodes[k]);
-    extentHi = glm::max(extentHi, nodes[k]);
-  }
-  if (curved)
-  {
-    CurvedGeometry::fromNodes(nodes, scaleFor(maxEdge)).box(extentLo, extentHi);
-    if (!isFinite(extentLo) || !isFinite(extentHi))
-    {
-      return false;
-    }
+    return false;
   }
   // Pad boxes so that rounding in the slab test never drops a ray that the (widened) cell
   // clip accepts: relative to the cell size and to the coordinates' own magnitude.
@@ -444,16 +446,9 @@ std::uint8_t Scene::validate(
     }
     flags = static_cast<std::uint8_t>((flags & ~kInverted) | (sign == JacobianSign::Negative ? kInverted : 0));
   }
-  // The cell's extent: its vertices' box, or for a curved cell its control points'.
-  extentLo = glm::min(glm::min(nodes[0], nodes[1]), glm::min(nodes[2], nodes[3]));
-  extentHi = glm::max(glm::max(nodes[0], nodes[1]), glm::max(nodes[2], nodes[3]));
-  if (flags & kCurved)
+  if (!cellExtent(nodes, maxEdge, (flags & kCurved) != 0, extentLo, extentHi))
   {
-    CurvedGeometry::fromNodes(nodes, scaleFor(maxEdge)).box(extentLo, extentHi);
-    if (!isFinite(extentLo) || !isFinite(extentHi))
-    {
-      return kOutOfScale;
-    }
+    return kOutOfScale;
   }
   validCell.id = static_cast<std::uint32_t>(cell);
   double lo, hi;
