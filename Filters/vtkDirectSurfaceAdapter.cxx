@@ -41,13 +41,6 @@ constexpr int kColorTableSize = 1024;
 // Progress reports / abort checks per cast.
 constexpr NodeId kProgressSteps = 32;
 
-template <typename... Parts>
-std::string Text(const Parts&... parts)
-{
-  std::ostringstream stream;
-  (stream << ... << parts);
-  return stream.str();
-}
 
 /// What a scene was built from: each object and its modification time. vtkUnstructuredGrid's
 /// own MTime does not follow edits of its cell arrays, so every array is stamped on its own.
@@ -219,43 +212,43 @@ bool PreparedMesh::Prepare(vtkUnstructuredGrid* input, vtkDataArray* scalars, in
   const PreprocessSummary& summary = current.TheScene->summary();
   if (current.UnsupportedCells > 0)
   {
-    messages.warnings.push_back(Text("Skipped ", current.UnsupportedCells,
+    messages.warnings.push_back(text("Skipped ", current.UnsupportedCells,
       " cells whose type is neither VTK_QUADRATIC_TETRA nor VTK_TETRA."));
   }
   if (current.MalformedCells > 0)
   {
-    messages.warnings.push_back(Text("Skipped ", current.MalformedCells,
+    messages.warnings.push_back(text("Skipped ", current.MalformedCells,
       " malformed cells: a number of node ids that does not match the type (10 for "
       "VTK_QUADRATIC_TETRA, 4 for VTK_TETRA), or offsets out of order or past the end of the "
       "connectivity array."));
   }
   if (summary.tangledCells > 0)
   {
-    messages.warnings.push_back(Text("Skipped ", summary.tangledCells,
+    messages.warnings.push_back(text("Skipped ", summary.tangledCells,
       " tangled curved cells (mid-edge nodes so far off their edges that the cell folds: the "
       "Jacobian determinant of its quadratic map changes sign or vanishes inside it)."));
   }
   if (summary.degenerateCells > 0)
   {
-    messages.warnings.push_back(Text("Skipped ", summary.degenerateCells,
+    messages.warnings.push_back(text("Skipped ", summary.degenerateCells,
       " degenerate cells (flat or needle-like: 6 x volume below 1e-13 of the longest edge cubed; "
       "or a node id repeated within the cell)."));
   }
   if (summary.outOfScaleCells > 0)
   {
-    messages.warnings.push_back(Text("Skipped ", summary.outOfScaleCells,
+    messages.warnings.push_back(text("Skipped ", summary.outOfScaleCells,
       " cells whose longest edge is outside [", Scene::kMinCellSize, ", ", Scene::kMaxCellSize,
       "]: their volumes would underflow or overflow double precision."));
   }
   if (summary.nonFiniteCells > 0)
   {
-    messages.warnings.push_back(Text("Skipped ", summary.nonFiniteCells,
+    messages.warnings.push_back(text("Skipped ", summary.nonFiniteCells,
       " cells with NaN or Inf values of '", scalars->GetName() ? scalars->GetName() : "(unnamed)",
       "' or coordinates at their nodes."));
   }
   if (summary.invalidIdCells > 0)
   {
-    messages.warnings.push_back(Text("Skipped ", summary.invalidIdCells,
+    messages.warnings.push_back(text("Skipped ", summary.invalidIdCells,
       " cells with node ids outside [0, ", current.NumberOfPoints, ")."));
   }
   if (same)
@@ -264,7 +257,7 @@ bool PreparedMesh::Prepare(vtkUnstructuredGrid* input, vtkDataArray* scalars, in
   }
   if (summary.validCells == 0)
   {
-    messages.errors.push_back(Text("No cell can be rendered: all ", input->GetNumberOfCells(),
+    messages.errors.push_back(text("No cell can be rendered: all ", input->GetNumberOfCells(),
       " input cells were skipped."));
     return false;
   }
@@ -286,21 +279,21 @@ bool PreparedMesh::Internals::Convert(vtkUnstructuredGrid* input, vtkDataArray* 
   }
   if (numberOfCells > Scene::kMaxCells)
   {
-    messages.errors.push_back(Text("The input has ", numberOfCells, " cells; at most ",
+    messages.errors.push_back(text("The input has ", numberOfCells, " cells; at most ",
       Scene::kMaxCells, " can be rendered."));
     return false;
   }
   vtkUnsignedCharArray* types = input->GetCellTypesArray();
   if (!types || types->GetNumberOfTuples() < numberOfCells || types->GetNumberOfComponents() != 1)
   {
-    messages.errors.push_back(Text("The input's cell types array has ",
+    messages.errors.push_back(text("The input's cell types array has ",
       types ? types->GetNumberOfValues() : 0, " values for ", numberOfCells, " cells."));
     return false;
   }
   const char* name = scalars->GetName() ? scalars->GetName() : "(unnamed)";
   if (scalars->GetNumberOfTuples() < numberOfPoints)
   {
-    messages.errors.push_back(Text("Point array '", name, "' has ", scalars->GetNumberOfTuples(),
+    messages.errors.push_back(text("Point array '", name, "' has ", scalars->GetNumberOfTuples(),
       " tuples for ", numberOfPoints, " points."));
     return false;
   }
@@ -380,7 +373,7 @@ bool PreparedMesh::Internals::Convert(vtkUnstructuredGrid* input, vtkDataArray* 
   mesh.straightEdgeMarkers = true; // linear tets' mid-edge ids are kStraightEdge
   if (mesh.numberOfCells == 0)
   {
-    messages.errors.push_back(Text("No cell can be rendered: none of the ", numberOfCells,
+    messages.errors.push_back(text("No cell can be rendered: none of the ", numberOfCells,
       " input cells is a well-formed VTK_QUADRATIC_TETRA or VTK_TETRA (", UnsupportedCells,
       " of another type, ", MalformedCells, " malformed)."));
     return false;
@@ -431,7 +424,7 @@ const double* PreparedMesh::PointArrayValues(vtkDataArray* array, const char* ro
   Internals& in = *this->Internal;
   if (array->GetNumberOfTuples() < in.NumberOfPoints)
   {
-    messages.errors.push_back(Text("The ", role, " '", array->GetName() ? array->GetName() : "",
+    messages.errors.push_back(text("The ", role, " '", array->GetName() ? array->GetName() : "",
       "' has ", array->GetNumberOfTuples(), " tuples for ", in.NumberOfPoints, " points."));
     return nullptr;
   }
@@ -464,7 +457,7 @@ bool IsoValueStyles::SetColor(int i, double red, double green, double blue, Mess
 {
   if (i < 0 || i >= kMaxIndex)
   {
-    messages.errors.push_back(Text("SetIsoValueColor: index ", i, " is outside [0, ", kMaxIndex, ")."));
+    messages.errors.push_back(text("SetIsoValueColor: index ", i, " is outside [0, ", kMaxIndex, ")."));
     return false;
   }
   const std::size_t first = 3 * static_cast<std::size_t>(i);
@@ -484,7 +477,7 @@ bool IsoValueStyles::SetOpacity(int i, double opacity, Messages& messages)
 {
   if (i < 0 || i >= kMaxIndex)
   {
-    messages.errors.push_back(Text("SetIsoValueOpacity: index ", i, " is outside [0, ", kMaxIndex, ")."));
+    messages.errors.push_back(text("SetIsoValueOpacity: index ", i, " is outside [0, ", kMaxIndex, ")."));
     return false;
   }
   if (this->Opacities.size() < static_cast<std::size_t>(i) + 1)
@@ -571,7 +564,7 @@ bool ConvertIsoValues(vtkContourValues* contourValues, std::vector<double>& valu
   {
     if (!std::isfinite(value))
     {
-      messages.errors.push_back(Text("Iso-value ", value, " is not finite."));
+      messages.errors.push_back(text("Iso-value ", value, " is not finite."));
       return false;
     }
   }
@@ -585,7 +578,7 @@ bool ConvertClipPlanes(vtkPlaneCollection* planes, int maximum, std::vector<Clip
   const int count = planes ? planes->GetNumberOfItems() : 0;
   if (count > maximum)
   {
-    messages.errors.push_back(Text(count, " clipping planes: at most ", maximum, " are supported."));
+    messages.errors.push_back(text(count, " clipping planes: at most ", maximum, " are supported."));
     return false;
   }
   for (int k = 0; k < count; ++k)
@@ -599,12 +592,12 @@ bool ConvertClipPlanes(vtkPlaneCollection* planes, int maximum, std::vector<Clip
     clip.normal = glm::dvec3(v[0], v[1], v[2]);
     if (!isFinite(clip.normal) || !isFinite(clip.origin))
     {
-      messages.errors.push_back(Text("Clipping plane ", k, " has a NaN or Inf in its normal or origin."));
+      messages.errors.push_back(text("Clipping plane ", k, " has a NaN or Inf in its normal or origin."));
       return false;
     }
     if (unitVector(clip.normal) == glm::dvec3(0.0))
     {
-      messages.errors.push_back(Text("Clipping plane ", k, " has a zero normal: it keeps no side."));
+      messages.errors.push_back(text("Clipping plane ", k, " has a zero normal: it keeps no side."));
       return false;
     }
     clipPlanes.push_back(clip);
@@ -618,14 +611,14 @@ bool CheckPointArray(vtkDataArray* array, int association, int requestedComponen
   const char* name = array->GetName() ? array->GetName() : "(unnamed)";
   if (association != vtkDataObject::FIELD_ASSOCIATION_POINTS)
   {
-    messages.errors.push_back(Text("Array '", name,
+    messages.errors.push_back(text("Array '", name,
       "' is not a point array: the quadratic field needs values at the nodes."));
     return false;
   }
   const int components = array->GetNumberOfComponents();
   if (requestedComponent >= components)
   {
-    messages.errors.push_back(Text(componentSetting, " ", requestedComponent,
+    messages.errors.push_back(text(componentSetting, " ", requestedComponent,
       " is out of range: array '", name, "' has ", components, " components."));
     return false;
   }
@@ -636,7 +629,7 @@ bool CheckPointArray(vtkDataArray* array, int association, int requestedComponen
   }
   if (!allowMagnitude)
   {
-    messages.errors.push_back(Text("Array '", name, "' has ", components,
+    messages.errors.push_back(text("Array '", name, "' has ", components,
       " components: choose one with ", componentSetting, "."));
     return false;
   }
@@ -736,7 +729,7 @@ bool CheckCamera(const Camera& camera, const Scene& scene, Messages& messages)
   const CameraProblem problem = RayGenerator::check(camera);
   if (problem != CameraProblem::None)
   {
-    messages.errors.push_back(Text("Cannot render: ", describe(problem), "."));
+    messages.errors.push_back(text("Cannot render: ", describe(problem), "."));
     return false;
   }
   double box[6];
@@ -749,7 +742,7 @@ bool CheckCamera(const Camera& camera, const Scene& scene, Messages& messages)
     const double largest = std::max({ std::abs(offset.x), std::abs(offset.y), std::abs(offset.z) });
     if (!(largest <= kMaxCameraDistance))
     {
-      messages.errors.push_back(Text("Cannot render: the camera is ", largest,
+      messages.errors.push_back(text("Cannot render: the camera is ", largest,
         " scene diagonals from the scene; beyond ", kMaxCameraDistance,
         " double-precision rays cannot place hits within 1e-7 of the scene."));
       return false;

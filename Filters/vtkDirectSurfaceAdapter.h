@@ -13,6 +13,7 @@
 #include "TetDSRFiltersModule.h" // for export macro
 #include "vtkType.h"
 
+#include "tetdsr/Messages.h"
 #include "tetdsr/Renderer.h"
 #include "tetdsr/Scene.h"
 #include "tetdsr/SurfaceIndex.h"
@@ -33,13 +34,8 @@ namespace tetdsr
 namespace vtkadapter
 {
 
-/// What went wrong (errors: nothing was rendered) and what was skipped (warnings, with counts).
-struct Messages
-{
-  std::vector<std::string> errors;
-  std::vector<std::string> warnings;
-  bool ok() const { return errors.empty(); }
-};
+/// The core's messages (errors and counted warnings), passed on by each face.
+using Messages = tetdsr::Messages;
 
 /// A mesh and field converted for the core, and the scene (validation + hierarchy) built from
 /// them; kept until the mesh, its points, cells or types, or the field array change.
