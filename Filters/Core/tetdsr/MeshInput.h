@@ -79,6 +79,10 @@ public:
   bool prepare(const MeshArrays& arrays, const TransverseTest& transverse,
     const ParallelFor& parallelFor, Messages& messages);
 
+  /// For an input the face found unchanged since the last prepare: that prepare's errors again
+  /// (its warnings were told when it was built); false if it failed.
+  bool reuse(Messages& messages) const;
+
   /// The scene of the last successful prepare (null before, or after a failed one).
   Scene* scene() const;
   /// The counts of the last prepare (all zero before).
