@@ -99,7 +99,7 @@ struct QuadraticTetCell
 
   /// record: the barycentric map and the Bernstein coefficients of the field (scaled by a power
   /// of two), for a valid cell; `cell` keeps its id and value range.
-  static void record(const glm::dvec3 vertices[4], const double nodeValues[kCellNodes], CellRecord& cell)
+  static void record(const glm::dvec3 vertices[kCellNodes], const double nodeValues[kCellNodes], CellRecord& cell)
   {
     TetFrame frame;
     if (!TetFrame::fromVertices(vertices, frame))
@@ -148,13 +148,18 @@ struct QuadraticTetCell
 
   /// contains / coordinates: the barycentric coordinates of `point` (exact outside the cell too:
   /// the map is affine); true if the point lies in the cell, within kBarycentricTolerance.
-  static bool contains(const glm::dvec3 vertices[4], const glm::dvec3& point, double L[4])
+  static bool contains(const glm::dvec3 vertices[kCellNodes], const glm::dvec3& point, double L[4])
   {
     TetFrame frame;
     TetFrame::fromVertices(vertices, frame);
     frame.barycentricOfOffsets(point - vertices[0], point - vertices[1], L);
     return L[0] >= -kBarycentricTolerance && L[1] >= -kBarycentricTolerance &&
       L[2] >= -kBarycentricTolerance && L[3] >= -kBarycentricTolerance;
+  }
+
+  static void coordinates(const glm::dvec3 nodes[kCellNodes], const glm::dvec3& point, double L[4])
+  {
+    contains(nodes, point, L);
   }
 
   /// interpolate: nodal values at barycentric coordinates with the quadratic shape functions (the
@@ -173,7 +178,7 @@ struct QuadraticTetCell
 
   /// gradient: the exact gradient of the field with these nodal values at barycentric L.
   static glm::dvec3 gradient(
-    const glm::dvec3 vertices[4], const double values[kCellNodes], const double L[4])
+    const glm::dvec3 vertices[kCellNodes], const double values[kCellNodes], const double L[4])
   {
     TetFrame frame;
     TetFrame::fromVertices(vertices, frame);

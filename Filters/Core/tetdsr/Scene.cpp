@@ -1,9 +1,7 @@
 #include "tetdsr/Scene.h"
 
-#include "tetdsr/CurvedTetCell.h"
+#include "tetdsr/CellKinds.h"
 #include "tetdsr/Hierarchy.h"
-#include "tetdsr/LinearTetCell.h"
-#include "tetdsr/QuadraticTetCell.h"
 
 #include <algorithm>
 #include <cmath>
@@ -261,19 +259,6 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
 
 Scene::~Scene() = default;
 
-bool Scene::extentOf(CellKind kind, const glm::dvec3 nodes[kCellNodes], glm::dvec3& lo, glm::dvec3& hi)
-{
-  switch (kind)
-  {
-    case CellKind::CurvedTet:
-      return CurvedTetCell::extent(nodes, lo, hi);
-    case CellKind::LinearTet:
-    case CellKind::QuadraticTet:
-      break;
-  }
-  return QuadraticTetCell::extent(nodes, lo, hi);
-}
-
 BoxItem Scene::boxOf(const glm::dvec3& extentLo, const glm::dvec3& extentHi, double maxEdge) const
 {
   // Pad boxes so that rounding in the slab test never drops a ray that the (widened) cell
@@ -298,7 +283,8 @@ BoxItem Scene::cellBox(NodeId cellId) const
   glm::dvec3 nodes[kCellNodes];
   loadNodes(cellId, nodes);
   glm::dvec3 lo, hi;
-  extentOf(kindOf(cellId), nodes, lo, hi); // succeeded when validated
+  forKind(kindOf(cellId), [&](auto cell) { return decltype(cell)::extent(nodes, lo, hi); });
+  // (succeeded when validated)
   BoxItem box = boxOf(lo, hi, longestEdge(nodes));
   box.id = static_cast<std::uint32_t>(cellId);
   return box;
@@ -370,13 +356,13 @@ std::uint16_t Scene::validate(
       return flags;
     }
   }
-  if (!extentOf(kind, nodes, extentLo, extentHi))
+  if (!forKind(kind, [&](auto cell) { return decltype(cell)::extent(nodes, extentLo, extentHi); }))
   {
     return kOutOfScale;
   }
   validCell.id = static_cast<std::uint32_t>(cell);
   double lo, hi;
-  QuadraticTetCell::valueBound(values, Transverse_, lo, hi);
+  forKind(kind, [&](auto cell) { decltype(cell)::valueBound(values, Transverse_, lo, hi); });
   validCell.valueLo = roundDown(lo);
   validCell.valueHi = roundUp(hi);
   return flags;
@@ -418,31 +404,14 @@ bool Scene::inCell(NodeId cellId, const glm::dvec3& point, double L[4]) const
 {
   glm::dvec3 nodes[kCellNodes];
   loadNodes(cellId, nodes);
-  switch (kindOf(cellId))
-  {
-    case CellKind::CurvedTet:
-      return CurvedTetCell::contains(nodes, point, L);
-    case CellKind::LinearTet:
-    case CellKind::QuadraticTet:
-      break;
-  }
-  return QuadraticTetCell::contains(nodes, point, L);
+  return forKind(kindOf(cellId), [&](auto cell) { return decltype(cell)::contains(nodes, point, L); });
 }
 
 void Scene::cellCoordinates(NodeId cellId, const glm::dvec3& point, double L[4]) const
 {
   glm::dvec3 nodes[kCellNodes];
   loadNodes(cellId, nodes);
-  switch (kindOf(cellId))
-  {
-    case CellKind::CurvedTet:
-      CurvedTetCell::coordinates(nodes, point, L);
-      return;
-    case CellKind::LinearTet:
-    case CellKind::QuadraticTet:
-      break;
-  }
-  QuadraticTetCell::contains(nodes, point, L); // (exact outside the cell too)
+  forKind(kindOf(cellId), [&](auto cell) { decltype(cell)::coordinates(nodes, point, L); });
 }
 
 bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues,
@@ -480,17 +449,11 @@ void Scene::prepareCell(NodeId cellId, CellRecord& cell) const
   loadNodes(cellId, nodes);
   loadValues(cellId, values, Mesh_.values);
   // The range the transverse test gives (which iso-values the cell can hold).
-  QuadraticTetCell::valueBound(values, Transverse_, cell.valueLo, cell.valueHi);
-  switch (kindOf(cellId))
-  {
-    case CellKind::CurvedTet:
-      cell.kind = CellRecord::Kind::Curved; // solved from the mesh (intersectCurvedCell)
-      return;
-    case CellKind::LinearTet:
-    case CellKind::QuadraticTet:
-      break;
-  }
-  QuadraticTetCell::record(nodes, values, cell);
+  forKind(kindOf(cellId), [&](auto kind) {
+    using Kind = decltype(kind);
+    Kind::valueBound(values, Transverse_, cell.valueLo, cell.valueHi);
+    Kind::record(nodes, values, cell);
+  });
 }
 
 std::size_t Scene::memoryBytes() const
@@ -507,8 +470,7 @@ double Scene::interpolate(NodeId cellId, const glm::dvec3& point, const double* 
   loadValues(cellId, values, pointValues, components, component);
   double L[4];
   cellCoordinates(cellId, point, L); // valid cells only reach here
-  // Every kind's field is the quadratic of its nodal values in L (QuadraticTetCell::interpolate).
-  return QuadraticTetCell::interpolate(values, L);
+  return forKind(kindOf(cellId), [&](auto cell) { return decltype(cell)::interpolate(values, L); });
 }
 
 double Scene::cellSize(NodeId cellId) const
@@ -619,9 +581,8 @@ void Scene::computeNodalGradients()
       {
         L[kEdgeVertices[n - 4][0]] = L[kEdgeVertices[n - 4][1]] = 0.5;
       }
-      sum[static_cast<std::size_t>(ids[n])] += kind == CellKind::CurvedTet
-        ? CurvedTetCell::gradient(nodes, values, L)
-        : QuadraticTetCell::gradient(nodes, values, L);
+      sum[static_cast<std::size_t>(ids[n])] +=
+        forKind(kind, [&](auto cell) { return decltype(cell)::gradient(nodes, values, L); });
       ++count[static_cast<std::size_t>(ids[n])];
     }
   }

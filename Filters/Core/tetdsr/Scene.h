@@ -229,8 +229,6 @@ private:
   /// valid one, fills its entry and its extent (the kind's). CellStatus bits.
   std::uint16_t validate(
     NodeId cellId, ValidCell& validCell, glm::dvec3& extentLo, glm::dvec3& extentHi) const;
-  /// The extent of a valid cell of this kind (the kind's step); false if not finite.
-  static bool extentOf(CellKind kind, const glm::dvec3 nodes[kCellNodes], glm::dvec3& lo, glm::dvec3& hi);
   /// The box (box units) of a cell with this extent and longest edge.
   BoxItem boxOf(const glm::dvec3& extentLo, const glm::dvec3& extentHi, double maxEdge) const;
 
