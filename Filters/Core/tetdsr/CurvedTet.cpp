@@ -1,7 +1,5 @@
 #include "tetdsr/CurvedTet.h"
 
-#include "tetdsr/QuadraticTet.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -23,7 +21,7 @@ struct Piece
 };
 
 template <int n>
-double magnitude(const QuadraticForm& form)
+double magnitude(const BernsteinForm& form)
 {
   double m = 0.0;
   for (int i = 0; i <= n; ++i)
@@ -38,7 +36,7 @@ double magnitude(const QuadraticForm& form)
 
 /// Min and max of the form's Bernstein coefficients on the piece (its blossom at vertex pairs).
 template <int n>
-void coefficientRange(const QuadraticForm& form, const Piece& piece, double& lo, double& hi)
+void coefficientRange(const BernsteinForm& form, const Piece& piece, double& lo, double& hi)
 {
   // B V_j for each vertex j once; then each coefficient is one dot product.
   double bv[4][4];
@@ -73,7 +71,7 @@ void coefficientRange(const QuadraticForm& form, const Piece& piece, double& lo,
 
 /// (B L)_j - (B L)_0 for j = 1..n, times 2: the derivative along y_j = L_j (L_0 = 1 - sum y).
 template <int n>
-void formGradient(const QuadraticForm& form, const double L[4], double g[3])
+void formGradient(const BernsteinForm& form, const double L[4], double g[3])
 {
   double bl[4];
   for (int i = 0; i <= n; ++i)
@@ -156,11 +154,11 @@ bool invert(const double a[3][3], double inverse[3][3])
 }
 
 template <int n>
-void evaluate(const QuadraticForm* equations, const double L[4], double F[3], double J[3][3])
+void evaluate(const BernsteinForm* equations, const double L[4], double F[3], double J[3][3])
 {
   for (int k = 0; k < n; ++k)
   {
-    F[k] = equations[k].blossom(L, L, n);
+    F[k] = equations[k].bilinear(L, L, n);
     formGradient<n>(equations[k], L, J[k]);
   }
 }
@@ -168,7 +166,7 @@ void evaluate(const QuadraticForm* equations, const double L[4], double F[3], do
 /// Newton's method on the equations from L (in place). Converged when a step moves no coordinate
 /// by more than a few ulps; false if it does not converge (or leaves double range).
 template <int n>
-bool newton(const QuadraticForm* equations, double L[4])
+bool newton(const BernsteinForm* equations, double L[4])
 {
   for (int iteration = 0; iteration < 40; ++iteration)
   {
@@ -216,7 +214,7 @@ enum class Krawczyk
 /// exactly one root in X, K(X) disjoint from X proves none. Evaluated in double; the margins
 /// (1e-9 relative) absorb rounding.
 template <int n>
-Krawczyk krawczyk(const QuadraticForm* equations, const double m[4], const double r[3],
+Krawczyk krawczyk(const BernsteinForm* equations, const double m[4], const double r[3],
   double image[3][2], const double (*known)[3][3] = nullptr)
 {
   // F(m), J(m) and J(m)^-1: computed here, or given (known[0], known[1], known[2]; F in row 0).
@@ -300,31 +298,7 @@ bool insideSimplex(const double L[4], double tolerance)
   }
   return true;
 }
-} // namespace
 
-QuadraticForm QuadraticForm::face(int omit) const
-{
-  QuadraticForm form{};
-  int index[3], count = 0;
-  for (int k = 0; k < 4; ++k)
-  {
-    if (k != omit)
-    {
-      index[count++] = k;
-    }
-  }
-  for (int i = 0; i < 3; ++i)
-  {
-    for (int j = 0; j < 3; ++j)
-    {
-      form.b[i][j] = b[index[i]][index[j]];
-    }
-  }
-  return form;
-}
-
-namespace
-{
 /// The two halves of a piece, split at the midpoint of its longest edge (in barycentric
 /// coordinates); they inherit its depth + 1 and its candidate levels.
 template <int n>
@@ -391,7 +365,7 @@ void centreOf(const Piece& piece, double m[4], double* r = nullptr)
 
 /// Pushes the two halves, the one whose centre has the smaller objective last (popped first).
 template <int n>
-void pushNearerLast(Piece* stack, int& top, const Piece children[2], const QuadraticForm* objective)
+void pushNearerLast(Piece* stack, int& top, const Piece children[2], const BernsteinForm* objective)
 {
   int nearer = 0;
   if (objective)
@@ -399,19 +373,19 @@ void pushNearerLast(Piece* stack, int& top, const Piece children[2], const Quadr
     double centre[2][4];
     centreOf<n>(children[0], centre[0]);
     centreOf<n>(children[1], centre[1]);
-    nearer = objective->blossom(centre[1], centre[1], n) < objective->blossom(centre[0], centre[0], n);
+    nearer = objective->bilinear(centre[1], centre[1], n) < objective->bilinear(centre[0], centre[0], n);
   }
   stack[top++] = children[1 - nearer];
   stack[top++] = children[nearer];
 }
 
 template <int n>
-bool solve(const QuadraticForm* given, const QuadraticForm* objective, double lo, double hi,
+bool solve(const BernsteinForm* given, const BernsteinForm* objective, double lo, double hi,
   double tolerance, SimplexRoot& root, const SolveLimits& limits, int* pieces,
   const Levels& levels)
 {
   // The equations being solved; with levels, the last is the given form minus the current level.
-  QuadraticForm equations[3];
+  BernsteinForm equations[3];
   for (int k = 0; k < n; ++k)
   {
     equations[k] = given[k];
@@ -430,7 +404,7 @@ bool solve(const QuadraticForm* given, const QuadraticForm* objective, double lo
   double best = hi;
   // Keeps L (a root of the current level inside the simplex) if it is the nearest so far.
   auto keep = [&](const double L[4], bool certified) {
-    const double value = objective ? objective->blossom(L, L, n) : 0.0;
+    const double value = objective ? objective->bilinear(L, L, n) : 0.0;
     if (objective && !(value >= lo && value <= best))
     {
       return false;
@@ -624,7 +598,7 @@ bool solve(const QuadraticForm* given, const QuadraticForm* objective, double lo
         }
         for (int i = 0; i < n && !empty; ++i)
         {
-          QuadraticForm combined{};
+          BernsteinForm combined{};
           double combinedPad = 0.0;
           for (int k = 0; k < n; ++k)
           {
@@ -745,7 +719,7 @@ bool solve(const QuadraticForm* given, const QuadraticForm* objective, double lo
 }
 } // namespace
 
-bool solveOnSimplex(int n, const QuadraticForm* equations, const QuadraticForm* objective,
+bool solveOnSimplex(int n, const BernsteinForm* equations, const BernsteinForm* objective,
   double lo, double hi, double tolerance, SimplexRoot& root, const SolveLimits& limits, int* pieces,
   const Levels& levels)
 {
@@ -804,9 +778,9 @@ glm::dmat3 CurvedGeometry::jacobian(const double L[4]) const
   return glm::dmat3(2.0 * (pl[1] - pl[0]), 2.0 * (pl[2] - pl[0]), 2.0 * (pl[3] - pl[0]));
 }
 
-QuadraticForm CurvedGeometry::component(const glm::dvec3& axis, double offset) const
+BernsteinForm CurvedGeometry::component(const glm::dvec3& axis, double offset) const
 {
-  QuadraticForm form{};
+  BernsteinForm form{};
   for (int i = 0; i < 4; ++i)
   {
     for (int j = 0; j < 4; ++j)
@@ -817,7 +791,7 @@ QuadraticForm CurvedGeometry::component(const glm::dvec3& axis, double offset) c
   return form;
 }
 
-void CurvedGeometry::pointEquations(const glm::dvec3& target, QuadraticForm equations[3]) const
+void CurvedGeometry::pointEquations(const glm::dvec3& target, BernsteinForm equations[3]) const
 {
   for (int k = 0; k < 3; ++k)
   {
@@ -843,7 +817,7 @@ void CurvedGeometry::box(glm::dvec3& lo, glm::dvec3& hi) const
   hi = origin + hi / scale;
 }
 
-glm::dvec3 curvedGradient(const CurvedGeometry& geometry, const QuadraticForm& field,
+glm::dvec3 curvedGradient(const CurvedGeometry& geometry, const BernsteinForm& field,
   const double L[4])
 {
   double g[3];
@@ -966,7 +940,7 @@ JacobianSign jacobianSign(const CurvedGeometry& geometry)
 
 bool inverseNewton(const CurvedGeometry& geometry, const glm::dvec3& target, double L[4])
 {
-  QuadraticForm equations[3];
+  BernsteinForm equations[3];
   geometry.pointEquations(target, equations);
   return newton<3>(equations, L);
 }

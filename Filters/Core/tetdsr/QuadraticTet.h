@@ -25,7 +25,10 @@ inline constexpr std::array<std::array<int, 2>, 6> kEdgeVertices = {
   { { 0, 1 }, { 1, 2 }, { 0, 2 }, { 0, 3 }, { 1, 3 }, { 2, 3 } }
 };
 
-/// The symmetric 4x4 Bernstein coefficient matrix B of f = L^T B L.
+/// A symmetric quadratic form q(L) = L^T B L in the barycentric coordinates L_0..L_n of a simplex
+/// (n = 3, a tetrahedron, or n = 2, a triangle; entries beyond n are unused), B holding its
+/// Bernstein-Bezier coefficients: the field of a cell, and in a curved cell each coordinate of its
+/// map and the equations of a ray (CurvedTet.h).
 struct BernsteinForm
 {
   double b[4][4];
@@ -106,16 +109,57 @@ struct BernsteinForm
     }
   }
 
-  /// u^T B v.
-  double bilinear(const double u[4], const double v[4]) const
+  /// u^T B v over indices 0..n: the blossom (polar form) of q, which is q(L) at u = v = L.
+  double bilinear(const double u[4], const double v[4], int n = 3) const
   {
     double sum = 0.0;
-    for (int i = 0; i < 4; ++i)
+    for (int i = 0; i <= n; ++i)
     {
-      const double bv = b[i][0] * v[0] + b[i][1] * v[1] + b[i][2] * v[2] + b[i][3] * v[3];
+      double bv = b[i][0] * v[0];
+      for (int j = 1; j <= n; ++j)
+      {
+        bv += b[i][j] * v[j];
+      }
       sum += u[i] * bv;
     }
     return sum;
+  }
+
+  /// The form minus a constant (sum L = 1, so a constant is c in every coefficient).
+  BernsteinForm minus(double c) const
+  {
+    BernsteinForm form = *this;
+    for (auto& row : form.b)
+    {
+      for (double& entry : row)
+      {
+        entry -= c;
+      }
+    }
+    return form;
+  }
+
+  /// Its restriction to the face opposite vertex `omit` of a tetrahedron (n = 3 -> 2): the face's
+  /// barycentric coordinates are the other three, in order.
+  BernsteinForm face(int omit) const
+  {
+    BernsteinForm form{};
+    int index[3], count = 0;
+    for (int k = 0; k < 4; ++k)
+    {
+      if (k != omit)
+      {
+        index[count++] = k;
+      }
+    }
+    for (int i = 0; i < 3; ++i)
+    {
+      for (int j = 0; j < 3; ++j)
+      {
+        form.b[i][j] = b[index[i]][index[j]];
+      }
+    }
+    return form;
   }
 
 private:

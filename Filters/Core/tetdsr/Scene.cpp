@@ -530,23 +530,15 @@ bool constantIsoIndex(const IsoValues& isoValues, double lo, double hi, double s
 
 /// The field's form scaled by a power of two (returned in `scale`) to a largest magnitude near 1,
 /// and its Bernstein bound [lo, hi] (scaled).
-QuadraticForm scaledFieldForm(double values[10], double& scale, double& lo, double& hi)
+BernsteinForm scaledFieldForm(double values[10], double& scale, double& lo, double& hi)
 {
   scale = unitScale(values);
   for (int n = 0; n < 10; ++n)
   {
     values[n] *= scale;
   }
-  const BernsteinForm bernstein = BernsteinForm::fromNodeValues(values);
-  bernstein.range(lo, hi);
-  QuadraticForm form;
-  for (int i = 0; i < 4; ++i)
-  {
-    for (int j = 0; j < 4; ++j)
-    {
-      form.b[i][j] = bernstein.b[i][j];
-    }
-  }
+  const BernsteinForm form = BernsteinForm::fromNodeValues(values);
+  form.range(lo, hi);
   return form;
 }
 
@@ -576,7 +568,7 @@ bool Scene::inCell(NodeId cellId, const glm::dvec3& point, double L[4]) const
   glm::dvec3 nodes[10];
   loadNodes(cellId, nodes);
   const CurvedGeometry geometry = localGeometry(nodes);
-  QuadraticForm equations[3];
+  BernsteinForm equations[3];
   geometry.pointEquations((point - geometry.origin) * geometry.scale, equations);
   SimplexRoot root;
   if (!solveOnSimplex(3, equations, nullptr, 0.0, 0.0, kBarycentricTolerance, root))
@@ -643,15 +635,15 @@ bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& 
   const glm::dvec3 o = origin + tCentre * d;
   glm::dvec3 u, v;
   orthonormalPair(d, u, v);
-  QuadraticForm equations[3];
+  BernsteinForm equations[3];
   equations[0] = geometry.component(u, glm::dot(u, o));
   equations[1] = geometry.component(v, glm::dot(v, o));
-  const QuadraticForm depth = geometry.component(d, glm::dot(d, o));
+  const BernsteinForm depth = geometry.component(d, glm::dot(d, o));
   const double lo = tMin * s - tCentre;
   const double hi = tLimit * s - tCentre;
 
   double scale, boundLo, boundHi;
-  const QuadraticForm field = scaledFieldForm(values, scale, boundLo, boundHi);
+  const BernsteinForm field = scaledFieldForm(values, scale, boundLo, boundHi);
   SimplexRoot root;
   if (constantToRounding(boundLo, boundHi))
   {
@@ -669,8 +661,8 @@ bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& 
       double nearest = std::numeric_limits<double>::infinity();
       for (int face = 0; face < 4; ++face)
       {
-        const QuadraticForm faceEquations[2] = { equations[0].face(face), equations[1].face(face) };
-        const QuadraticForm faceDepth = depth.face(face);
+        const BernsteinForm faceEquations[2] = { equations[0].face(face), equations[1].face(face) };
+        const BernsteinForm faceDepth = depth.face(face);
         SimplexRoot faceRoot;
         if (solveOnSimplex(2, faceEquations, &faceDepth, from, std::min(nearest, to),
               kBarycentricTolerance, faceRoot))
@@ -909,19 +901,11 @@ void Scene::computeNodalGradients()
     const BernsteinForm form = BernsteinForm::fromNodeValues(values);
     const bool curved = isCurved(cell);
     CurvedGeometry geometry;
-    QuadraticForm curvedField{};
     if (curved)
     {
       glm::dvec3 nodes[10];
       loadNodes(cell, nodes);
       geometry = localGeometry(nodes);
-      for (int i = 0; i < 4; ++i)
-      {
-        for (int j = 0; j < 4; ++j)
-        {
-          curvedField.b[i][j] = form.b[i][j];
-        }
-      }
     }
     const NodeId* ids = Mesh_.cellNodes + 10 * cell;
     for (int n = 0; n < 10; ++n)
@@ -940,7 +924,7 @@ void Scene::computeNodalGradients()
         L[kEdgeVertices[n - 4][0]] = L[kEdgeVertices[n - 4][1]] = 0.5;
       }
       sum[static_cast<std::size_t>(ids[n])] += curved
-        ? curvedGradient(geometry, curvedField, L) * geometry.scale
+        ? curvedGradient(geometry, form, L) * geometry.scale
         : fieldGradient(form, frame, L);
       ++count[static_cast<std::size_t>(ids[n])];
     }
