@@ -88,60 +88,27 @@ void formGradient(const BernsteinForm& form, const double L[4], double g[3])
   }
 }
 
-/// Inverse of an n x n matrix (n <= 3) by Gauss-Jordan with partial pivoting; false if singular
-/// to rounding.
+/// Inverse of an n x n matrix (n <= 3); false if singular to rounding.
 template <int n>
 bool invert(const double a[3][3], double inverse[3][3])
 {
+  // [a | I], reduced to [I | a^-1].
   double m[3][6];
-  double scale = 0.0;
   for (int r = 0; r < n; ++r)
   {
     for (int c = 0; c < n; ++c)
     {
       m[r][c] = a[r][c];
       m[r][n + c] = r == c ? 1.0 : 0.0;
-      scale = std::max(scale, std::abs(a[r][c]));
     }
   }
-  if (!(scale > 0.0) || !std::isfinite(scale))
+  // Pivots at rounding level (solveLinearSystem: k^2 2^(k-1) eps = 36 eps = 8.0e-15 for 3 x 3,
+  // so 1e-14): no inverse. The callers need no accuracy from it (a Krawczyk test is sound for any
+  // preconditioner, Newton's result is checked), only no rounding noise; a refusal costs a bisection.
+  constexpr double kJacobianPivotTolerance = 1e-14;
+  if (!solveLinearSystem(m, n, n, kJacobianPivotTolerance))
   {
     return false;
-  }
-  for (int col = 0; col < n; ++col)
-  {
-    int pivot = col;
-    for (int r = col + 1; r < n; ++r)
-    {
-      if (std::abs(m[r][col]) > std::abs(m[pivot][col]))
-      {
-        pivot = r;
-      }
-    }
-    if (!(std::abs(m[pivot][col]) > 1e-14 * scale))
-    {
-      return false;
-    }
-    for (int c = 0; c < 2 * n; ++c)
-    {
-      std::swap(m[col][c], m[pivot][c]);
-    }
-    const double p = m[col][col];
-    for (int c = 0; c < 2 * n; ++c)
-    {
-      m[col][c] /= p;
-    }
-    for (int r = 0; r < n; ++r)
-    {
-      if (r != col)
-      {
-        const double factor = m[r][col];
-        for (int c = 0; c < 2 * n; ++c)
-        {
-          m[r][c] -= factor * m[col][c];
-        }
-      }
-    }
   }
   for (int r = 0; r < n; ++r)
   {

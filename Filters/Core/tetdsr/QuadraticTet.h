@@ -11,6 +11,8 @@
 // ray L is affine in t, so f(t) is exactly the quadratic (dL^T B dL) t^2 + 2 (L^T B dL) t + L^T B L.
 #pragma once
 
+#include "tetdsr/LinearSystem.h"
+
 #include <glm/glm.hpp>
 
 #include <algorithm>
@@ -90,9 +92,15 @@ struct BernsteinForm
         system[n][r] = 1.0;
       }
       system[n][n + 1] = 1.0;
-      double L[4];
-      if (!solveSmall(system, n + 1, L))
+      // Pivots at rounding level (solveLinearSystem: k^2 2^(k-1) eps = 400 eps = 8.9e-14 for
+      // the tet's 5 x 5 system, so 1e-13) mean a singular system: a line of critical points,
+      // whose extremes its face's boundary gives.
+      constexpr double kLagrangePivotTolerance = 1e-13;
+      if (!solveLinearSystem(system, n + 1, 1, kLagrangePivotTolerance))
         continue;
+      double L[4];
+      for (int r = 0; r < n; ++r)
+        L[r] = system[r][n + 1];
       bool inside = true;
       double full[4] = { 0.0, 0.0, 0.0, 0.0 };
       for (int r = 0; r < n; ++r)
@@ -160,45 +168,6 @@ struct BernsteinForm
       }
     }
     return form;
-  }
-
-private:
-  // Gaussian elimination with partial pivoting on an augmented size x (size + 1) system;
-  // returns the first size - 1 unknowns (the last is the Lagrange multiplier).
-  static bool solveSmall(double a[5][6], int size, double x[4])
-  {
-    double scale = 0.0;
-    for (int r = 0; r < size; ++r)
-      for (int c = 0; c < size; ++c)
-        scale = std::max(scale, std::abs(a[r][c]));
-    for (int col = 0; col < size; ++col)
-    {
-      int pivot = col;
-      for (int r = col + 1; r < size; ++r)
-        if (std::abs(a[r][col]) > std::abs(a[pivot][col]))
-          pivot = r;
-      if (!(std::abs(a[pivot][col]) > 1e-13 * scale))
-        return false;
-      for (int c = 0; c <= size; ++c)
-        std::swap(a[col][c], a[pivot][c]);
-      for (int r = col + 1; r < size; ++r)
-      {
-        const double factor = a[r][col] / a[col][col];
-        for (int c = col; c <= size; ++c)
-          a[r][c] -= factor * a[col][c];
-      }
-    }
-    double solution[5];
-    for (int r = size - 1; r >= 0; --r)
-    {
-      double sum = a[r][size];
-      for (int c = r + 1; c < size; ++c)
-        sum -= a[r][c] * solution[c];
-      solution[r] = sum / a[r][r];
-    }
-    for (int r = 0; r < size - 1; ++r)
-      x[r] = solution[r];
-    return true;
   }
 };
 
