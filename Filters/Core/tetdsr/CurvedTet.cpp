@@ -12,6 +12,65 @@ namespace
 constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
+// Rounding: the solver's tolerances, each once (the pivot tolerance of its inverses: invert()).
+
+/// A form's Bernstein coefficient on a piece (its blossom at two of the piece's vertices) is two
+/// nested sums of at most 4 products with weights in [0, 1] summing to 1, rounded by at most about
+/// 8 eps of the form's largest coefficient M. Within 64 eps M of 0 (that, with a margin of 8 for
+/// the rounding the coefficients bring from their own evaluation) a coefficient proves no sign.
+constexpr double kBlossomRounding = 64.0 * kEpsilon;
+/// The Krawczyk operator's bounds are widened by this relative margin for their own rounding (sums
+/// of at most 3 products, a few eps each where J is well conditioned, as where a test is tried).
+/// A margin far below 1 costs no proving power, so it is a million times that.
+constexpr double kKrawczykMargin = 1e-9;
+/// A contracted box's half-widths stay above this (of the reference cell): an equation linear in
+/// y_i contracts its width to zero, and a box of zero width could never be proven to hold its
+/// root. A million times the rounding of the root's position (~1e-15), far below the smallest
+/// piece (2^-12 at the default depth limit).
+constexpr double kMinimumHalfWidth = 1e-9;
+/// An uncertified root (at the limit) is this piece's when it lies within this many half-widths
+/// of its box (plus the solve's tolerance): a tangent root spreads over neighbouring pieces, but
+/// a root Newton jumped to from far away is someone else's, found (or not) by its own pieces.
+constexpr double kUncertifiedReach = 2.0;
+/// Newton has converged when a step moves no coordinate (all of size about 1 or less) by more
+/// than a few ulps: the iterate is then the root to rounding.
+constexpr double kNewtonConverged = 4.0 * kEpsilon;
+/// Newton has diverged when a step exceeds this: the cell spans 1 in L, so the iterate has left
+/// it for good, on its way out of double range.
+constexpr double kNewtonDiverged = 1e6;
+/// A bound on Newton's work, not a tolerance: from a piece's centre it converges quadratically in
+/// about 6 steps; the rest allows a slow (linear) approach to a near-double root. An iterate that
+/// has not converged by then is not used.
+constexpr int kNewtonIterations = 40;
+/// det J's Bernstein coefficients (blossoms of a cubic: 3 x 3 determinants of sums of differences
+/// of control points) are rounded by a few tens of eps of the product of the columns' lengths,
+/// about the largest coefficient in a well-shaped cell. Coefficients within 1e-12 of the largest
+/// (two orders of magnitude more, for cells less well shaped) prove no sign, and a cell whose
+/// det J comes that close to 0 at a corner is taken as degenerate.
+constexpr double kDeterminantTolerance = 1e-12;
+
+/// The subdivision's depth never exceeds this (whatever SolveLimits asks): its stack holds one
+/// pending sibling per level. 64 levels reach 2^-21 of a tetrahedron, far below any useful limit.
+constexpr int kDepthCap = 64;
+
+// Work: the results depend on none of these (a Krawczyk test not tried, or a found root's box not
+// grown, only costs bisections), only the time.
+
+/// A Krawczyk test is tried when each preconditioned equation's coefficients spread over at most
+/// this many half-widths of the box (3 widths): close to linear there, where the test can succeed.
+constexpr double kNearLinearSpread = 6.0;
+/// Rounds of Krawczyk contraction on a piece, while each shrinks the box to at most kUsefulShrink
+/// of its width.
+constexpr int kContractionRounds = 8;
+constexpr double kUsefulShrink = 0.7;
+/// A certified root's box is grown by kRootBoxGrowth, at most kRootBoxGrowths times (130-fold),
+/// while a Krawczyk test still proves the root its only one.
+constexpr int kRootBoxGrowths = 12;
+constexpr double kRootBoxGrowth = 1.5;
+/// The found roots' boxes kept; once there are this many, a new one replaces the one at the
+/// number of pieces visited modulo this (the boxes that matter are those of the roots just found).
+constexpr int kKnownBoxes = 8;
+
 /// A sub-simplex: its n + 1 vertices in barycentric coordinates of the reference simplex.
 struct Piece
 {
@@ -103,8 +162,9 @@ bool invert(const double a[3][3], double inverse[3][3])
     }
   }
   // Pivots at rounding level (solveLinearSystem: k^2 2^(k-1) eps = 36 eps = 8.0e-15 for 3 x 3,
-  // so 1e-14): no inverse. The callers need no accuracy from it (a Krawczyk test is sound for any
-  // preconditioner, Newton's result is checked), only no rounding noise; a refusal costs a bisection.
+  // so 1e-14): no inverse. The callers need no accuracy from it (a Krawczyk test is sound for
+  // any preconditioner, Newton's result is checked), only no rounding noise; a refusal costs a
+  // bisection.
   constexpr double kJacobianPivotTolerance = 1e-14;
   if (!solveLinearSystem(m, n, n, kJacobianPivotTolerance))
   {
@@ -143,7 +203,7 @@ bool linearise(const BernsteinForm* equations, const double L[4], Linearisation&
 template <int n>
 bool newton(const BernsteinForm* equations, double L[4])
 {
-  for (int iteration = 0; iteration < 40; ++iteration)
+  for (int iteration = 0; iteration < kNewtonIterations; ++iteration)
   {
     Linearisation at;
     if (!linearise<n>(equations, L, at))
@@ -164,11 +224,11 @@ bool newton(const BernsteinForm* equations, double L[4])
       largest = std::max(largest, std::abs(step));
     }
     L[0] = 1.0 - sum;
-    if (!std::isfinite(largest) || largest > 1e6)
+    if (!std::isfinite(largest) || largest > kNewtonDiverged)
     {
       return false;
     }
-    if (largest <= 4.0 * kEpsilon)
+    if (largest <= kNewtonConverged)
     {
       return true;
     }
@@ -185,8 +245,8 @@ enum class Krawczyk
 
 /// The Krawczyk operator K(X) = m - Y F(m) + (I - Y J(X)) (X - m) on the box X = m +- r
 /// (coordinates y_1..y_n), Y = J(m)^-1: every root in X lies in K(X); K(X) inside X proves
-/// exactly one root in X, K(X) disjoint from X proves none. Evaluated in double; the margins
-/// (1e-9 relative) absorb rounding.
+/// exactly one root in X, K(X) disjoint from X proves none. Evaluated in double, its bounds
+/// widened by kKrawczykMargin.
 template <int n>
 Krawczyk krawczyk(const BernsteinForm* equations, const double m[4], const double r[3],
   double image[3][2], const Linearisation* centre = nullptr)
@@ -240,13 +300,13 @@ Krawczyk krawczyk(const BernsteinForm* equations, const double m[4], const doubl
       }
       spread += (std::abs(identityMinusYJ) + absYR) * r[j];
     }
-    image[i][0] = m[i + 1] - yf - spread * (1.0 + 1e-9);
-    image[i][1] = m[i + 1] - yf + spread * (1.0 + 1e-9);
-    if (std::abs(yf) > (spread + r[i]) * (1.0 + 1e-9))
+    image[i][0] = m[i + 1] - yf - spread * (1.0 + kKrawczykMargin);
+    image[i][1] = m[i + 1] - yf + spread * (1.0 + kKrawczykMargin);
+    if (std::abs(yf) > (spread + r[i]) * (1.0 + kKrawczykMargin))
     {
       return Krawczyk::None; // K(X) misses X along y_i
     }
-    inside = inside && (std::abs(yf) + spread) * (1.0 + 1e-9) < r[i];
+    inside = inside && (std::abs(yf) + spread) * (1.0 + kKrawczykMargin) < r[i];
   }
   return inside ? Krawczyk::Unique : Krawczyk::Unknown;
 }
@@ -362,7 +422,7 @@ bool nearBox(const double L[4], const double m[4], const double r[3], double tol
   bool near = true;
   for (int i = 1; i <= n; ++i)
   {
-    near = near && std::abs(L[i] - m[i]) <= 2.0 * r[i - 1] + tolerance;
+    near = near && std::abs(L[i] - m[i]) <= kUncertifiedReach * r[i - 1] + tolerance;
   }
   return near;
 }
@@ -379,9 +439,7 @@ double shrinkToImage(double m[4], double r[3], const double image[3][2])
     const double hi = std::min(m[i + 1] + r[i], image[i][1]);
     shrink = std::max(shrink, (hi - lo) / (2.0 * r[i]));
     m[i + 1] = 0.5 * (lo + hi);
-    // Not below 1e-9 of the cell: an equation linear in y_i contracts its width to zero,
-    // and a box of zero width could never be proven to hold its root.
-    r[i] = std::max(0.5 * (hi - lo), 1e-9);
+    r[i] = std::max(0.5 * (hi - lo), kMinimumHalfWidth);
     sum += m[i + 1];
   }
   m[0] = 1.0 - sum;
@@ -400,7 +458,7 @@ Krawczyk contract(const BernsteinForm* equations, double m[4], double r[3], int 
   {
     double image[3][2];
     test = krawczyk<n>(equations, m, r, image, round == 0 ? centre : nullptr);
-    if (test != Krawczyk::Unknown || shrinkToImage<n>(m, r, image) > 0.7)
+    if (test != Krawczyk::Unknown || shrinkToImage<n>(m, r, image) > kUsefulShrink)
     {
       break;
     }
@@ -423,7 +481,7 @@ public:
     , Levels_(levels)
     , Root_(root)
     , MultiLevel_(levels.count > 0)
-    , MaxDepth_(std::min(limits.maxDepth, 64))
+    , MaxDepth_(std::min(limits.maxDepth, kDepthCap))
     // Separating many levels takes pieces along the ray: the budget grows with them (to 64 x).
     , MaxPieces_(limits.maxPieces * (MultiLevel_ ? std::min(levels.count, 64) : 1))
     , CurrentLevel_(MultiLevel_ ? -1 : 0)
@@ -432,10 +490,10 @@ public:
     for (int k = 0; k < n; ++k)
     {
       Equations_[k] = given[k];
-      Pad_[k] = 64.0 * kEpsilon * magnitude<n>(Equations_[k]);
+      Pad_[k] = kBlossomRounding * magnitude<n>(Equations_[k]);
     }
     LevelPad_ = Pad_[n - 1];
-    ObjectivePad_ = objective ? 64.0 * kEpsilon * magnitude<n>(*objective) : 0.0;
+    ObjectivePad_ = objective ? kBlossomRounding * magnitude<n>(*objective) : 0.0;
   }
 
   /// Runs the subdivision; true if a root was kept. `pieces`, if given, gets the pieces visited.
@@ -496,7 +554,7 @@ private:
     }
     // Contraction: the Krawczyk test proves one root in the box, or none.
     const Krawczyk test = contract<n>(Equations_, m, r,
-      (promising || last) ? 8 : 0, haveCentre ? &centre : nullptr);
+      (promising || last) ? kContractionRounds : 0, haveCentre ? &centre : nullptr);
     if (test == Krawczyk::None)
     {
       return false;
@@ -579,7 +637,8 @@ private:
       {
         for (int i = 1; i <= n; ++i)
         {
-          inside = inside && piece.V[v][i] >= Known_[b].lo[i - 1] && piece.V[v][i] <= Known_[b].hi[i - 1];
+          inside = inside && piece.V[v][i] >= Known_[b].lo[i - 1] &&
+            piece.V[v][i] <= Known_[b].hi[i - 1];
         }
       }
       if (inside)
@@ -643,13 +702,15 @@ private:
       }
       double cLo, cHi;
       coefficientRange<n>(combined, piece, cLo, cHi);
-      // Rounding of the combination itself: a few ulps of its terms.
-      combinedPad = 2.0 * combinedPad + 64.0 * kEpsilon * magnitude<n>(combined);
+      // The equations' pads carried through Y, twice: the second copy covers forming the
+      // combination (at most 3 eps of sum |Y_ik| M_k, far below one pad); then the combined
+      // form's own blossom rounding.
+      combinedPad = 2.0 * combinedPad + kBlossomRounding * magnitude<n>(combined);
       if (cLo > combinedPad || cHi < -combinedPad)
       {
         return true;
       }
-      promising = promising && cHi - cLo <= 6.0 * r[i];
+      promising = promising && cHi - cLo <= kNearLinearSpread * r[i];
     }
     return false;
   }
@@ -684,9 +745,9 @@ private:
       box.hi[i] = m[i + 1] + r[i];
       radius = std::max(radius, r[i]);
     }
-    for (int grow = 0; grow < 12; ++grow)
+    for (int grow = 0; grow < kRootBoxGrowths; ++grow)
     {
-      radius *= 1.5;
+      radius *= kRootBoxGrowth;
       double c[4] = { L[0], L[1], L[2], L[3] }, rr[3] = { radius, radius, radius }, image[3][2];
       if (krawczyk<n>(Equations_, c, rr, image) != Krawczyk::Unique)
       {
@@ -698,7 +759,7 @@ private:
         box.hi[i] = L[i + 1] + radius;
       }
     }
-    Known_[KnownCount_ < 8 ? KnownCount_++ : (Visited_ % 8)] = box;
+    Known_[KnownCount_ < kKnownBoxes ? KnownCount_++ : (Visited_ % kKnownBoxes)] = box;
   }
 
   /// Keeps L (a root of the current level inside the simplex) if it is the nearest so far.
@@ -727,7 +788,7 @@ private:
     if (level != CurrentLevel_)
     {
       Equations_[n - 1] = Given_[n - 1].minus(Levels_.values[level] * Levels_.scale);
-      Pad_[n - 1] = 64.0 * kEpsilon * magnitude<n>(Equations_[n - 1]);
+      Pad_[n - 1] = kBlossomRounding * magnitude<n>(Equations_[n - 1]);
       CurrentLevel_ = level;
     }
   }
@@ -751,18 +812,16 @@ private:
   const int MaxPieces_;
   /// The equations being solved; with levels, the last is the given form minus the current level.
   BernsteinForm Equations_[3];
-  // Rounding of a blossom of coefficients up to M with weights in [0, 1] summing to 1 stays below
-  // a few ulps of M: coefficients within this pad of 0 do not prove a sign.
-  double Pad_[3];
+  double Pad_[3]; ///< per equation: its coefficients within this of 0 prove no sign
   double LevelPad_;    ///< the field's pad, for the level partition
   double ObjectivePad_;
   int CurrentLevel_;
   bool Found_ = false;
   double Best_; ///< the objective of the nearest root kept, or the window's end
-  Piece Stack_[64 + 2]; ///< depth-first: at most one pending sibling per level
+  Piece Stack_[kDepthCap + 2]; ///< depth-first: at most one pending sibling per level
   int Top_ = 0;
   int Visited_ = 0;
-  KnownBox Known_[8];
+  KnownBox Known_[kKnownBoxes];
   int KnownCount_ = 0;
 };
 } // namespace
@@ -913,6 +972,7 @@ double determinantBlossom(const CurvedGeometry& g, const double* U, const double
 
 JacobianSign jacobianSign(const CurvedGeometry& geometry)
 {
+  // The bisection depth: 5 halvings of every edge (3 levels halve a piece), 1/32 of the cell.
   constexpr int kMaxDepth = 15;
   Piece stack[kMaxDepth + 2];
   int top = 0;
@@ -951,7 +1011,7 @@ JacobianSign jacobianSign(const CurvedGeometry& geometry)
     }
     if (tolerance < 0.0)
     {
-      tolerance = 1e-12 * largest;
+      tolerance = kDeterminantTolerance * largest;
     }
     int pieceSign = lo > tolerance ? 1 : hi < -tolerance ? -1 : 0;
     if (pieceSign != 0)
