@@ -1,7 +1,5 @@
 #include "tetdsr/CurvedTet.h"
 
-#include "tetdsr/QuadraticTet.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -14,6 +12,65 @@ namespace
 constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
+// Rounding: the solver's tolerances, each once (the pivot tolerance of its inverses: invert()).
+
+/// A form's Bernstein coefficient on a piece (its blossom at two of the piece's vertices) is two
+/// nested sums of at most 4 products with weights in [0, 1] summing to 1, rounded by at most about
+/// 8 eps of the form's largest coefficient M. Within 64 eps M of 0 (that, with a margin of 8 for
+/// the rounding the coefficients bring from their own evaluation) a coefficient proves no sign.
+constexpr double kBlossomRounding = 64.0 * kEpsilon;
+/// The Krawczyk operator's bounds are widened by this relative margin for their own rounding (sums
+/// of at most 3 products, a few eps each where J is well conditioned, as where a test is tried).
+/// A margin far below 1 costs no proving power, so it is a million times that.
+constexpr double kKrawczykMargin = 1e-9;
+/// A contracted box's half-widths stay above this (of the reference cell): an equation linear in
+/// y_i contracts its width to zero, and a box of zero width could never be proven to hold its
+/// root. A million times the rounding of the root's position (~1e-15), far below the smallest
+/// piece (2^-12 at the default depth limit).
+constexpr double kMinimumHalfWidth = 1e-9;
+/// An uncertified root (at the limit) is this piece's when it lies within this many half-widths
+/// of its box (plus the solve's tolerance): a tangent root spreads over neighbouring pieces, but
+/// a root Newton jumped to from far away is someone else's, found (or not) by its own pieces.
+constexpr double kUncertifiedReach = 2.0;
+/// Newton has converged when a step moves no coordinate (all of size about 1 or less) by more
+/// than a few ulps: the iterate is then the root to rounding.
+constexpr double kNewtonConverged = 4.0 * kEpsilon;
+/// Newton has diverged when a step exceeds this: the cell spans 1 in L, so the iterate has left
+/// it for good, on its way out of double range.
+constexpr double kNewtonDiverged = 1e6;
+/// A bound on Newton's work, not a tolerance: from a piece's centre it converges quadratically in
+/// about 6 steps; the rest allows a slow (linear) approach to a near-double root. An iterate that
+/// has not converged by then is not used.
+constexpr int kNewtonIterations = 40;
+/// det J's Bernstein coefficients (blossoms of a cubic: 3 x 3 determinants of sums of differences
+/// of control points) are rounded by a few tens of eps of the product of the columns' lengths,
+/// about the largest coefficient in a well-shaped cell. Coefficients within 1e-12 of the largest
+/// (two orders of magnitude more, for cells less well shaped) prove no sign, and a cell whose
+/// det J comes that close to 0 at a corner is taken as degenerate.
+constexpr double kDeterminantTolerance = 1e-12;
+
+/// The subdivision's depth never exceeds this (whatever SolveLimits asks): its stack holds one
+/// pending sibling per level. 64 levels reach 2^-21 of a tetrahedron, far below any useful limit.
+constexpr int kDepthCap = 64;
+
+// Work: the results depend on none of these (a Krawczyk test not tried, or a found root's box not
+// grown, only costs bisections), only the time.
+
+/// A Krawczyk test is tried when each preconditioned equation's coefficients spread over at most
+/// this many half-widths of the box (3 widths): close to linear there, where the test can succeed.
+constexpr double kNearLinearSpread = 6.0;
+/// Rounds of Krawczyk contraction on a piece, while each shrinks the box to at most kUsefulShrink
+/// of its width.
+constexpr int kContractionRounds = 8;
+constexpr double kUsefulShrink = 0.7;
+/// A certified root's box is grown by kRootBoxGrowth, at most kRootBoxGrowths times (130-fold),
+/// while a Krawczyk test still proves the root its only one.
+constexpr int kRootBoxGrowths = 12;
+constexpr double kRootBoxGrowth = 1.5;
+/// The found roots' boxes kept; once there are this many, a new one replaces the one at the
+/// number of pieces visited modulo this (the boxes that matter are those of the roots just found).
+constexpr int kKnownBoxes = 8;
+
 /// A sub-simplex: its n + 1 vertices in barycentric coordinates of the reference simplex.
 struct Piece
 {
@@ -23,7 +80,7 @@ struct Piece
 };
 
 template <int n>
-double magnitude(const QuadraticForm& form)
+double magnitude(const BernsteinForm& form)
 {
   double m = 0.0;
   for (int i = 0; i <= n; ++i)
@@ -38,7 +95,7 @@ double magnitude(const QuadraticForm& form)
 
 /// Min and max of the form's Bernstein coefficients on the piece (its blossom at vertex pairs).
 template <int n>
-void coefficientRange(const QuadraticForm& form, const Piece& piece, double& lo, double& hi)
+void coefficientRange(const BernsteinForm& form, const Piece& piece, double& lo, double& hi)
 {
   // B V_j for each vertex j once; then each coefficient is one dot product.
   double bv[4][4];
@@ -73,7 +130,7 @@ void coefficientRange(const QuadraticForm& form, const Piece& piece, double& lo,
 
 /// (B L)_j - (B L)_0 for j = 1..n, times 2: the derivative along y_j = L_j (L_0 = 1 - sum y).
 template <int n>
-void formGradient(const QuadraticForm& form, const double L[4], double g[3])
+void formGradient(const BernsteinForm& form, const double L[4], double g[3])
 {
   double bl[4];
   for (int i = 0; i <= n; ++i)
@@ -90,60 +147,28 @@ void formGradient(const QuadraticForm& form, const double L[4], double g[3])
   }
 }
 
-/// Inverse of an n x n matrix (n <= 3) by Gauss-Jordan with partial pivoting; false if singular
-/// to rounding.
+/// Inverse of an n x n matrix (n <= 3); false if singular to rounding.
 template <int n>
 bool invert(const double a[3][3], double inverse[3][3])
 {
+  // [a | I], reduced to [I | a^-1].
   double m[3][6];
-  double scale = 0.0;
   for (int r = 0; r < n; ++r)
   {
     for (int c = 0; c < n; ++c)
     {
       m[r][c] = a[r][c];
       m[r][n + c] = r == c ? 1.0 : 0.0;
-      scale = std::max(scale, std::abs(a[r][c]));
     }
   }
-  if (!(scale > 0.0) || !std::isfinite(scale))
+  // Pivots at rounding level (solveLinearSystem: k^2 2^(k-1) eps = 36 eps = 8.0e-15 for 3 x 3,
+  // so 1e-14): no inverse. The callers need no accuracy from it (a Krawczyk test is sound for
+  // any preconditioner, Newton's result is checked), only no rounding noise; a refusal costs a
+  // bisection.
+  constexpr double kJacobianPivotTolerance = 1e-14;
+  if (!solveLinearSystem(m, n, n, kJacobianPivotTolerance))
   {
     return false;
-  }
-  for (int col = 0; col < n; ++col)
-  {
-    int pivot = col;
-    for (int r = col + 1; r < n; ++r)
-    {
-      if (std::abs(m[r][col]) > std::abs(m[pivot][col]))
-      {
-        pivot = r;
-      }
-    }
-    if (!(std::abs(m[pivot][col]) > 1e-14 * scale))
-    {
-      return false;
-    }
-    for (int c = 0; c < 2 * n; ++c)
-    {
-      std::swap(m[col][c], m[pivot][c]);
-    }
-    const double p = m[col][col];
-    for (int c = 0; c < 2 * n; ++c)
-    {
-      m[col][c] /= p;
-    }
-    for (int r = 0; r < n; ++r)
-    {
-      if (r != col)
-      {
-        const double factor = m[r][col];
-        for (int c = 0; c < 2 * n; ++c)
-        {
-          m[r][c] -= factor * m[col][c];
-        }
-      }
-    }
   }
   for (int r = 0; r < n; ++r)
   {
@@ -155,26 +180,33 @@ bool invert(const double a[3][3], double inverse[3][3])
   return true;
 }
 
+/// The equations linearised at a point: their values F, Jacobian J (in y = L_1..L_n) and J^-1.
+struct Linearisation
+{
+  double F[3], J[3][3], inverse[3][3];
+};
+
+/// F, J and J^-1 at L; false (inverse unset) where J is singular to rounding.
 template <int n>
-void evaluate(const QuadraticForm* equations, const double L[4], double F[3], double J[3][3])
+bool linearise(const BernsteinForm* equations, const double L[4], Linearisation& at)
 {
   for (int k = 0; k < n; ++k)
   {
-    F[k] = equations[k].blossom(L, L, n);
-    formGradient<n>(equations[k], L, J[k]);
+    at.F[k] = equations[k].bilinear(L, L, n);
+    formGradient<n>(equations[k], L, at.J[k]);
   }
+  return invert<n>(at.J, at.inverse);
 }
 
 /// Newton's method on the equations from L (in place). Converged when a step moves no coordinate
 /// by more than a few ulps; false if it does not converge (or leaves double range).
 template <int n>
-bool newton(const QuadraticForm* equations, double L[4])
+bool newton(const BernsteinForm* equations, double L[4])
 {
-  for (int iteration = 0; iteration < 40; ++iteration)
+  for (int iteration = 0; iteration < kNewtonIterations; ++iteration)
   {
-    double F[3], J[3][3], Jinv[3][3];
-    evaluate<n>(equations, L, F, J);
-    if (!invert<n>(J, Jinv))
+    Linearisation at;
+    if (!linearise<n>(equations, L, at))
     {
       return false;
     }
@@ -185,18 +217,18 @@ bool newton(const QuadraticForm* equations, double L[4])
       double step = 0.0;
       for (int k = 0; k < n; ++k)
       {
-        step += Jinv[j - 1][k] * F[k];
+        step += at.inverse[j - 1][k] * at.F[k];
       }
       L[j] -= step;
       sum += L[j];
       largest = std::max(largest, std::abs(step));
     }
     L[0] = 1.0 - sum;
-    if (!std::isfinite(largest) || largest > 1e6)
+    if (!std::isfinite(largest) || largest > kNewtonDiverged)
     {
       return false;
     }
-    if (largest <= 4.0 * kEpsilon)
+    if (largest <= kNewtonConverged)
     {
       return true;
     }
@@ -213,34 +245,25 @@ enum class Krawczyk
 
 /// The Krawczyk operator K(X) = m - Y F(m) + (I - Y J(X)) (X - m) on the box X = m +- r
 /// (coordinates y_1..y_n), Y = J(m)^-1: every root in X lies in K(X); K(X) inside X proves
-/// exactly one root in X, K(X) disjoint from X proves none. Evaluated in double; the margins
-/// (1e-9 relative) absorb rounding.
+/// exactly one root in X, K(X) disjoint from X proves none. Evaluated in double, its bounds
+/// widened by kKrawczykMargin.
 template <int n>
-Krawczyk krawczyk(const QuadraticForm* equations, const double m[4], const double r[3],
-  double image[3][2], const double (*known)[3][3] = nullptr)
+Krawczyk krawczyk(const BernsteinForm* equations, const double m[4], const double r[3],
+  double image[3][2], const Linearisation* centre = nullptr)
 {
-  // F(m), J(m) and J(m)^-1: computed here, or given (known[0], known[1], known[2]; F in row 0).
-  double F[3], J[3][3], Y[3][3];
-  if (known)
+  // F(m), J(m) and Y = J(m)^-1: given, or computed here.
+  Linearisation at;
+  if (centre)
   {
-    for (int i = 0; i < n; ++i)
-    {
-      F[i] = known[0][0][i];
-      for (int j = 0; j < n; ++j)
-      {
-        J[i][j] = known[1][i][j];
-        Y[i][j] = known[2][i][j];
-      }
-    }
+    at = *centre;
   }
-  else
+  else if (!linearise<n>(equations, m, at))
   {
-    evaluate<n>(equations, m, F, J);
-    if (!invert<n>(J, Y))
-    {
-      return Krawczyk::Unknown;
-    }
+    return Krawczyk::Unknown;
   }
+  const auto& F = at.F;
+  const auto& J = at.J;
+  const auto& Y = at.inverse;
   // R[k][j] bounds |J_kj(y) - J_kj(m)| over the box: J_kj is affine in y with slope a_kji.
   double R[3][3];
   for (int k = 0; k < n; ++k)
@@ -277,13 +300,13 @@ Krawczyk krawczyk(const QuadraticForm* equations, const double m[4], const doubl
       }
       spread += (std::abs(identityMinusYJ) + absYR) * r[j];
     }
-    image[i][0] = m[i + 1] - yf - spread * (1.0 + 1e-9);
-    image[i][1] = m[i + 1] - yf + spread * (1.0 + 1e-9);
-    if (std::abs(yf) > (spread + r[i]) * (1.0 + 1e-9))
+    image[i][0] = m[i + 1] - yf - spread * (1.0 + kKrawczykMargin);
+    image[i][1] = m[i + 1] - yf + spread * (1.0 + kKrawczykMargin);
+    if (std::abs(yf) > (spread + r[i]) * (1.0 + kKrawczykMargin))
     {
       return Krawczyk::None; // K(X) misses X along y_i
     }
-    inside = inside && (std::abs(yf) + spread) * (1.0 + 1e-9) < r[i];
+    inside = inside && (std::abs(yf) + spread) * (1.0 + kKrawczykMargin) < r[i];
   }
   return inside ? Krawczyk::Unique : Krawczyk::Unknown;
 }
@@ -300,31 +323,7 @@ bool insideSimplex(const double L[4], double tolerance)
   }
   return true;
 }
-} // namespace
 
-QuadraticForm QuadraticForm::face(int omit) const
-{
-  QuadraticForm form{};
-  int index[3], count = 0;
-  for (int k = 0; k < 4; ++k)
-  {
-    if (k != omit)
-    {
-      index[count++] = k;
-    }
-  }
-  for (int i = 0; i < 3; ++i)
-  {
-    for (int j = 0; j < 3; ++j)
-    {
-      form.b[i][j] = b[index[i]][index[j]];
-    }
-  }
-  return form;
-}
-
-namespace
-{
 /// The two halves of a piece, split at the midpoint of its longest edge (in barycentric
 /// coordinates); they inherit its depth + 1 and its candidate levels.
 template <int n>
@@ -391,7 +390,7 @@ void centreOf(const Piece& piece, double m[4], double* r = nullptr)
 
 /// Pushes the two halves, the one whose centre has the smaller objective last (popped first).
 template <int n>
-void pushNearerLast(Piece* stack, int& top, const Piece children[2], const QuadraticForm* objective)
+void pushNearerLast(Piece* stack, int& top, const Piece children[2], const BernsteinForm* objective)
 {
   int nearer = 0;
   if (objective)
@@ -399,358 +398,441 @@ void pushNearerLast(Piece* stack, int& top, const Piece children[2], const Quadr
     double centre[2][4];
     centreOf<n>(children[0], centre[0]);
     centreOf<n>(children[1], centre[1]);
-    nearer = objective->blossom(centre[1], centre[1], n) < objective->blossom(centre[0], centre[0], n);
+    nearer = objective->bilinear(centre[1], centre[1], n) < objective->bilinear(centre[0], centre[0], n);
   }
   stack[top++] = children[1 - nearer];
   stack[top++] = children[nearer];
 }
 
-template <int n>
-bool solve(const QuadraticForm* given, const QuadraticForm* objective, double lo, double hi,
-  double tolerance, SimplexRoot& root, const SolveLimits& limits, int* pieces,
-  const Levels& levels)
+/// Boxes proven to hold exactly one root, each already found: a piece inside one holds no other
+/// root, so it is dropped (without them, the pieces next to a root, which cannot be certified
+/// because the root is not theirs and cannot be excluded because they touch it, are bisected
+/// level after level).
+struct KnownBox
 {
-  // The equations being solved; with levels, the last is the given form minus the current level.
-  QuadraticForm equations[3];
-  for (int k = 0; k < n; ++k)
+  double lo[3], hi[3];
+  int level;
+};
+
+/// Whether L, a root Newton found from the centre m of a box of half-widths r, is this box's
+/// (within twice its half-widths): an uncertified root is only accepted where it was looked for.
+template <int n>
+bool nearBox(const double L[4], const double m[4], const double r[3], double tolerance)
+{
+  bool near = true;
+  for (int i = 1; i <= n; ++i)
   {
-    equations[k] = given[k];
+    near = near && std::abs(L[i] - m[i]) <= kUncertifiedReach * r[i - 1] + tolerance;
   }
-  // Rounding of a blossom of coefficients up to M with weights in [0, 1] summing to 1 stays below
-  // a few ulps of M: coefficients within this pad of 0 do not prove a sign.
-  double pad[3];
-  for (int k = 0; k < n; ++k)
+  return near;
+}
+
+/// Intersects the box m +- r (in y) with its Krawczyk image, which holds all of its roots too,
+/// and returns how much that shrank it: the largest ratio of new to old width.
+template <int n>
+double shrinkToImage(double m[4], double r[3], const double image[3][2])
+{
+  double shrink = 0.0, sum = 0.0;
+  for (int i = 0; i < n; ++i)
   {
-    pad[k] = 64.0 * kEpsilon * magnitude<n>(equations[k]);
+    const double lo = std::max(m[i + 1] - r[i], image[i][0]);
+    const double hi = std::min(m[i + 1] + r[i], image[i][1]);
+    shrink = std::max(shrink, (hi - lo) / (2.0 * r[i]));
+    m[i + 1] = 0.5 * (lo + hi);
+    r[i] = std::max(0.5 * (hi - lo), kMinimumHalfWidth);
+    sum += m[i + 1];
   }
-  const bool multiLevel = levels.count > 0;
-  const double levelPad = pad[n - 1];
-  int currentLevel = -1;
-  bool found = false;
-  double best = hi;
-  // Keeps L (a root of the current level inside the simplex) if it is the nearest so far.
-  auto keep = [&](const double L[4], bool certified) {
-    const double value = objective ? objective->blossom(L, L, n) : 0.0;
-    if (objective && !(value >= lo && value <= best))
+  m[0] = 1.0 - sum;
+  return shrink;
+}
+
+/// Interval Newton on the box m +- r (shrunk in place): the Krawczyk test, and while it decides
+/// nothing the box shrunk to its image, for at most `rounds` rounds and while that helps
+/// (quadratically, near a simple root). `centre`, if given, is the linearisation at m.
+template <int n>
+Krawczyk contract(const BernsteinForm* equations, double m[4], double r[3], int rounds,
+  const Linearisation* centre)
+{
+  Krawczyk test = Krawczyk::Unknown;
+  for (int round = 0; round < rounds; ++round)
+  {
+    double image[3][2];
+    test = krawczyk<n>(equations, m, r, image, round == 0 ? centre : nullptr);
+    if (test != Krawczyk::Unknown || shrinkToImage<n>(m, r, image) > kUsefulShrink)
+    {
+      break;
+    }
+  }
+  return test;
+}
+
+/// One solveOnSimplex: a depth-first subdivision of the reference simplex, nearer child first,
+/// each piece put through visit()'s stages.
+template <int n>
+class SimplexSearch
+{
+public:
+  SimplexSearch(const BernsteinForm* given, const BernsteinForm* objective, double lo, double hi,
+    double tolerance, const SolveLimits& limits, const Levels& levels, SimplexRoot& root)
+    : Given_(given)
+    , Objective_(objective)
+    , Lo_(lo)
+    , Tolerance_(tolerance)
+    , Levels_(levels)
+    , Root_(root)
+    , MultiLevel_(levels.count > 0)
+    , MaxDepth_(std::min(limits.maxDepth, kDepthCap))
+    // Separating many levels takes pieces along the ray: the budget grows with them (to 64 x).
+    , MaxPieces_(limits.maxPieces * (MultiLevel_ ? std::min(levels.count, 64) : 1))
+    , CurrentLevel_(MultiLevel_ ? -1 : 0)
+    , Best_(hi)
+  {
+    for (int k = 0; k < n; ++k)
+    {
+      Equations_[k] = given[k];
+      Pad_[k] = kBlossomRounding * magnitude<n>(Equations_[k]);
+    }
+    LevelPad_ = Pad_[n - 1];
+    ObjectivePad_ = objective ? kBlossomRounding * magnitude<n>(*objective) : 0.0;
+  }
+
+  /// Runs the subdivision; true if a root was kept. `pieces`, if given, gets the pieces visited.
+  bool run(int* pieces)
+  {
+    Piece& first = Stack_[Top_++];
+    for (int i = 0; i <= n; ++i)
+    {
+      for (int j = 0; j <= n; ++j)
+      {
+        first.V[i][j] = i == j ? 1.0 : 0.0;
+      }
+    }
+    first.depth = 0;
+    first.levelLo = 0;
+    first.levelHi = MultiLevel_ ? Levels_.count : 1;
+    while (Top_ > 0)
+    {
+      Piece piece = Stack_[--Top_];
+      ++Visited_;
+      const bool last = piece.depth >= MaxDepth_ || Visited_ >= MaxPieces_;
+      if (visit(piece, last))
+      {
+        break; // any root will do
+      }
+    }
+    if (pieces)
+    {
+      *pieces = Visited_;
+    }
+    return Found_;
+  }
+
+private:
+  /// One piece, `last` when it may not be bisected: dropped, settled or bisected. True to stop.
+  bool visit(Piece& piece, bool last)
+  {
+    // Level partition: with several levels, a piece goes on only once it keeps exactly one.
+    if (MultiLevel_ && !partitionLevels(piece, last))
     {
       return false;
     }
-    found = true;
-    best = value;
-    for (int i = 0; i < 4; ++i)
+    // Exclusion: inside a found root's box, an equation of one sign, depth outside the window.
+    if (covered(piece) || signFixed(piece, n) || outsideWindow(piece))
     {
-      root.L[i] = i <= n ? L[i] : 0.0;
+      return false;
     }
-    root.value = value;
-    root.certified = certified;
-    root.level = currentLevel;
+    // The piece's centre and the half-widths of the box around it, in y = (L_1..L_n).
+    double m[4], r[3];
+    centreOf<n>(piece, m, r);
+    Linearisation centre;
+    const bool haveCentre = linearise<n>(Equations_, m, centre);
+    // Exclusion by the preconditioned equations, which also say whether contraction may succeed.
+    bool promising = false;
+    if (haveCentre && preconditionedExclusion(piece, centre, r, promising))
+    {
+      return false;
+    }
+    // Contraction: the Krawczyk test proves one root in the box, or none.
+    const Krawczyk test = contract<n>(Equations_, m, r,
+      (promising || last) ? kContractionRounds : 0, haveCentre ? &centre : nullptr);
+    if (test == Krawczyk::None)
+    {
+      return false;
+    }
+    // Acceptance: of the proven root, or at the limit of whatever Newton finds near the piece.
+    if (test == Krawczyk::Unique || last)
+    {
+      return settle(m, r, test == Krawczyk::Unique);
+    }
+    split(piece);
+    return false;
+  }
+
+  /// With several levels: narrows the piece's candidates to those within its field's Bernstein
+  /// range, and while several remain bisects it (or, at the limit, tries each). True when the
+  /// piece goes on with exactly one, now the current level.
+  bool partitionLevels(Piece& piece, bool last)
+  {
+    // The equations other than the field's first (they do not depend on the level).
+    if (signFixed(piece, n - 1))
+    {
+      return false;
+    }
+    double fLo, fHi;
+    coefficientRange<n>(Given_[n - 1], piece, fLo, fHi);
+    const double* begin = Levels_.values + piece.levelLo;
+    const double* end = Levels_.values + piece.levelHi;
+    piece.levelLo = static_cast<int>(
+      std::lower_bound(begin, end, (fLo - LevelPad_) / Levels_.scale) - Levels_.values);
+    piece.levelHi = static_cast<int>(
+      std::upper_bound(begin, end, (fHi + LevelPad_) / Levels_.scale) - Levels_.values);
+    if (piece.levelLo >= piece.levelHi)
+    {
+      return false;
+    }
+    if (piece.levelHi - piece.levelLo > 1)
+    {
+      if (outsideWindow(piece))
+      {
+        return false;
+      }
+      if (!last)
+      {
+        split(piece); // until each piece keeps one level (or none)
+      }
+      else
+      {
+        settleLevelsAtLimit(piece);
+      }
+      return false;
+    }
+    setLevel(piece.levelLo);
     return true;
-  };
-  auto setLevel = [&](int level) {
-    if (level != currentLevel)
-    {
-      equations[n - 1] = given[n - 1].minus(levels.values[level] * levels.scale);
-      pad[n - 1] = 64.0 * kEpsilon * magnitude<n>(equations[n - 1]);
-      currentLevel = level;
-    }
-  };
-  if (!multiLevel)
-  {
-    currentLevel = 0;
   }
-  const double objectivePad = objective ? 64.0 * kEpsilon * magnitude<n>(*objective) : 0.0;
 
-  // Depth-first, nearer child first; at most one pending sibling per level.
-  Piece stack[64 + 2];
-  int top = 0;
-  Piece& first = stack[top++];
-  for (int i = 0; i <= n; ++i)
+  /// At the limit with several levels: Newton for each from the piece's centre, uncertified.
+  void settleLevelsAtLimit(const Piece& piece)
   {
-    for (int j = 0; j <= n; ++j)
+    double m[4], r[3];
+    centreOf<n>(piece, m, r);
+    for (int level = piece.levelLo; level < piece.levelHi; ++level)
     {
-      first.V[i][j] = i == j ? 1.0 : 0.0;
+      setLevel(level);
+      double L[4] = { m[0], m[1], m[2], m[3] };
+      if (newton<n>(Equations_, L) && nearBox<n>(L, m, r, Tolerance_) &&
+        insideSimplex<n>(L, Tolerance_))
+      {
+        keep(L, false);
+      }
     }
   }
-  first.depth = 0;
-  first.levelLo = 0;
-  first.levelHi = multiLevel ? levels.count : 1;
-  const int maxDepth = std::min(limits.maxDepth, 64);
-  // Separating many levels takes pieces along the ray: the budget grows with them (to 64 x).
-  const int maxPieces = limits.maxPieces * (multiLevel ? std::min(levels.count, 64) : 1);
 
-  int visited = 0;
-  // Whether one of equations [0, count) has Bernstein coefficients of one sign on the piece.
-  auto signFixed = [&](const Piece& piece, int count) {
-    for (int k = 0; k < count; ++k)
+  /// Whether the piece lies in the box of a root already found at the current level.
+  bool covered(const Piece& piece) const
+  {
+    for (int b = 0; b < KnownCount_; ++b)
     {
-      double cLo, cHi;
-      coefficientRange<n>(equations[k], piece, cLo, cHi);
-      if (cLo > pad[k] || cHi < -pad[k])
+      bool inside = Known_[b].level == CurrentLevel_;
+      for (int v = 0; v <= n && inside; ++v)
+      {
+        for (int i = 1; i <= n; ++i)
+        {
+          inside = inside && piece.V[v][i] >= Known_[b].lo[i - 1] &&
+            piece.V[v][i] <= Known_[b].hi[i - 1];
+        }
+      }
+      if (inside)
       {
         return true;
       }
     }
     return false;
-  };
-  // Whether the piece's depth bound lies beyond the nearest root found, or before the window.
-  auto outsideWindow = [&](const Piece& piece) {
-    if (!objective)
+  }
+
+  /// Whether one of equations [0, count) has Bernstein coefficients of one sign on the piece.
+  bool signFixed(const Piece& piece, int count) const
+  {
+    for (int k = 0; k < count; ++k)
+    {
+      double cLo, cHi;
+      coefficientRange<n>(Equations_[k], piece, cLo, cHi);
+      if (cLo > Pad_[k] || cHi < -Pad_[k])
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /// Whether the piece's depth bound lies beyond the nearest root found, or before the window.
+  bool outsideWindow(const Piece& piece) const
+  {
+    if (!Objective_)
     {
       return false;
     }
     double oLo, oHi;
-    coefficientRange<n>(*objective, piece, oLo, oHi);
-    return oLo > best + objectivePad || oHi < lo - objectivePad;
-  };
-  // Boxes proven to hold exactly one root, each already found: a piece inside one holds no other
-  // root, so it is dropped (without them, the pieces next to a root, which cannot be certified
-  // because the root is not theirs and cannot be excluded because they touch it, are bisected
-  // level after level).
-  struct KnownBox
+    coefficientRange<n>(*Objective_, piece, oLo, oHi);
+    return oLo > Best_ + ObjectivePad_ || oHi < Lo_ - ObjectivePad_;
+  }
+
+  /// The sign test on the equations preconditioned by the inverse Jacobian at the piece's centre
+  /// (Y F, a combination of forms is a form): near a simple root each is about one coordinate's
+  /// distance to it, so their convex hulls shut out far more than the raw ones. Sets `promising`
+  /// when each varies over the piece by little more than the piece's own width (it is then close
+  /// to linear there, and a Krawczyk test is worth its cost).
+  bool preconditionedExclusion(
+    const Piece& piece, const Linearisation& centre, const double r[3], bool& promising) const
   {
-    double lo[3], hi[3];
-    int level;
-  };
-  KnownBox known[8];
-  int knownCount = 0;
-  while (top > 0)
+    promising = true;
+    for (int i = 0; i < n; ++i)
+    {
+      BernsteinForm combined{};
+      double combinedPad = 0.0;
+      for (int k = 0; k < n; ++k)
+      {
+        for (int a = 0; a <= n; ++a)
+        {
+          for (int b = 0; b <= n; ++b)
+          {
+            combined.b[a][b] += centre.inverse[i][k] * Equations_[k].b[a][b];
+          }
+        }
+        combinedPad += std::abs(centre.inverse[i][k]) * Pad_[k];
+      }
+      double cLo, cHi;
+      coefficientRange<n>(combined, piece, cLo, cHi);
+      // The equations' pads carried through Y, twice: the second copy covers forming the
+      // combination (at most 3 eps of sum |Y_ik| M_k, far below one pad); then the combined
+      // form's own blossom rounding.
+      combinedPad = 2.0 * combinedPad + kBlossomRounding * magnitude<n>(combined);
+      if (cLo > combinedPad || cHi < -combinedPad)
+      {
+        return true;
+      }
+      promising = promising && cHi - cLo <= kNearLinearSpread * r[i];
+    }
+    return false;
+  }
+
+  /// Acceptance: Newton from the contracted box's centre m, to the root the box was proven to
+  /// hold (`certified`) or, at the limit, to one near it. True to stop (any root will do).
+  bool settle(const double m[4], const double r[3], bool certified)
   {
-    Piece piece = stack[--top];
-    ++visited;
-    const bool last = piece.depth >= maxDepth || visited >= maxPieces;
-    if (multiLevel)
+    double L[4] = { m[0], m[1], m[2], m[3] };
+    bool converged = newton<n>(Equations_, L);
+    if (converged && !certified)
     {
-      // The equations other than the field's first (they do not depend on the level).
-      if (signFixed(piece, n - 1))
-      {
-        continue;
-      }
-      // The levels within the field's Bernstein range on this piece.
-      double fLo, fHi;
-      coefficientRange<n>(given[n - 1], piece, fLo, fHi);
-      const double* begin = levels.values + piece.levelLo;
-      const double* end = levels.values + piece.levelHi;
-      piece.levelLo = static_cast<int>(
-        std::lower_bound(begin, end, (fLo - levelPad) / levels.scale) - levels.values);
-      piece.levelHi = static_cast<int>(
-        std::upper_bound(begin, end, (fHi + levelPad) / levels.scale) - levels.values);
-      if (piece.levelLo >= piece.levelHi)
-      {
-        continue;
-      }
-      if (piece.levelHi - piece.levelLo > 1)
-      {
-        if (outsideWindow(piece))
-        {
-          continue;
-        }
-        if (!last)
-        {
-          // Several levels still possible: bisect until each piece keeps one (or none).
-          Piece children[2];
-          bisect<n>(piece, children);
-          pushNearerLast<n>(stack, top, children, objective);
-          continue;
-        }
-        // At the limit with several levels: Newton for each, uncertified.
-        double m[4], r[3];
-        centreOf<n>(piece, m, r);
-        for (int level = piece.levelLo; level < piece.levelHi; ++level)
-        {
-          setLevel(level);
-          double L[4] = { m[0], m[1], m[2], m[3] };
-          bool near = newton<n>(equations, L);
-          for (int i = 1; i <= n; ++i)
-          {
-            near = near && std::abs(L[i] - m[i]) <= 2.0 * r[i - 1] + tolerance; // this piece's root
-          }
-          if (near && insideSimplex<n>(L, tolerance))
-          {
-            keep(L, false);
-          }
-        }
-        continue;
-      }
-      setLevel(piece.levelLo);
+      converged = nearBox<n>(L, m, r, Tolerance_);
     }
-    bool covered = false;
-    for (int b = 0; b < knownCount && !covered; ++b)
+    if (converged && certified)
     {
-      covered = known[b].level == currentLevel;
-      for (int v = 0; v <= n && covered; ++v)
-      {
-        for (int i = 1; i <= n; ++i)
-        {
-          covered = covered && piece.V[v][i] >= known[b].lo[i - 1] && piece.V[v][i] <= known[b].hi[i - 1];
-        }
-      }
+      rememberRoot(L, m, r);
     }
-    if (covered)
+    return converged && insideSimplex<n>(L, Tolerance_) && keep(L, certified) && !Objective_;
+  }
+
+  /// The cache: the largest box around the certified root L (from the box m +- r, growing by
+  /// half while a Krawczyk test still proves the root the only one), for covered().
+  void rememberRoot(const double L[4], const double m[4], const double r[3])
+  {
+    KnownBox box;
+    box.level = CurrentLevel_;
+    double radius = 0.0;
+    for (int i = 0; i < n; ++i)
     {
-      continue;
+      box.lo[i] = m[i + 1] - r[i];
+      box.hi[i] = m[i + 1] + r[i];
+      radius = std::max(radius, r[i]);
     }
-    // Beyond the nearest root found, or before the window: nothing to find.
-    if (signFixed(piece, n) || outsideWindow(piece))
+    for (int grow = 0; grow < kRootBoxGrowths; ++grow)
     {
-      continue;
-    }
-    bool empty = false;
-    // The same test on the equations preconditioned by the inverse Jacobian at the piece's
-    // centre (Y F, a combination of forms is a form): near a simple root each is about one
-    // coordinate's distance to it, so their convex hulls shut out far more than the raw ones.
-    // The piece's centre and the half-widths of the box around it, in y = (L_1..L_n).
-    double m[4], r[3];
-    centreOf<n>(piece, m, r);
-    // Whether a Krawczyk test is worth its cost: when each preconditioned equation varies over
-    // the piece by little more than the piece's own width (it is then close to linear there).
-    bool promising = false;
-    double centreValues[3][3][3]; // F (row 0), J, J^-1 at m, for the first Krawczyk test
-    bool haveCentre = false;
-    {
-      double F[3], J[3][3], Y[3][3];
-      evaluate<n>(equations, m, F, J);
-      if (invert<n>(J, Y))
-      {
-        promising = true;
-        haveCentre = true;
-        for (int i = 0; i < n; ++i)
-        {
-          centreValues[0][0][i] = F[i];
-          for (int j = 0; j < n; ++j)
-          {
-            centreValues[1][i][j] = J[i][j];
-            centreValues[2][i][j] = Y[i][j];
-          }
-        }
-        for (int i = 0; i < n && !empty; ++i)
-        {
-          QuadraticForm combined{};
-          double combinedPad = 0.0;
-          for (int k = 0; k < n; ++k)
-          {
-            for (int a = 0; a <= n; ++a)
-            {
-              for (int b = 0; b <= n; ++b)
-              {
-                combined.b[a][b] += Y[i][k] * equations[k].b[a][b];
-              }
-            }
-            combinedPad += std::abs(Y[i][k]) * pad[k];
-          }
-          double cLo, cHi;
-          coefficientRange<n>(combined, piece, cLo, cHi);
-          // Rounding of the combination itself: a few ulps of its terms.
-          combinedPad = 2.0 * combinedPad + 64.0 * kEpsilon * magnitude<n>(combined);
-          empty = cLo > combinedPad || cHi < -combinedPad;
-          promising = promising && cHi - cLo <= 6.0 * r[i];
-        }
-      }
-    }
-    if (empty)
-    {
-      continue;
-    }
-    // Interval Newton: the roots in the box lie in its Krawczyk image too, so the box shrinks
-    // to their intersection while that helps (quadratically, near a simple root).
-    Krawczyk test = Krawczyk::Unknown;
-    for (int contraction = 0; contraction < ((promising || last) ? 8 : 0); ++contraction)
-    {
-      double image[3][2];
-      test = krawczyk<n>(equations, m, r, image, contraction == 0 && haveCentre ? centreValues : nullptr);
-      if (test != Krawczyk::Unknown)
+      radius *= kRootBoxGrowth;
+      double c[4] = { L[0], L[1], L[2], L[3] }, rr[3] = { radius, radius, radius }, image[3][2];
+      if (krawczyk<n>(Equations_, c, rr, image) != Krawczyk::Unique)
       {
         break;
       }
-      double shrink = 0.0, sum = 0.0;
       for (int i = 0; i < n; ++i)
       {
-        const double lo = std::max(m[i + 1] - r[i], image[i][0]);
-        const double hi = std::min(m[i + 1] + r[i], image[i][1]);
-        shrink = std::max(shrink, (hi - lo) / (2.0 * r[i]));
-        m[i + 1] = 0.5 * (lo + hi);
-        // Not below 1e-9 of the cell: an equation linear in y_i contracts its width to zero,
-        // and a box of zero width could never be proven to hold its root.
-        r[i] = std::max(0.5 * (hi - lo), 1e-9);
-        sum += m[i + 1];
-      }
-      m[0] = 1.0 - sum;
-      if (shrink > 0.7)
-      {
-        break;
+        box.lo[i] = L[i + 1] - radius;
+        box.hi[i] = L[i + 1] + radius;
       }
     }
-    if (test == Krawczyk::None)
+    Known_[KnownCount_ < kKnownBoxes ? KnownCount_++ : (Visited_ % kKnownBoxes)] = box;
+  }
+
+  /// Keeps L (a root of the current level inside the simplex) if it is the nearest so far.
+  bool keep(const double L[4], bool certified)
+  {
+    const double value = Objective_ ? Objective_->bilinear(L, L, n) : 0.0;
+    if (Objective_ && !(value >= Lo_ && value <= Best_))
     {
-      continue;
+      return false;
     }
-    const bool certified = test == Krawczyk::Unique;
-    if (certified || last)
+    Found_ = true;
+    Best_ = value;
+    for (int i = 0; i < 4; ++i)
     {
-      double L[4] = { m[0], m[1], m[2], m[3] };
-      bool converged = newton<n>(equations, L);
-      if (converged && !certified)
-      {
-        // Uncertified: accept only a root near this piece.
-        for (int i = 1; i <= n; ++i)
-        {
-          converged = converged && std::abs(L[i] - m[i]) <= 2.0 * r[i - 1] + tolerance;
-        }
-      }
-      if (converged && certified)
-      {
-        // The largest box around the root (doubling) where it is still proven the only one.
-        KnownBox box;
-        box.level = currentLevel;
-        for (int i = 0; i < n; ++i)
-        {
-          box.lo[i] = m[i + 1] - r[i];
-          box.hi[i] = m[i + 1] + r[i];
-        }
-        double radius = 0.0;
-        for (int i = 0; i < n; ++i)
-        {
-          radius = std::max(radius, r[i]);
-        }
-        for (int grow = 0; grow < 12; ++grow)
-        {
-          radius *= 1.5;
-          double c[4] = { L[0], L[1], L[2], L[3] }, rr[3] = { radius, radius, radius }, image[3][2];
-          if (krawczyk<n>(equations, c, rr, image) != Krawczyk::Unique)
-          {
-            break;
-          }
-          for (int i = 0; i < n; ++i)
-          {
-            box.lo[i] = L[i + 1] - radius;
-            box.hi[i] = L[i + 1] + radius;
-          }
-        }
-        known[knownCount < 8 ? knownCount++ : (visited % 8)] = box;
-      }
-      if (converged && insideSimplex<n>(L, tolerance) && keep(L, certified) && !objective)
-      {
-        break; // any root will do
-      }
-      continue;
+      Root_.L[i] = i <= n ? L[i] : 0.0;
     }
+    Root_.value = value;
+    Root_.certified = certified;
+    Root_.level = CurrentLevel_;
+    return true;
+  }
+
+  /// Makes the last equation the field minus `level` (Levels).
+  void setLevel(int level)
+  {
+    if (level != CurrentLevel_)
+    {
+      Equations_[n - 1] = Given_[n - 1].minus(Levels_.values[level] * Levels_.scale);
+      Pad_[n - 1] = kBlossomRounding * magnitude<n>(Equations_[n - 1]);
+      CurrentLevel_ = level;
+    }
+  }
+
+  /// Subdivision: the piece's two halves onto the stack, the nearer popped first.
+  void split(const Piece& piece)
+  {
     Piece children[2];
     bisect<n>(piece, children);
-    pushNearerLast<n>(stack, top, children, objective);
+    pushNearerLast<n>(Stack_, Top_, children, Objective_);
   }
-  if (pieces)
-  {
-    *pieces = visited;
-  }
-  return found;
-}
+
+  const BernsteinForm* Given_;
+  const BernsteinForm* Objective_;
+  const double Lo_; ///< the window's start (its end: Best_)
+  const double Tolerance_;
+  const Levels& Levels_;
+  SimplexRoot& Root_;
+  const bool MultiLevel_;
+  const int MaxDepth_;
+  const int MaxPieces_;
+  /// The equations being solved; with levels, the last is the given form minus the current level.
+  BernsteinForm Equations_[3];
+  double Pad_[3]; ///< per equation: its coefficients within this of 0 prove no sign
+  double LevelPad_;    ///< the field's pad, for the level partition
+  double ObjectivePad_;
+  int CurrentLevel_;
+  bool Found_ = false;
+  double Best_; ///< the objective of the nearest root kept, or the window's end
+  Piece Stack_[kDepthCap + 2]; ///< depth-first: at most one pending sibling per level
+  int Top_ = 0;
+  int Visited_ = 0;
+  KnownBox Known_[kKnownBoxes];
+  int KnownCount_ = 0;
+};
 } // namespace
 
-bool solveOnSimplex(int n, const QuadraticForm* equations, const QuadraticForm* objective,
+bool solveOnSimplex(int n, const BernsteinForm* equations, const BernsteinForm* objective,
   double lo, double hi, double tolerance, SimplexRoot& root, const SolveLimits& limits, int* pieces,
   const Levels& levels)
 {
-  return n == 2 ? solve<2>(equations, objective, lo, hi, tolerance, root, limits, pieces, levels)
-                : solve<3>(equations, objective, lo, hi, tolerance, root, limits, pieces, levels);
+  return n == 2
+    ? SimplexSearch<2>(equations, objective, lo, hi, tolerance, limits, levels, root).run(pieces)
+    : SimplexSearch<3>(equations, objective, lo, hi, tolerance, limits, levels, root).run(pieces);
 }
 
 CurvedGeometry CurvedGeometry::fromNodes(const glm::dvec3 nodes[10], double scale)
@@ -804,9 +886,9 @@ glm::dmat3 CurvedGeometry::jacobian(const double L[4]) const
   return glm::dmat3(2.0 * (pl[1] - pl[0]), 2.0 * (pl[2] - pl[0]), 2.0 * (pl[3] - pl[0]));
 }
 
-QuadraticForm CurvedGeometry::component(const glm::dvec3& axis, double offset) const
+BernsteinForm CurvedGeometry::component(const glm::dvec3& axis, double offset) const
 {
-  QuadraticForm form{};
+  BernsteinForm form{};
   for (int i = 0; i < 4; ++i)
   {
     for (int j = 0; j < 4; ++j)
@@ -817,7 +899,7 @@ QuadraticForm CurvedGeometry::component(const glm::dvec3& axis, double offset) c
   return form;
 }
 
-void CurvedGeometry::pointEquations(const glm::dvec3& target, QuadraticForm equations[3]) const
+void CurvedGeometry::pointEquations(const glm::dvec3& target, BernsteinForm equations[3]) const
 {
   for (int k = 0; k < 3; ++k)
   {
@@ -843,7 +925,7 @@ void CurvedGeometry::box(glm::dvec3& lo, glm::dvec3& hi) const
   hi = origin + hi / scale;
 }
 
-glm::dvec3 curvedGradient(const CurvedGeometry& geometry, const QuadraticForm& field,
+glm::dvec3 curvedGradient(const CurvedGeometry& geometry, const BernsteinForm& field,
   const double L[4])
 {
   double g[3];
@@ -890,6 +972,7 @@ double determinantBlossom(const CurvedGeometry& g, const double* U, const double
 
 JacobianSign jacobianSign(const CurvedGeometry& geometry)
 {
+  // The bisection depth: 5 halvings of every edge (3 levels halve a piece), 1/32 of the cell.
   constexpr int kMaxDepth = 15;
   Piece stack[kMaxDepth + 2];
   int top = 0;
@@ -928,7 +1011,7 @@ JacobianSign jacobianSign(const CurvedGeometry& geometry)
     }
     if (tolerance < 0.0)
     {
-      tolerance = 1e-12 * largest;
+      tolerance = kDeterminantTolerance * largest;
     }
     int pieceSign = lo > tolerance ? 1 : hi < -tolerance ? -1 : 0;
     if (pieceSign != 0)
@@ -966,7 +1049,7 @@ JacobianSign jacobianSign(const CurvedGeometry& geometry)
 
 bool inverseNewton(const CurvedGeometry& geometry, const glm::dvec3& target, double L[4])
 {
-  QuadraticForm equations[3];
+  BernsteinForm equations[3];
   geometry.pointEquations(target, equations);
   return newton<3>(equations, L);
 }

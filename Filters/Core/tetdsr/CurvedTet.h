@@ -21,51 +21,12 @@
 // Newton alone and the result is flagged uncertified.
 #pragma once
 
+#include "tetdsr/QuadraticTet.h"
+
 #include <glm/glm.hpp>
 
 namespace tetdsr
 {
-
-/// A symmetric quadratic form q(L) = L^T b L in the barycentric coordinates L_0..L_n of a simplex
-/// (n <= 3; entries beyond n are unused): b holds its Bernstein coefficients.
-struct QuadraticForm
-{
-  double b[4][4];
-
-  /// The blossom (polar form) u^T b v over indices 0..n.
-  double blossom(const double u[4], const double v[4], int n) const
-  {
-    double sum = 0.0;
-    for (int i = 0; i <= n; ++i)
-    {
-      double bv = 0.0;
-      for (int j = 0; j <= n; ++j)
-      {
-        bv += b[i][j] * v[j];
-      }
-      sum += u[i] * bv;
-    }
-    return sum;
-  }
-
-  /// The form minus a constant (sum L = 1, so a constant is c in every coefficient).
-  QuadraticForm minus(double c) const
-  {
-    QuadraticForm form = *this;
-    for (auto& row : form.b)
-    {
-      for (double& entry : row)
-      {
-        entry -= c;
-      }
-    }
-    return form;
-  }
-
-  /// Its restriction to the face opposite vertex `omit` of a tetrahedron (n = 3 -> 2): the face's
-  /// barycentric coordinates are the other three, in order.
-  QuadraticForm face(int omit) const;
-};
 
 struct SimplexRoot
 {
@@ -100,7 +61,7 @@ struct SolveLimits
 /// watertight neighbours) of the n quadratic `equations`. With an objective: the root whose
 /// objective value is least within [lo, hi]; without (nullptr): any root. Returns false when
 /// there is none. `pieces`, if given, receives the number of sub-simplices visited.
-bool solveOnSimplex(int n, const QuadraticForm* equations, const QuadraticForm* objective,
+bool solveOnSimplex(int n, const BernsteinForm* equations, const BernsteinForm* objective,
   double lo, double hi, double tolerance, SimplexRoot& root, const SolveLimits& limits = {},
   int* pieces = nullptr, const Levels& levels = {});
 
@@ -120,17 +81,17 @@ struct CurvedGeometry
   /// dX/dy for y = (L_1, L_2, L_3), L_0 = 1 - L_1 - L_2 - L_3: column j - 1 is dX/dL_j - dX/dL_0.
   glm::dmat3 jacobian(const double L[4]) const;
   /// The form axis . X(L) - offset.
-  QuadraticForm component(const glm::dvec3& axis, double offset) const;
+  BernsteinForm component(const glm::dvec3& axis, double offset) const;
   /// The three forms X_k(L) - target_k (local coordinates): their common root is target's
   /// preimage.
-  void pointEquations(const glm::dvec3& target, QuadraticForm equations[3]) const;
+  void pointEquations(const glm::dvec3& target, BernsteinForm equations[3]) const;
   /// The box around the control points (world coordinates): it holds the cell.
   void box(glm::dvec3& lo, glm::dvec3& hi) const;
 };
 
 /// The field's gradient in local coordinates X at L: J^-T grad_y f, with grad_y f from the form
 /// (its derivative along L_j - L_0). Zero where J is singular.
-glm::dvec3 curvedGradient(const CurvedGeometry& geometry, const QuadraticForm& field,
+glm::dvec3 curvedGradient(const CurvedGeometry& geometry, const BernsteinForm& field,
   const double L[4]);
 
 /// The sign of det(dX/dy) over the whole cell, from its Bernstein coefficients (a cubic in L)

@@ -12,6 +12,11 @@ namespace tetdsr
 
 namespace
 {
+/// How far past a constant region's entry (local units: the cell's size is near 1) the search for
+/// its exit starts, so that it does not find the entry root again: 1e-9 of the cell, far above
+/// the face roots' rounding (~1e-15) and far below a pixel.
+constexpr double kExitSearchStep = 1e-9;
+
 /// The curved cell's geometry in its local frame (origin its vertex 0, unit near its size).
 CurvedGeometry localGeometry(const glm::dvec3 nodes[kCellNodes])
 {
@@ -35,7 +40,7 @@ bool constantIsoIndex(const IsoValues& isoValues, double lo, double hi, double s
 
 /// The field's form scaled by a power of two (returned in `scale`) to a largest magnitude near 1,
 /// and its Bernstein bound [lo, hi] (scaled).
-QuadraticForm scaledFieldForm(const double nodeValues[kCellNodes], double& scale, double& lo, double& hi)
+BernsteinForm scaledFieldForm(const double nodeValues[kCellNodes], double& scale, double& lo, double& hi)
 {
   scale = unitScale(nodeValues);
   double values[kCellNodes];
@@ -43,16 +48,8 @@ QuadraticForm scaledFieldForm(const double nodeValues[kCellNodes], double& scale
   {
     values[n] = nodeValues[n] * scale;
   }
-  const BernsteinForm bernstein = BernsteinForm::fromNodeValues(values);
-  bernstein.range(lo, hi);
-  QuadraticForm form;
-  for (int i = 0; i < 4; ++i)
-  {
-    for (int j = 0; j < 4; ++j)
-    {
-      form.b[i][j] = bernstein.b[i][j];
-    }
-  }
+  const BernsteinForm form = BernsteinForm::fromNodeValues(values);
+  form.range(lo, hi);
   return form;
 }
 
@@ -71,8 +68,8 @@ void orthonormalPair(const glm::dvec3& d, glm::dvec3& u, glm::dvec3& v)
 /// if that is inside the cell) to where it next leaves. `equations` are the ray's two transverse
 /// equations, `depth` its depth form, [lo, hi] the local depth interval; t_world = (tCentre + T) / s.
 bool constantCrossing(const glm::dvec3 nodes[kCellNodes], const IsoValues& isoValues,
-  double boundLo, double boundHi, double scale, const QuadraticForm equations[2],
-  const QuadraticForm& depth, const Ray& ray, double tMin, double lo, double hi, double tCentre,
+  double boundLo, double boundHi, double scale, const BernsteinForm equations[2],
+  const BernsteinForm& depth, const Ray& ray, double tMin, double lo, double hi, double tCentre,
   double s, SurfaceHit& hit)
 {
   std::size_t index;
@@ -85,8 +82,8 @@ bool constantCrossing(const glm::dvec3 nodes[kCellNodes], const IsoValues& isoVa
     double nearest = std::numeric_limits<double>::infinity();
     for (int face = 0; face < 4; ++face)
     {
-      const QuadraticForm faceEquations[2] = { equations[0].face(face), equations[1].face(face) };
-      const QuadraticForm faceDepth = depth.face(face);
+      const BernsteinForm faceEquations[2] = { equations[0].face(face), equations[1].face(face) };
+      const BernsteinForm faceDepth = depth.face(face);
       SimplexRoot faceRoot;
       if (solveOnSimplex(2, faceEquations, &faceDepth, from, std::min(nearest, to),
             kBarycentricTolerance, faceRoot))
@@ -96,8 +93,7 @@ bool constantCrossing(const glm::dvec3 nodes[kCellNodes], const IsoValues& isoVa
     }
     return nearest;
   };
-  // The start is inside when it is finite and the cell contains it; 1e-9 (local units, the
-  // cell's size near 1) steps past the entry root so that the exit search does not find it.
+  // The start is inside when it is finite and the cell contains it.
   double startL[4];
   const double enter = std::isfinite(lo) && CurvedTetCell::contains(nodes, ray.origin + tMin * ray.direction, startL)
     ? lo
@@ -106,7 +102,7 @@ bool constantCrossing(const glm::dvec3 nodes[kCellNodes], const IsoValues& isoVa
   {
     return false;
   }
-  const double leave = firstFaceCrossing(enter + 1e-9, hi);
+  const double leave = firstFaceCrossing(enter + kExitSearchStep, hi);
   hit.isoIndex = index;
   hit.t = (tCentre + enter) / s;
   hit.regionEnd = std::isfinite(leave) ? (tCentre + leave) / s : hit.t;
@@ -136,7 +132,7 @@ bool CurvedTetCell::extent(const glm::dvec3 nodes[kCellNodes], glm::dvec3& lo, g
 bool CurvedTetCell::contains(const glm::dvec3 nodes[kCellNodes], const glm::dvec3& point, double L[4])
 {
   const CurvedGeometry geometry = localGeometry(nodes);
-  QuadraticForm equations[3];
+  BernsteinForm equations[3];
   geometry.pointEquations((point - geometry.origin) * geometry.scale, equations);
   SimplexRoot root;
   if (!solveOnSimplex(3, equations, nullptr, 0.0, 0.0, kBarycentricTolerance, root))
@@ -169,15 +165,7 @@ glm::dvec3 CurvedTetCell::gradient(
   const glm::dvec3 nodes[kCellNodes], const double values[kCellNodes], const double L[4])
 {
   const CurvedGeometry geometry = localGeometry(nodes);
-  const BernsteinForm bernstein = BernsteinForm::fromNodeValues(values);
-  QuadraticForm field{};
-  for (int i = 0; i < 4; ++i)
-  {
-    for (int j = 0; j < 4; ++j)
-    {
-      field.b[i][j] = bernstein.b[i][j];
-    }
-  }
+  const BernsteinForm field = BernsteinForm::fromNodeValues(values);
   // grad_x f = s grad_X f (X the local coordinates).
   return curvedGradient(geometry, field, L) * geometry.scale;
 }
@@ -206,15 +194,15 @@ bool CurvedTetCell::intersect(const glm::dvec3 nodes[kCellNodes], const double v
   const glm::dvec3 o = origin + tCentre * d;
   glm::dvec3 u, v;
   orthonormalPair(d, u, v);
-  QuadraticForm equations[3];
+  BernsteinForm equations[3];
   equations[0] = geometry.component(u, glm::dot(u, o));
   equations[1] = geometry.component(v, glm::dot(v, o));
-  const QuadraticForm depth = geometry.component(d, glm::dot(d, o));
+  const BernsteinForm depth = geometry.component(d, glm::dot(d, o));
   const double lo = tMin * s - tCentre;
   const double hi = tLimit * s - tCentre;
 
   double scale, boundLo, boundHi;
-  const QuadraticForm field = scaledFieldForm(values, scale, boundLo, boundHi);
+  const BernsteinForm field = scaledFieldForm(values, scale, boundLo, boundHi);
   SimplexRoot root;
   if (constantToRounding(boundLo, boundHi))
   {

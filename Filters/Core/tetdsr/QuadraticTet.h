@@ -11,6 +11,8 @@
 // ray L is affine in t, so f(t) is exactly the quadratic (dL^T B dL) t^2 + 2 (L^T B dL) t + L^T B L.
 #pragma once
 
+#include "tetdsr/LinearSystem.h"
+
 #include <glm/glm.hpp>
 
 #include <algorithm>
@@ -25,7 +27,10 @@ inline constexpr std::array<std::array<int, 2>, 6> kEdgeVertices = {
   { { 0, 1 }, { 1, 2 }, { 0, 2 }, { 0, 3 }, { 1, 3 }, { 2, 3 } }
 };
 
-/// The symmetric 4x4 Bernstein coefficient matrix B of f = L^T B L.
+/// A symmetric quadratic form q(L) = L^T B L in the barycentric coordinates L_0..L_n of a simplex
+/// (n = 3, a tetrahedron, or n = 2, a triangle; entries beyond n are unused), B holding its
+/// Bernstein-Bezier coefficients: the field of a cell, and in a curved cell each coordinate of its
+/// map and the equations of a ray (CurvedTet.h).
 struct BernsteinForm
 {
   double b[4][4];
@@ -87,9 +92,15 @@ struct BernsteinForm
         system[n][r] = 1.0;
       }
       system[n][n + 1] = 1.0;
-      double L[4];
-      if (!solveSmall(system, n + 1, L))
+      // Pivots at rounding level (solveLinearSystem: k^2 2^(k-1) eps = 400 eps = 8.9e-14 for
+      // the tet's 5 x 5 system, so 1e-13) mean a singular system: a line of critical points,
+      // whose extremes its face's boundary gives.
+      constexpr double kLagrangePivotTolerance = 1e-13;
+      if (!solveLinearSystem(system, n + 1, 1, kLagrangePivotTolerance))
         continue;
+      double L[4];
+      for (int r = 0; r < n; ++r)
+        L[r] = system[r][n + 1];
       bool inside = true;
       double full[4] = { 0.0, 0.0, 0.0, 0.0 };
       for (int r = 0; r < n; ++r)
@@ -106,55 +117,57 @@ struct BernsteinForm
     }
   }
 
-  /// u^T B v.
-  double bilinear(const double u[4], const double v[4]) const
+  /// u^T B v over indices 0..n: the blossom (polar form) of q, which is q(L) at u = v = L.
+  double bilinear(const double u[4], const double v[4], int n = 3) const
   {
     double sum = 0.0;
-    for (int i = 0; i < 4; ++i)
+    for (int i = 0; i <= n; ++i)
     {
-      const double bv = b[i][0] * v[0] + b[i][1] * v[1] + b[i][2] * v[2] + b[i][3] * v[3];
+      double bv = b[i][0] * v[0];
+      for (int j = 1; j <= n; ++j)
+      {
+        bv += b[i][j] * v[j];
+      }
       sum += u[i] * bv;
     }
     return sum;
   }
 
-private:
-  // Gaussian elimination with partial pivoting on an augmented size x (size + 1) system;
-  // returns the first size - 1 unknowns (the last is the Lagrange multiplier).
-  static bool solveSmall(double a[5][6], int size, double x[4])
+  /// The form minus a constant (sum L = 1, so a constant is c in every coefficient).
+  BernsteinForm minus(double c) const
   {
-    double scale = 0.0;
-    for (int r = 0; r < size; ++r)
-      for (int c = 0; c < size; ++c)
-        scale = std::max(scale, std::abs(a[r][c]));
-    for (int col = 0; col < size; ++col)
+    BernsteinForm form = *this;
+    for (auto& row : form.b)
     {
-      int pivot = col;
-      for (int r = col + 1; r < size; ++r)
-        if (std::abs(a[r][col]) > std::abs(a[pivot][col]))
-          pivot = r;
-      if (!(std::abs(a[pivot][col]) > 1e-13 * scale))
-        return false;
-      for (int c = 0; c <= size; ++c)
-        std::swap(a[col][c], a[pivot][c]);
-      for (int r = col + 1; r < size; ++r)
+      for (double& entry : row)
       {
-        const double factor = a[r][col] / a[col][col];
-        for (int c = col; c <= size; ++c)
-          a[r][c] -= factor * a[col][c];
+        entry -= c;
       }
     }
-    double solution[5];
-    for (int r = size - 1; r >= 0; --r)
+    return form;
+  }
+
+  /// Its restriction to the face opposite vertex `omit` of a tetrahedron (n = 3 -> 2): the face's
+  /// barycentric coordinates are the other three, in order.
+  BernsteinForm face(int omit) const
+  {
+    BernsteinForm form{};
+    int index[3], count = 0;
+    for (int k = 0; k < 4; ++k)
     {
-      double sum = a[r][size];
-      for (int c = r + 1; c < size; ++c)
-        sum -= a[r][c] * solution[c];
-      solution[r] = sum / a[r][r];
+      if (k != omit)
+      {
+        index[count++] = k;
+      }
     }
-    for (int r = 0; r < size - 1; ++r)
-      x[r] = solution[r];
-    return true;
+    for (int i = 0; i < 3; ++i)
+    {
+      for (int j = 0; j < 3; ++j)
+      {
+        form.b[i][j] = b[index[i]][index[j]];
+      }
+    }
+    return form;
   }
 };
 

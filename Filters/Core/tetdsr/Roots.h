@@ -17,6 +17,13 @@ inline double discriminant(double a, double b, double c)
   return std::fma(b, b, -4.0 * product) - 4.0 * productError;
 }
 
+/// A discriminant negative by less than this fraction of its terms' size (b^2 + |4ac|) is taken
+/// as 0, a double root (the surface touched, e.g. f = x^2 at iso-value 0); one more negative, as
+/// a ray that passes. a, b and c are bilinear forms of the field (sums of up to 16 rounded
+/// products), so the discriminant is uncertain by a few tens of eps of its terms, more where those
+/// sums cancel: 1e-12 (about 4500 eps) leaves two orders of magnitude for that.
+inline constexpr double kDoubleRootBand = 1e-12;
+
 /// Smallest root of a s^2 + b s + c in [lo, hi]; returns false if there is none.
 /// A segment on which the quadratic is identically zero (a = b = c = 0: the field equals the
 /// iso-value along the whole segment) reports its start.
@@ -39,9 +46,8 @@ inline bool firstRootInInterval(double a, double b, double c, double lo, double 
     return accept(-c / b); // linear: one root
   }
   // Most rays that pass through a cell miss its surface with a clearly negative discriminant:
-  // the plain b^2 - 4ac (error below 4 eps of its terms, far inside the band below) says so
+  // the plain b^2 - 4ac (error below 4 eps of its terms, far inside twice the band) says so
   // without the exact one's fma calls, with the same outcome.
-  constexpr double kDoubleRootBand = 1e-12;
   const double terms = b * b + std::abs(4.0 * a * c);
   if (b * b - 4.0 * a * c < -2.0 * kDoubleRootBand * terms)
   {
@@ -50,9 +56,7 @@ inline bool firstRootInInterval(double a, double b, double c, double lo, double 
   double disc = discriminant(a, b, c);
   if (disc < 0.0)
   {
-    // a, b, c carry relative errors of a few ulps from their evaluation, so a discriminant that
-    // is negative by less than kDoubleRootBand of its terms' size cannot be told from 0: take it
-    // as a double root (the surface touched, e.g. f = x^2 at iso 0). Otherwise the ray passes.
+    // Within the band: a double root; beyond it the ray passes.
     if (disc < -kDoubleRootBand * terms)
     {
       return false;
