@@ -13,6 +13,7 @@
 #include "TetDSRFiltersModule.h" // for export macro
 #include "vtkType.h"
 
+#include "tetdsr/MeshInput.h"
 #include "tetdsr/Messages.h"
 #include "tetdsr/Renderer.h"
 #include "tetdsr/Scene.h"
@@ -64,16 +65,8 @@ public:
   /// the scene changed since the last call. Only after a successful Prepare.
   const SurfaceIndex& GetSurface(const std::vector<double>& isoValues, int numberOfThreads);
 
-  /// Counts of the last Prepare: the core's, and cells the adapter left out before it.
+  /// Counts of the last Prepare (the core's, cells of unread types and malformed ones among them).
   const PreprocessSummary& GetSummary() const;
-  /// Cells of another type than VTK_QUADRATIC_TETRA / VTK_TETRA.
-  vtkIdType GetUnsupportedCells() const;
-  /// Cells whose number of ids does not match their type, or whose offsets are out of order or
-  /// out of the connectivity array.
-  vtkIdType GetMalformedCells() const;
-
-  /// The input cell id of a scene cell (they differ when cells were left out).
-  vtkIdType InputCellId(NodeId sceneCell) const;
 
   /// A point array's values as doubles (all components), viewed or copied once and kept until
   /// the array changes. Null, with an error, when the array has fewer tuples than the mesh has

@@ -790,8 +790,8 @@ int vtkDirectSurfaceRayCaster::RequestData(
   this->NumberOfOutOfScaleCells = summary.outOfScaleCells;
   this->NumberOfNonFiniteCells = summary.nonFiniteCells;
   this->NumberOfInvalidIdCells = summary.invalidIdCells;
-  this->NumberOfUnsupportedCells = hasPiece ? prepared.GetUnsupportedCells() : 0;
-  this->NumberOfMalformedCells = hasPiece ? prepared.GetMalformedCells() : 0;
+  this->NumberOfUnsupportedCells = summary.unsupportedCells;
+  this->NumberOfMalformedCells = summary.malformedCells;
   const double* colorValues = colorArray && ready
     ? prepared.PointArrayValues(colorArray, "colour array", messages)
     : nullptr;
@@ -912,15 +912,15 @@ int vtkDirectSurfaceRayCaster::RequestData(
     return 1;
   }
 
-  // Map scene cell indices back to input cell ids where cells were re-indexed; distributed, count
-  // the cells of the processes before this one first.
+  // Hits carry input cell ids; distributed, count the cells of the processes before this one
+  // first.
   const vtkIdType cellOffset = processes.CellsBefore(hasPiece ? input->GetNumberOfCells() : 0);
   vtkIdType* ids = image.CellIds->GetPointer(0);
   for (vtkIdType p = 0; p < pixels; ++p)
   {
     if (ids[p] >= 0)
     {
-      ids[p] = prepared.InputCellId(ids[p]) + cellOffset;
+      ids[p] += cellOffset;
     }
   }
 

@@ -74,6 +74,11 @@ struct Lattice
               ids[4 + e] = id((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2);
             }
           }
+    // VTK's layout: every cell a VTK_QUADRATIC_TETRA at offsets 0, 10, 20, ...
+    cellTypes.assign(static_cast<std::size_t>(cells), tetdsr::kVtkQuadraticTetra);
+    offsets.resize(static_cast<std::size_t>(cells) + 1);
+    for (tetdsr::NodeId c = 0; c <= cells; ++c)
+      offsets[static_cast<std::size_t>(c)] = 10 * c;
   }
 
   tetdsr::MeshView view(const std::vector<double>& values) const
@@ -81,14 +86,19 @@ struct Lattice
     tetdsr::MeshView mesh;
     mesh.points = points.data();
     mesh.numberOfPoints = static_cast<tetdsr::NodeId>(values.size());
-    mesh.cellNodes = cellNodes.data();
     mesh.numberOfCells = cells;
+    mesh.cellTypes = cellTypes.data();
+    mesh.offsets = offsets.data();
+    mesh.connectivity = cellNodes.data();
+    mesh.connectivitySize = static_cast<tetdsr::NodeId>(cellNodes.size());
     mesh.values = values.data();
     return mesh;
   }
 
   std::vector<double> points;
   std::vector<tetdsr::NodeId> cellNodes;
+  std::vector<std::uint8_t> cellTypes;
+  std::vector<tetdsr::NodeId> offsets;
   tetdsr::NodeId cells = 0;
   std::vector<double> quadric, wave, bubbles;
 };

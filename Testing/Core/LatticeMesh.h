@@ -23,14 +23,28 @@ struct LatticeMesh
   std::vector<double> values;
   /// Integer half-step lattice key of each point (vertices have even coordinates).
   std::vector<std::array<int, 3>> keys;
+  /// VTK's layout of the cells, made by view(): every cell a VTK_QUADRATIC_TETRA at offsets
+  /// 0, 10, 20, ... into cellNodes.
+  mutable std::vector<std::uint8_t> cellTypes;
+  mutable std::vector<tetdsr::NodeId> offsets;
 
   tetdsr::MeshView view() const
   {
+    const auto cells = static_cast<tetdsr::NodeId>(cellNodes.size() / 10);
+    cellTypes.assign(static_cast<std::size_t>(cells), tetdsr::kVtkQuadraticTetra);
+    offsets.resize(static_cast<std::size_t>(cells) + 1);
+    for (tetdsr::NodeId c = 0; c <= cells; ++c)
+    {
+      offsets[static_cast<std::size_t>(c)] = 10 * c;
+    }
     tetdsr::MeshView mesh;
     mesh.points = points.data();
     mesh.numberOfPoints = static_cast<tetdsr::NodeId>(points.size() / 3);
-    mesh.cellNodes = cellNodes.data();
-    mesh.numberOfCells = static_cast<tetdsr::NodeId>(cellNodes.size() / 10);
+    mesh.numberOfCells = cells;
+    mesh.cellTypes = cellTypes.data();
+    mesh.offsets = offsets.data();
+    mesh.connectivity = cellNodes.data();
+    mesh.connectivitySize = static_cast<tetdsr::NodeId>(cellNodes.size());
     mesh.values = values.data();
     return mesh;
   }

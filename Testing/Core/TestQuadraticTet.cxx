@@ -518,12 +518,20 @@ TEST(Scene, LinearTetEqualsQuadraticTetWithMidpointValues)
 {
   LatticeMesh quadratic = makeLattice(2, glm::dvec3(0.0), 1.0);
   quadratic.sample([](const glm::dvec3& x) { return 0.3 * x.x - 0.5 * x.y + 0.8 * x.z; });
-  LatticeMesh linear = quadratic;
-  for (std::size_t c = 0; c < linear.cellNodes.size() / 10; ++c)
-    for (int k = 4; k < 10; ++k)
-      linear.cellNodes[10 * c + k] = tetdsr::kStraightEdge;
-  tetdsr::MeshView linearView = linear.view();
-  linearView.straightEdgeMarkers = true;
+  // The same cells as VTK_TETRA: their 4 vertex ids only.
+  std::vector<tetdsr::NodeId> vertexIds, offsets{ 0 };
+  for (std::size_t c = 0; c < quadratic.cellNodes.size() / 10; ++c)
+  {
+    vertexIds.insert(vertexIds.end(), quadratic.cellNodes.begin() + 10 * c,
+      quadratic.cellNodes.begin() + 10 * c + 4);
+    offsets.push_back(static_cast<tetdsr::NodeId>(vertexIds.size()));
+  }
+  const std::vector<std::uint8_t> types(offsets.size() - 1, tetdsr::kVtkTetra);
+  tetdsr::MeshView linearView = quadratic.view();
+  linearView.cellTypes = types.data();
+  linearView.offsets = offsets.data();
+  linearView.connectivity = vertexIds.data();
+  linearView.connectivitySize = static_cast<tetdsr::NodeId>(vertexIds.size());
   const tetdsr::Scene a(quadratic.view()), b(linearView);
   const tetdsr::IsoValues iso({ 0.2 });
   const tetdsr::SurfaceIndex surfaceA(a, iso), surfaceB(b, iso);

@@ -1,9 +1,9 @@
 #include "tetdsr/Scene.h"
 
-#include "tetdsr/CurvedTet.h"
+#include "tetdsr/CurvedTetCell.h"
 #include "tetdsr/Hierarchy.h"
-#include "tetdsr/QuadraticTet.h"
-#include "tetdsr/Roots.h"
+#include "tetdsr/LinearTetCell.h"
+#include "tetdsr/QuadraticTetCell.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,23 +17,14 @@ namespace
 // Preprocessing works in chunks of this many cells (merged in order: deterministic).
 constexpr NodeId kChunkCells = 1 << 14;
 
-// A mid-edge node farther than this many times the coordinates' rounding (MeshView::
-// pointRounding), relative to the cell's longest edge, from its edge's midpoint makes the cell
-// curved (isoparametric). Treating a cell straight moves its surface by about the offset: below
-// this, by less than 1e-13 of the cell for double coordinates.
-constexpr double kCurvedRoundings = 64.0;
-
-// Below this fraction of max-edge^3, 6*volume is treated as zero: the barycentric frame would
-// amplify rounding by more than 1e13. Slivers and needles of aspect ratio 1e4 stay far above it.
-constexpr double kDegenerateVolumeRatio = 1e-13;
-
-bool distinctIds(const NodeId ids[10])
+/// Whether no point id appears twice in a cell (a repeated one collapses it).
+bool distinctIds(const NodeId* ids, int count)
 {
-  for (int i = 0; i < 10; ++i)
+  for (int i = 0; i < count; ++i)
   {
-    for (int j = i + 1; j < 10; ++j)
+    for (int j = i + 1; j < count; ++j)
     {
-      if (ids[i] >= 0 && ids[i] == ids[j])
+      if (ids[i] == ids[j])
       {
         return false;
       }
@@ -42,54 +33,17 @@ bool distinctIds(const NodeId ids[10])
   return true;
 }
 
-/// A power of two that brings `largest` (a magnitude) near 1; 1 for zero or non-finite.
-/// Clamped so the factor itself stays a normal double.
-double scaleFor(double largest)
+float roundDown(double x)
 {
-  if (!(largest > 0.0) || !std::isfinite(largest))
-  {
-    return 1.0;
-  }
-  return std::ldexp(1.0, -std::clamp(std::ilogb(largest), -1020, 1020));
+  float f = static_cast<float>(x);
+  return static_cast<double>(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
 }
 
-/// The longest edge of a tet. sqrt is monotonic and correctly rounded: one root of the largest
-/// square is the largest length.
-double longestEdge(const glm::dvec3 vertices[4])
+float roundUp(double x)
 {
-  double longest2 = 0.0;
-  for (const auto& edge : kEdgeVertices)
-  {
-    const glm::dvec3 d = vertices[edge[0]] - vertices[edge[1]];
-    longest2 = std::max(longest2, glm::dot(d, d));
-  }
-  return std::sqrt(longest2);
+  float f = static_cast<float>(x);
+  return static_cast<double>(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
 }
-
-/// A cell's extent: its vertices' box, or for a curved cell its control points' (the curved cell
-/// lies in their convex hull); false if that is not finite.
-bool cellExtent(const glm::dvec3 nodes[10], double maxEdge, bool curved, glm::dvec3& lo, glm::dvec3& hi)
-{
-  lo = glm::min(glm::min(nodes[0], nodes[1]), glm::min(nodes[2], nodes[3]));
-  hi = glm::max(glm::max(nodes[0], nodes[1]), glm::max(nodes[2], nodes[3]));
-  if (curved)
-  {
-    CurvedGeometry::fromNodes(nodes, scaleFor(maxEdge)).box(lo, hi);
-  }
-  return isFinite(lo) && isFinite(hi);
-}
-
-/// scaleFor the largest magnitude of 10 nodal values.
-double unitScale(const double values[10])
-{
-  double largest = 0.0;
-  for (int n = 0; n < 10; ++n)
-  {
-    largest = std::max(largest, std::abs(values[n]));
-  }
-  return scaleFor(largest);
-}
-
 } // namespace
 
 IsoValues::IsoValues(const std::vector<double>& values)
@@ -107,35 +61,7 @@ IsoValues::IsoValues(const std::vector<double>& values)
   }
 }
 
-namespace
-{
-// Cell validation outcome, as bits.
-enum : std::uint8_t
-{
-  kValid = 1,
-  kInverted = 2,
-  kCurved = 4,
-  kDegenerate = 8,
-  kNonFinite = 16,
-  kInvalidId = 32,
-  kOutOfScale = 64,
-  kTangled = 128
-};
-
-float roundDown(double x)
-{
-  float f = static_cast<float>(x);
-  return static_cast<double>(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
-}
-
-float roundUp(double x)
-{
-  float f = static_cast<float>(x);
-  return static_cast<double>(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
-}
-} // namespace
-
-void TransverseTest::range(const double nodeValues[10], double& lo, double& hi) const
+void TransverseTest::range(const double nodeValues[kCellNodes], double& lo, double& hi) const
 {
   if (mode == Mode::BernsteinBound)
   {
@@ -155,8 +81,8 @@ void TransverseTest::range(const double nodeValues[10], double& lo, double& hi) 
     }
     return;
   }
-  lo = *std::min_element(nodeValues, nodeValues + 10);
-  hi = *std::max_element(nodeValues, nodeValues + 10);
+  lo = *std::min_element(nodeValues, nodeValues + kCellNodes);
+  hi = *std::max_element(nodeValues, nodeValues + kCellNodes);
   const double margin = widening * (hi - lo);
   lo -= margin;
   hi += margin;
@@ -171,10 +97,17 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
     Mesh_.numberOfCells = 0; // cannot be indexed: an empty scene (the caller reports it)
     return;
   }
+  // Whether a cell's type and offsets can be trusted to read its ids (validate counts the rest).
+  auto readable = [&](NodeId cell) {
+    const NodeId begin = mesh.offsets[cell];
+    const int count = nodeCount(mesh.cellTypes[cell]);
+    return count > 0 && begin >= 0 && mesh.offsets[cell + 1] - begin == count &&
+      mesh.offsets[cell + 1] <= mesh.connectivitySize;
+  };
   // Any finite vertex of the mesh will do as the origin of the float boxes.
   for (NodeId cell = 0; cell < mesh.numberOfCells; ++cell)
   {
-    const NodeId id = mesh.cellNodes[10 * cell];
+    const NodeId id = readable(cell) ? mesh.connectivity[mesh.offsets[cell]] : -1;
     if (id >= 0 && id < mesh.numberOfPoints)
     {
       const glm::dvec3 p(mesh.points[3 * id], mesh.points[3 * id + 1], mesh.points[3 * id + 2]);
@@ -204,9 +137,14 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
     double extent = 0.0;
     for (NodeId cell = begin; cell < end; ++cell)
     {
+      if (!readable(cell))
+      {
+        continue;
+      }
+      const NodeId* ids = mesh.connectivity + mesh.offsets[cell];
       for (int k = 0; k < 4; ++k)
       {
-        const NodeId id = mesh.cellNodes[10 * cell + k];
+        const NodeId id = ids[k];
         if (id >= 0 && id < mesh.numberOfPoints)
         {
           for (int a = 0; a < 3; ++a)
@@ -229,7 +167,7 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
   // Validate every cell, each writing only its own slot, and count per chunk...
   const auto cells = static_cast<std::size_t>(mesh.numberOfCells);
   ValidCells_.resize(cells);
-  FillLaterVector<std::uint8_t> status(cells);
+  FillLaterVector<std::uint16_t> status(cells);
   std::vector<PreprocessSummary> chunkSummary(static_cast<std::size_t>(chunks));
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   std::vector<glm::dvec3> chunkLo(static_cast<std::size_t>(chunks), glm::dvec3(kInfinity));
@@ -242,7 +180,7 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
     {
       const auto c = static_cast<std::size_t>(cell);
       glm::dvec3 lo, hi;
-      const std::uint8_t flags = validate(cell, ValidCells_[c], lo, hi);
+      const std::uint16_t flags = validate(cell, ValidCells_[c], lo, hi);
       if (flags & kValid)
       {
         aroundLo = glm::min(aroundLo, lo);
@@ -257,6 +195,8 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
       summary.invalidIdCells += (flags & kInvalidId) != 0;
       summary.outOfScaleCells += (flags & kOutOfScale) != 0;
       summary.tangledCells += (flags & kTangled) != 0;
+      summary.unsupportedCells += (flags & kUnsupported) != 0;
+      summary.malformedCells += (flags & kMalformed) != 0;
     }
   });
   for (const PreprocessSummary& summary : chunkSummary)
@@ -269,6 +209,8 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
     Summary_.invalidIdCells += summary.invalidIdCells;
     Summary_.outOfScaleCells += summary.outOfScaleCells;
     Summary_.tangledCells += summary.tangledCells;
+    Summary_.unsupportedCells += summary.unsupportedCells;
+    Summary_.malformedCells += summary.malformedCells;
   }
   if (Summary_.curvedCells > 0)
   {
@@ -319,13 +261,21 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
 
 Scene::~Scene() = default;
 
-bool Scene::boxOf(const glm::dvec3 nodes[10], double maxEdge, bool curved, BoxItem& box) const
+bool Scene::extentOf(CellKind kind, const glm::dvec3 nodes[kCellNodes], glm::dvec3& lo, glm::dvec3& hi)
 {
-  glm::dvec3 extentLo, extentHi;
-  if (!cellExtent(nodes, maxEdge, curved, extentLo, extentHi))
+  switch (kind)
   {
-    return false;
+    case CellKind::CurvedTet:
+      return CurvedTetCell::extent(nodes, lo, hi);
+    case CellKind::LinearTet:
+    case CellKind::QuadraticTet:
+      break;
   }
+  return QuadraticTetCell::extent(nodes, lo, hi);
+}
+
+BoxItem Scene::boxOf(const glm::dvec3& extentLo, const glm::dvec3& extentHi, double maxEdge) const
+{
   // Pad boxes so that rounding in the slab test never drops a ray that the (widened) cell
   // clip accepts: relative to the cell size and to the coordinates' own magnitude.
   double magnitude = 0.0;
@@ -334,396 +284,185 @@ bool Scene::boxOf(const glm::dvec3 nodes[10], double maxEdge, bool curved, BoxIt
     magnitude = std::max({ magnitude, std::abs(extentLo[axis]), std::abs(extentHi[axis]) });
   }
   const double pad = 1e-8 * maxEdge + 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
+  BoxItem box;
   for (int axis = 0; axis < 3; ++axis)
   {
     box.lo[axis] = roundDown((extentLo[axis] - pad - Origin_[axis]) * BoxScale_);
     box.hi[axis] = roundUp((extentHi[axis] + pad - Origin_[axis]) * BoxScale_);
   }
-  return true;
+  return box;
 }
 
 BoxItem Scene::cellBox(NodeId cellId) const
 {
-  glm::dvec3 nodes[10];
+  glm::dvec3 nodes[kCellNodes];
   loadNodes(cellId, nodes);
-  BoxItem box;
-  boxOf(nodes, longestEdge(nodes), isCurved(cellId), box); // succeeded when validated
+  glm::dvec3 lo, hi;
+  extentOf(kindOf(cellId), nodes, lo, hi); // succeeded when validated
+  BoxItem box = boxOf(lo, hi, longestEdge(nodes));
   box.id = static_cast<std::uint32_t>(cellId);
   return box;
 }
 
-std::uint8_t Scene::validate(
+std::uint16_t Scene::validate(
   NodeId cell, ValidCell& validCell, glm::dvec3& extentLo, glm::dvec3& extentHi) const
 {
-  const NodeId* ids = Mesh_.cellNodes + 10 * cell;
-  for (int n = 0; n < 10; ++n)
+  // The type and offsets first: nothing of the cell is read before they are trusted.
+  const int type = Mesh_.cellTypes[cell];
+  const int count = nodeCount(type);
+  if (count == 0)
   {
-    const bool optional = n >= 4 && Mesh_.straightEdgeMarkers && ids[n] == kStraightEdge;
-    if (!optional && (ids[n] < 0 || ids[n] >= Mesh_.numberOfPoints))
+    return kUnsupported;
+  }
+  const NodeId begin = Mesh_.offsets[cell];
+  const NodeId end = Mesh_.offsets[cell + 1];
+  if (begin < 0 || end > Mesh_.connectivitySize || end - begin != count)
+  {
+    return kMalformed;
+  }
+  const NodeId* ids = Mesh_.connectivity + begin;
+  for (int n = 0; n < count; ++n)
+  {
+    if (ids[n] < 0 || ids[n] >= Mesh_.numberOfPoints)
     {
       return kInvalidId;
     }
   }
-  if (!distinctIds(ids))
+  if (!distinctIds(ids, count))
   {
     return kDegenerate;
   }
-  // Every node's value and coordinates (a missing mid-edge node: its edge's midpoint and mean).
-  glm::dvec3 nodes[10];
-  double values[10];
-  for (int n = 0; n < 10; ++n)
+  // Every node's value and coordinates (a linear tet's completed: LinearTetCell).
+  glm::dvec3 nodes[kCellNodes];
+  double values[kCellNodes];
+  for (int n = 0; n < count; ++n)
   {
-    const NodeId id = ids[n];
-    if (id >= 0)
-    {
-      nodes[n] = glm::dvec3(Mesh_.points[3 * id], Mesh_.points[3 * id + 1], Mesh_.points[3 * id + 2]);
-      values[n] = Mesh_.values[id];
-    }
-    else
-    {
-      const int a = kEdgeVertices[n - 4][0], b = kEdgeVertices[n - 4][1];
-      nodes[n] = 0.5 * (nodes[a] + nodes[b]);
-      values[n] = 0.5 * (values[a] + values[b]);
-    }
+    nodes[n] = glm::dvec3(Mesh_.points[3 * ids[n]], Mesh_.points[3 * ids[n] + 1], Mesh_.points[3 * ids[n] + 2]);
+    values[n] = Mesh_.values[ids[n]];
   }
-  for (int n = 0; n < 10; ++n)
+  if (count == LinearTetCell::kNodes)
   {
-    if (!std::isfinite(values[n]) || (ids[n] >= 0 && !isFinite(nodes[n])))
+    LinearTetCell::complete(nodes);
+    LinearTetCell::complete(values);
+  }
+  for (int n = 0; n < kCellNodes; ++n)
+  {
+    if (!std::isfinite(values[n]) || (n < count && !isFinite(nodes[n])))
     {
       return kNonFinite;
     }
   }
-  const glm::dvec3* vertices = nodes;
-  const double maxEdge = longestEdge(vertices);
-  if (!(maxEdge >= kMinCellSize && maxEdge <= kMaxCellSize)) // also an overflowed (Inf) length
+  // The kind's geometry checks: a quadratic tet found curved is the curved kind's.
+  std::uint16_t flags = type == kVtkTetra ? LinearTetCell::validate(nodes, Mesh_.pointRounding)
+                                          : QuadraticTetCell::validate(nodes, Mesh_.pointRounding);
+  if (!(flags & kValid))
   {
-    return kOutOfScale;
+    return flags;
   }
-  // 6 x the signed volume, as TetFrame::fromVertices computes it (its frame is not needed here).
-  const glm::dvec3 e1 = vertices[1] - vertices[0];
-  const double volume6 =
-    glm::dot(e1, glm::cross(vertices[2] - vertices[0], vertices[3] - vertices[0]));
-  if (!std::isfinite(volume6) ||
-    std::abs(volume6) <= kDegenerateVolumeRatio * maxEdge * maxEdge * maxEdge)
+  const CellKind kind = type == kVtkTetra ? CellKind::LinearTet
+    : (flags & kCurved)                   ? CellKind::CurvedTet
+                                          : CellKind::QuadraticTet;
+  if (kind == CellKind::CurvedTet)
   {
-    return kDegenerate;
-  }
-  std::uint8_t flags = kValid;
-  if (volume6 < 0.0)
-  {
-    flags |= kInverted;
-  }
-  // Rounding is relative to the coordinates' magnitude (a float coordinate near 2.5e6 rounds by
-  // 0.25), so it is measured against the larger of the cell's size and its distance from 0.
-  double reach = maxEdge;
-  for (int k = 0; k < 4; ++k)
-  {
-    for (int a = 0; a < 3; ++a)
+    flags = CurvedTetCell::validate(nodes, flags);
+    if (!(flags & kValid))
     {
-      reach = std::max(reach, std::abs(vertices[k][a]));
+      return flags;
     }
   }
-  const double curvedTolerance = kCurvedRoundings * Mesh_.pointRounding * reach;
-  for (int e = 0; e < 6; ++e)
-  {
-    const glm::dvec3 offset =
-      nodes[4 + e] - 0.5 * (vertices[kEdgeVertices[e][0]] + vertices[kEdgeVertices[e][1]]);
-    // Components within half the tolerance put the length within it (sqrt(3) / 2 < 1): the
-    // length is only needed for the rare others.
-    const double largest = std::max({ std::abs(offset.x), std::abs(offset.y), std::abs(offset.z) });
-    if (largest > 0.5 * curvedTolerance && glm::length(offset) > curvedTolerance)
-    {
-      flags |= kCurved;
-      break;
-    }
-  }
-  if (flags & kCurved)
-  {
-    const JacobianSign sign = jacobianSign(CurvedGeometry::fromNodes(nodes, scaleFor(maxEdge)));
-    if (sign == JacobianSign::Changes)
-    {
-      return kTangled;
-    }
-    flags = static_cast<std::uint8_t>((flags & ~kInverted) | (sign == JacobianSign::Negative ? kInverted : 0));
-  }
-  if (!cellExtent(nodes, maxEdge, (flags & kCurved) != 0, extentLo, extentHi))
+  if (!extentOf(kind, nodes, extentLo, extentHi))
   {
     return kOutOfScale;
   }
   validCell.id = static_cast<std::uint32_t>(cell);
   double lo, hi;
-  Transverse_.range(values, lo, hi);
+  QuadraticTetCell::valueBound(values, Transverse_, lo, hi);
   validCell.valueLo = roundDown(lo);
   validCell.valueHi = roundUp(hi);
   return flags;
 }
 
-void Scene::loadVertices(NodeId cellId, glm::dvec3 vertices[4]) const
+void Scene::loadNodes(NodeId cellId, glm::dvec3 nodes[kCellNodes]) const
 {
-  const NodeId* ids = Mesh_.cellNodes + 10 * cellId;
-  for (int k = 0; k < 4; ++k)
+  const NodeId* ids = nodeIds(cellId);
+  const bool linear = Mesh_.cellTypes[cellId] == kVtkTetra;
+  const int count = linear ? LinearTetCell::kNodes : kCellNodes;
+  for (int n = 0; n < count; ++n)
   {
-    const double* p = Mesh_.points + 3 * ids[k];
-    vertices[k] = glm::dvec3(p[0], p[1], p[2]);
+    const double* p = Mesh_.points + 3 * ids[n];
+    nodes[n] = glm::dvec3(p[0], p[1], p[2]);
+  }
+  if (linear)
+  {
+    LinearTetCell::complete(nodes);
   }
 }
 
-void Scene::loadCell(NodeId cellId, glm::dvec3 vertices[4], double values[10],
-  const double* pointValues, int components, int component) const
+void Scene::loadValues(NodeId cellId, double values[kCellNodes], const double* pointValues,
+  int components, int component) const
 {
-  loadVertices(cellId, vertices);
-  const NodeId* ids = Mesh_.cellNodes + 10 * cellId;
-  for (int k = 0; k < 4; ++k)
+  const NodeId* ids = nodeIds(cellId);
+  const bool linear = Mesh_.cellTypes[cellId] == kVtkTetra;
+  const int count = linear ? LinearTetCell::kNodes : kCellNodes;
+  for (int n = 0; n < count; ++n)
   {
-    values[k] = pointValues[components * ids[k] + component];
+    values[n] = pointValues[components * ids[n] + component];
   }
-  for (int e = 0; e < 6; ++e)
+  if (linear)
   {
-    const NodeId id = ids[4 + e];
-    values[4 + e] = id >= 0
-      ? pointValues[components * id + component]
-      : 0.5 * (values[kEdgeVertices[e][0]] + values[kEdgeVertices[e][1]]);
+    LinearTetCell::complete(values);
   }
 }
-
-void Scene::loadNodes(NodeId cellId, glm::dvec3 nodes[10]) const
-{
-  loadVertices(cellId, nodes);
-  const NodeId* ids = Mesh_.cellNodes + 10 * cellId;
-  for (int e = 0; e < 6; ++e)
-  {
-    const NodeId id = ids[4 + e];
-    nodes[4 + e] = id >= 0
-      ? glm::dvec3(Mesh_.points[3 * id], Mesh_.points[3 * id + 1], Mesh_.points[3 * id + 2])
-      : 0.5 * (nodes[kEdgeVertices[e][0]] + nodes[kEdgeVertices[e][1]]);
-  }
-}
-
-namespace
-{
-/// The curved cell's geometry in its local frame (origin its vertex 0, unit near its size).
-CurvedGeometry localGeometry(const glm::dvec3 nodes[10])
-{
-  double size = 0.0;
-  for (const auto& edge : kEdgeVertices)
-  {
-    size = std::max(size, glm::length(nodes[edge[0]] - nodes[edge[1]]));
-  }
-  return CurvedGeometry::fromNodes(nodes, scaleFor(size));
-}
-
-/// Whether a field whose Bernstein bound is [lo, hi] is constant over the cell to rounding.
-bool constantToRounding(double lo, double hi)
-{
-  return hi - lo <= 8.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(lo), std::abs(hi));
-}
-
-/// For a constant field with Bernstein bound [lo, hi] (field scaled by `scale`): the sorted()
-/// position of an iso-value it equals; false if it equals none.
-bool constantIsoIndex(const IsoValues& isoValues, double lo, double hi, double scale, std::size_t& index)
-{
-  const std::vector<double>& sorted = isoValues.sorted();
-  const auto it = std::lower_bound(sorted.begin(), sorted.end(), lo / scale);
-  index = static_cast<std::size_t>(it - sorted.begin());
-  return it != sorted.end() && *it <= hi / scale;
-}
-
-/// The field's form scaled by a power of two (returned in `scale`) to a largest magnitude near 1,
-/// and its Bernstein bound [lo, hi] (scaled).
-QuadraticForm scaledFieldForm(double values[10], double& scale, double& lo, double& hi)
-{
-  scale = unitScale(values);
-  for (int n = 0; n < 10; ++n)
-  {
-    values[n] *= scale;
-  }
-  const BernsteinForm bernstein = BernsteinForm::fromNodeValues(values);
-  bernstein.range(lo, hi);
-  QuadraticForm form;
-  for (int i = 0; i < 4; ++i)
-  {
-    for (int j = 0; j < 4; ++j)
-    {
-      form.b[i][j] = bernstein.b[i][j];
-    }
-  }
-  return form;
-}
-
-/// Two unit vectors orthogonal to the unit vector d and to each other.
-void orthonormalPair(const glm::dvec3& d, glm::dvec3& u, glm::dvec3& v)
-{
-  const glm::dvec3 helper = std::abs(d.x) < 0.6 ? glm::dvec3(1.0, 0.0, 0.0)
-    : std::abs(d.y) < 0.6                       ? glm::dvec3(0.0, 1.0, 0.0)
-                                                : glm::dvec3(0.0, 0.0, 1.0);
-  u = glm::normalize(glm::cross(d, helper));
-  v = glm::cross(d, u);
-}
-} // namespace
 
 bool Scene::inCell(NodeId cellId, const glm::dvec3& point, double L[4]) const
 {
-  if (!isCurved(cellId))
-  {
-    glm::dvec3 vertices[4];
-    loadVertices(cellId, vertices);
-    TetFrame frame;
-    TetFrame::fromVertices(vertices, frame);
-    frame.barycentricOfOffsets(point - vertices[0], point - vertices[1], L);
-    return L[0] >= -kBarycentricTolerance && L[1] >= -kBarycentricTolerance &&
-      L[2] >= -kBarycentricTolerance && L[3] >= -kBarycentricTolerance;
-  }
-  glm::dvec3 nodes[10];
+  glm::dvec3 nodes[kCellNodes];
   loadNodes(cellId, nodes);
-  const CurvedGeometry geometry = localGeometry(nodes);
-  QuadraticForm equations[3];
-  geometry.pointEquations((point - geometry.origin) * geometry.scale, equations);
-  SimplexRoot root;
-  if (!solveOnSimplex(3, equations, nullptr, 0.0, 0.0, kBarycentricTolerance, root))
+  switch (kindOf(cellId))
   {
-    return false;
+    case CellKind::CurvedTet:
+      return CurvedTetCell::contains(nodes, point, L);
+    case CellKind::LinearTet:
+    case CellKind::QuadraticTet:
+      break;
   }
-  std::copy(root.L, root.L + 4, L);
-  return true;
+  return QuadraticTetCell::contains(nodes, point, L);
 }
 
 void Scene::cellCoordinates(NodeId cellId, const glm::dvec3& point, double L[4]) const
 {
-  if (inCell(cellId, point, L) || !isCurved(cellId))
-  {
-    return; // (a straight cell's coordinates are exact outside it too)
-  }
-  // Outside a curved cell: the extension of its map, from the straight tet's guess.
-  glm::dvec3 nodes[10];
+  glm::dvec3 nodes[kCellNodes];
   loadNodes(cellId, nodes);
-  TetFrame frame;
-  TetFrame::fromVertices(nodes, frame);
-  frame.barycentricOfOffsets(point - nodes[0], point - nodes[1], L);
-  const CurvedGeometry geometry = localGeometry(nodes);
-  double guess[4] = { L[0], L[1], L[2], L[3] };
-  if (inverseNewton(geometry, (point - geometry.origin) * geometry.scale, guess))
+  switch (kindOf(cellId))
   {
-    std::copy(guess, guess + 4, L);
+    case CellKind::CurvedTet:
+      CurvedTetCell::coordinates(nodes, point, L);
+      return;
+    case CellKind::LinearTet:
+    case CellKind::QuadraticTet:
+      break;
   }
+  QuadraticTetCell::contains(nodes, point, L); // (exact outside the cell too)
 }
 
 bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues,
-  double tMin, double tLimit, SurfaceHit& hit) const
+  std::size_t first, std::size_t last, double tMin, double tLimit, SurfaceHit& hit) const
 {
-  glm::dvec3 nodes[10];
+  glm::dvec3 nodes[kCellNodes];
+  double values[kCellNodes];
   loadNodes(cellId, nodes);
-  double values[10];
-  {
-    glm::dvec3 vertices[4];
-    loadCell(cellId, vertices, values);
-  }
-  double cellLo, cellHi;
-  Transverse_.range(values, cellLo, cellHi);
-  const std::vector<double>& sorted = isoValues.sorted();
-  std::size_t first, last;
-  if (!isoValues.within(cellLo, cellHi, first, last))
+  loadValues(cellId, values, Mesh_.values);
+  bool certified = true;
+  if (!CurvedTetCell::intersect(
+        nodes, values, isoValues, first, last, ray, tMin, tLimit, hit, certified))
   {
     return false;
   }
-  const CurvedGeometry geometry = localGeometry(nodes);
-  const double s = geometry.scale;
-  // The ray in local units, re-origined at its point nearest the cell's control points' mean:
-  // t_world = (tCentre + T) / s, with T the local depth form below.
-  const glm::dvec3 origin = (ray.origin - geometry.origin) * s;
-  glm::dvec3 centroid(0.0);
-  for (int i = 0; i < 4; ++i)
-  {
-    for (int j = 0; j < 4; ++j)
-    {
-      centroid += geometry.control[i][j] / 16.0;
-    }
-  }
-  const glm::dvec3& d = ray.direction;
-  const double tCentre = glm::dot(centroid - origin, d);
-  const glm::dvec3 o = origin + tCentre * d;
-  glm::dvec3 u, v;
-  orthonormalPair(d, u, v);
-  QuadraticForm equations[3];
-  equations[0] = geometry.component(u, glm::dot(u, o));
-  equations[1] = geometry.component(v, glm::dot(v, o));
-  const QuadraticForm depth = geometry.component(d, glm::dot(d, o));
-  const double lo = tMin * s - tCentre;
-  const double hi = tLimit * s - tCentre;
-
-  double scale, boundLo, boundHi;
-  const QuadraticForm field = scaledFieldForm(values, scale, boundLo, boundHi);
-  SimplexRoot root;
-  if (constantToRounding(boundLo, boundHi))
-  {
-    // Constant and equal to an iso-value: the crossing is the stretch of the ray inside the
-    // cell, from where it enters (a root on a face, or the start if that is inside the cell) to
-    // where it next leaves.
-    std::size_t index;
-    if (!constantIsoIndex(isoValues, boundLo, boundHi, scale, index))
-    {
-      return false;
-    }
-    double startL[4];
-    // The nearest crossing of the cell's boundary with local depth in [from, to] (+inf if none).
-    auto firstFaceCrossing = [&](double from, double to) {
-      double nearest = std::numeric_limits<double>::infinity();
-      for (int face = 0; face < 4; ++face)
-      {
-        const QuadraticForm faceEquations[2] = { equations[0].face(face), equations[1].face(face) };
-        const QuadraticForm faceDepth = depth.face(face);
-        SimplexRoot faceRoot;
-        if (solveOnSimplex(2, faceEquations, &faceDepth, from, std::min(nearest, to),
-              kBarycentricTolerance, faceRoot))
-        {
-          nearest = std::min(nearest, faceRoot.value);
-        }
-      }
-      return nearest;
-    };
-    const double enter = std::isfinite(lo) && inCell(cellId, ray.origin + tMin * d, startL)
-      ? lo
-      : firstFaceCrossing(lo, hi);
-    if (!std::isfinite(enter))
-    {
-      return false;
-    }
-    const double leave = firstFaceCrossing(enter + 1e-9, hi);
-    hit.isoIndex = index;
-    hit.t = (tCentre + enter) / s;
-    hit.regionEnd = std::isfinite(leave) ? (tCentre + leave) / s : hit.t;
-    hit.cellId = cellId;
-    hit.gradient = glm::dvec3(0.0);
-    return true;
-  }
-  // Every iso-value the cell's bound admits, in one subdivision (Levels); one, directly.
-  Levels levels;
-  if (last - first == 1)
-  {
-    equations[2] = field.minus(sorted[first] * scale);
-  }
-  else
-  {
-    equations[2] = field;
-    levels.values = sorted.data() + first;
-    levels.count = static_cast<int>(std::min<std::size_t>(last - first, 1u << 30));
-    levels.scale = scale;
-  }
-  if (!solveOnSimplex(3, equations, &depth, lo, hi, kBarycentricTolerance, root, SolveLimits(),
-        nullptr, levels))
-  {
-    return false;
-  }
-  hit.isoIndex = first + static_cast<std::size_t>(root.level);
-  if (!root.certified)
+  if (!certified)
   {
     UncertifiedHits_.fetch_add(1, std::memory_order_relaxed);
   }
-  hit.t = (tCentre + root.value) / s;
-  hit.regionEnd = hit.t;
   hit.cellId = cellId;
-  // grad_x f = s grad_X f; unscaled exactly (a power of two) unless that overflows.
-  const glm::dvec3 gradient = curvedGradient(geometry, field, root.L) * s;
-  hit.gradient = isFinite(gradient / scale) ? gradient / scale : gradient;
   return true;
 }
 
@@ -736,54 +475,23 @@ void Scene::prepareCell(NodeId cellId, CellRecord& cell) const
 {
   cell.cellId = static_cast<std::uint32_t>(cellId);
   cell.kind = CellRecord::Kind::Empty;
-  glm::dvec3 vertices[4];
-  double values[10];
-  loadCell(cellId, vertices, values);
+  glm::dvec3 nodes[kCellNodes];
+  double values[kCellNodes];
+  loadNodes(cellId, nodes);
+  loadValues(cellId, values, Mesh_.values);
   // The range the transverse test gives (which iso-values the cell can hold).
-  Transverse_.range(values, cell.valueLo, cell.valueHi);
-  if (isCurved(cellId))
+  QuadraticTetCell::valueBound(values, Transverse_, cell.valueLo, cell.valueHi);
+  switch (kindOf(cellId))
   {
-    cell.kind = CellRecord::Kind::Curved; // solved from the mesh (intersectCurvedCell)
-    return;
+    case CellKind::CurvedTet:
+      cell.kind = CellRecord::Kind::Curved; // solved from the mesh (intersectCurvedCell)
+      return;
+    case CellKind::LinearTet:
+    case CellKind::QuadraticTet:
+      break;
   }
-  TetFrame frame;
-  if (!TetFrame::fromVertices(vertices, frame))
-  {
-    return; // (not for a valid cell)
-  }
-  cell.vertex0 = vertices[0];
-  cell.vertex1 = vertices[1];
-  cell.centroidOffset =
-    0.25 * ((vertices[1] - vertices[0]) + (vertices[2] - vertices[0]) + (vertices[3] - vertices[0]));
-  for (int k = 0; k < 3; ++k)
-  {
-    cell.gradient[k] = frame.gradient[k + 1];
-  }
-  // Scale the field by a power of two (exact) so that its largest nodal magnitude is about 1:
-  // the products in the quadratic's coefficients and its discriminant (field^2) then neither
-  // overflow nor underflow, whatever the field's scale within double range.
-  cell.scale = unitScale(values);
-  for (double& value : values)
-  {
-    value *= cell.scale;
-  }
-  const BernsteinForm form = BernsteinForm::fromNodeValues(values);
-  for (int i = 0; i < 4; ++i)
-  {
-    cell.form[i] = form.b[i][i];
-  }
-  for (int e = 0; e < 6; ++e)
-  {
-    cell.form[4 + e] = form.b[kEdgeVertices[e][0]][kEdgeVertices[e][1]];
-  }
-  // A field constant over the cell (to rounding): the Bernstein bound (a true bound whatever
-  // the transverse test) is within rounding of one value.
-  double boundLo, boundHi;
-  form.range(boundLo, boundHi);
-  cell.kind = constantToRounding(boundLo, boundHi) ? CellRecord::Kind::Constant
-                                                   : CellRecord::Kind::Quadratic;
+  QuadraticTetCell::record(nodes, values, cell);
 }
-
 
 std::size_t Scene::memoryBytes() const
 {
@@ -795,26 +503,19 @@ std::size_t Scene::memoryBytes() const
 double Scene::interpolate(NodeId cellId, const glm::dvec3& point, const double* pointValues,
   int components, int component) const
 {
-  glm::dvec3 vertices[4];
-  double values[10];
-  loadCell(cellId, vertices, values, pointValues, components, component);
+  double values[kCellNodes];
+  loadValues(cellId, values, pointValues, components, component);
   double L[4];
   cellCoordinates(cellId, point, L); // valid cells only reach here
-  // Scaled (exactly) so that the Bernstein coefficients cannot overflow for values near the
-  // largest double; the result is unscaled, and overflows only if the value itself does.
-  const double scale = unitScale(values);
-  for (double& value : values)
-  {
-    value *= scale;
-  }
-  return BernsteinForm::fromNodeValues(values).bilinear(L, L) / scale;
+  // Every kind's field is the quadratic of its nodal values in L (QuadraticTetCell::interpolate).
+  return QuadraticTetCell::interpolate(values, L);
 }
 
 double Scene::cellSize(NodeId cellId) const
 {
-  glm::dvec3 vertices[4];
-  loadVertices(cellId, vertices);
-  return longestEdge(vertices);
+  glm::dvec3 nodes[kCellNodes];
+  loadNodes(cellId, nodes);
+  return longestEdge(nodes);
 }
 
 bool Scene::locate(const glm::dvec3& point, NodeId& cellId) const
@@ -884,10 +585,8 @@ void Scene::computeNodalGradients()
   double largest = 0.0;
   for (const ValidCell& valid : ValidCells_)
   {
-    const std::uint32_t cell = valid.id;
-    glm::dvec3 vertices[4];
-    double values[10];
-    loadCell(cell, vertices, values);
+    double values[kCellNodes];
+    loadValues(valid.id, values, Mesh_.values);
     for (const double value : values)
     {
       largest = std::max(largest, std::abs(value));
@@ -897,39 +596,20 @@ void Scene::computeNodalGradients()
   for (const ValidCell& valid : ValidCells_)
   {
     const std::uint32_t cell = valid.id;
-    glm::dvec3 vertices[4];
-    double values[10];
-    loadCell(cell, vertices, values);
+    glm::dvec3 nodes[kCellNodes];
+    double values[kCellNodes];
+    loadNodes(cell, nodes);
+    loadValues(cell, values, Mesh_.values);
     for (double& value : values)
     {
       value *= scale;
     }
-    TetFrame frame;
-    TetFrame::fromVertices(vertices, frame);
-    const BernsteinForm form = BernsteinForm::fromNodeValues(values);
-    const bool curved = isCurved(cell);
-    CurvedGeometry geometry;
-    QuadraticForm curvedField{};
-    if (curved)
+    const CellKind kind = kindOf(cell);
+    // A linear tet's mid-edge "nodes" are not points of the mesh: only its vertices count.
+    const int ownNodes = kind == CellKind::LinearTet ? LinearTetCell::kNodes : kCellNodes;
+    const NodeId* ids = nodeIds(cell);
+    for (int n = 0; n < ownNodes; ++n)
     {
-      glm::dvec3 nodes[10];
-      loadNodes(cell, nodes);
-      geometry = localGeometry(nodes);
-      for (int i = 0; i < 4; ++i)
-      {
-        for (int j = 0; j < 4; ++j)
-        {
-          curvedField.b[i][j] = form.b[i][j];
-        }
-      }
-    }
-    const NodeId* ids = Mesh_.cellNodes + 10 * cell;
-    for (int n = 0; n < 10; ++n)
-    {
-      if (ids[n] < 0)
-      {
-        continue; // a linear edge has no mid-edge node
-      }
       double L[4] = { 0.0, 0.0, 0.0, 0.0 };
       if (n < 4)
       {
@@ -939,9 +619,9 @@ void Scene::computeNodalGradients()
       {
         L[kEdgeVertices[n - 4][0]] = L[kEdgeVertices[n - 4][1]] = 0.5;
       }
-      sum[static_cast<std::size_t>(ids[n])] += curved
-        ? curvedGradient(geometry, curvedField, L) * geometry.scale
-        : fieldGradient(form, frame, L);
+      sum[static_cast<std::size_t>(ids[n])] += kind == CellKind::CurvedTet
+        ? CurvedTetCell::gradient(nodes, values, L)
+        : QuadraticTetCell::gradient(nodes, values, L);
       ++count[static_cast<std::size_t>(ids[n])];
     }
   }
@@ -959,7 +639,8 @@ glm::dvec3 Scene::interpolateNodalGradient(NodeId cellId, const glm::dvec3& poin
 {
   double L[4];
   cellCoordinates(cellId, point, L);
-  const NodeId* ids = Mesh_.cellNodes + 10 * cellId;
+  const NodeId* ids = nodeIds(cellId);
+  const bool linear = kindOf(cellId) == CellKind::LinearTet;
   glm::dvec3 gradient(0.0);
   for (int k = 0; k < 4; ++k)
   {
@@ -968,10 +649,11 @@ glm::dvec3 Scene::interpolateNodalGradient(NodeId cellId, const glm::dvec3& poin
   for (int e = 0; e < 6; ++e)
   {
     const int a = kEdgeVertices[e][0], b = kEdgeVertices[e][1];
-    const glm::dvec3 mid = ids[4 + e] >= 0
-      ? NodalGradients_[static_cast<std::size_t>(ids[4 + e])]
-      : 0.5 * (NodalGradients_[static_cast<std::size_t>(ids[a])] +
-                NodalGradients_[static_cast<std::size_t>(ids[b])]);
+    // A linear tet's mid-edge gradient: the mean of its edge's ends (LinearTetCell::complete).
+    const glm::dvec3 mid = linear
+      ? 0.5 * (NodalGradients_[static_cast<std::size_t>(ids[a])] +
+                NodalGradients_[static_cast<std::size_t>(ids[b])])
+      : NodalGradients_[static_cast<std::size_t>(ids[4 + e])];
     gradient += (4.0 * L[a] * L[b]) * mid;
   }
   return gradient;

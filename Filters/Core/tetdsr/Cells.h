@@ -1,0 +1,229 @@
+// The cell seam: the vocabulary every kind of cell shares, and the list of kinds.
+//
+// Each kind of cell lives in a file of its own and provides the same steps, which Scene and
+// SurfaceIndex call through one switch on the kind (no virtual calls on the ray's hot path):
+//   validate    geometry checks of a cell whose ids and values Scene has read (CellStatus bits)
+//   valueBound  the transverse test's range of the field over the cell (which iso-values it holds)
+//   extent      a box around every point of the cell
+//   record      what a ray test needs, computed once per transverse cell (CellRecord)
+//   intersect   the first crossing of an iso-value along a ray, within [tMin, tLimit]
+//   contains    whether a point lies in the cell, and its barycentric coordinates there
+//   coordinates a point's barycentric coordinates, outside the cell too (the map's extension)
+//   interpolate a point array at barycentric coordinates (the cell's shape functions)
+//   gradient    the field's exact gradient at barycentric coordinates
+// The kinds (adding one: a file with these steps, a CellKind, a case in Scene's dispatch and in
+// nodeCount below):
+//   LinearTetCell.h     VTK_TETRA: 4 nodes, rendered as the exact quadratic it is
+//   QuadraticTetCell.h  VTK_QUADRATIC_TETRA with straight edges: an affine map, a quadratic field
+//   CurvedTetCell.h     VTK_QUADRATIC_TETRA with a mid-edge node off its edge: isoparametric
+#pragma once
+
+#include "tetdsr/Camera.h"
+#include "tetdsr/QuadraticTet.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace tetdsr
+{
+
+/// Point and cell ids: 64-bit, the same type as VTK's vtkIdType, so VTK's connectivity can be
+/// viewed without a copy.
+using NodeId = long long;
+
+/// VTK's codes (vtkCellType.h) of the cell types the core reads.
+enum VtkCellType : int
+{
+  kVtkTetra = 10,
+  kVtkQuadraticTetra = 24
+};
+
+/// The kinds of cell, as validation classifies them.
+enum class CellKind : std::uint8_t
+{
+  LinearTet,    ///< LinearTetCell.h
+  QuadraticTet, ///< QuadraticTetCell.h (straight)
+  CurvedTet     ///< CurvedTetCell.h
+};
+
+/// The node ids a cell of a VTK type has; 0 for a type the core does not read.
+inline int nodeCount(int vtkType)
+{
+  return vtkType == kVtkQuadraticTetra ? 10 : vtkType == kVtkTetra ? 4 : 0;
+}
+
+/// Outcome bits of a cell's validation; Scene counts them (PreprocessSummary).
+enum CellStatus : std::uint16_t
+{
+  kValid = 1,
+  kInverted = 2,
+  kCurved = 4,
+  kDegenerate = 8,
+  kNonFinite = 16,
+  kInvalidId = 32,
+  kOutOfScale = 64,
+  kTangled = 128,
+  kUnsupported = 256,
+  kMalformed = 512
+};
+
+/// Every cell's nodes as the quadratic tetrahedron's ten, VTK_QUADRATIC_TETRA's order (vertices
+/// 0..3, then the mid-edge nodes of kEdgeVertices): a cell with fewer nodes (LinearTetCell) fills
+/// the rest from its own.
+constexpr int kCellNodes = 10;
+
+/// How a cell is judged able to contain an iso-value (a "transverse" cell).
+struct TransverseTest
+{
+  enum class Mode
+  {
+    /// The min and max of the Bernstein coefficients: a guaranteed bound of the field.
+    BernsteinBound,
+    /// The paper's heuristic: the nodal min and max, each moved outward by `widening` times
+    /// their difference. Not a bound: cells whose field dips past it are missed (holes).
+    WidenedNodalRange
+  };
+  Mode mode = Mode::BernsteinBound;
+  double widening = 0.25;
+
+  void range(const double nodeValues[kCellNodes], double& lo, double& hi) const;
+};
+
+/// Iso-values sorted ascending, with the test "does [lo, hi] contain any of them".
+class IsoValues
+{
+public:
+  explicit IsoValues(const std::vector<double>& values);
+
+  bool anyWithin(double lo, double hi) const
+  {
+    if (Sorted_.size() == 1)
+    {
+      return lo <= Sorted_[0] && Sorted_[0] <= hi; // the common case, without a search
+    }
+    const auto it = std::lower_bound(Sorted_.begin(), Sorted_.end(), lo);
+    return it != Sorted_.end() && *it <= hi;
+  }
+
+  const std::vector<double>& sorted() const { return Sorted_; }
+
+  /// The sorted() positions [first, last) of the values within [lo, hi]; false if none is.
+  bool within(double lo, double hi, std::size_t& first, std::size_t& last) const
+  {
+    if (Sorted_.size() == 1)
+    {
+      first = 0; // the common case, without a search
+      last = lo <= Sorted_[0] && Sorted_[0] <= hi ? 1 : 0;
+      return last == 1;
+    }
+    first = static_cast<std::size_t>(
+      std::lower_bound(Sorted_.begin(), Sorted_.end(), lo) - Sorted_.begin());
+    last = static_cast<std::size_t>(
+      std::upper_bound(Sorted_.begin(), Sorted_.end(), hi) - Sorted_.begin());
+    return first < last;
+  }
+
+  /// The position, in the list given to the constructor, of the k-th smallest value.
+  std::size_t originalIndex(std::size_t k) const { return OriginalIndex_[k]; }
+
+private:
+  std::vector<double> Sorted_;
+  std::vector<std::size_t> OriginalIndex_;
+};
+
+/// A cell prepared for ray tests (the kind's record step), whatever the iso-values: for a
+/// straight cell, its barycentric map and the Bernstein coefficients of its field, so a test
+/// reads 4 cache lines in a row instead of 10 node ids, 10 points and 10 values scattered over
+/// the mesh.
+struct alignas(64) CellRecord
+{
+  enum class Kind : std::uint8_t
+  {
+    Quadratic, ///< straight, the field a quadratic (QuadraticTetCell)
+    Constant,  ///< straight, the field constant to rounding (QuadraticTetCell)
+    Curved,    ///< isoparametric: solved from the mesh (CurvedTetCell)
+    Empty      ///< never hit (not a valid cell)
+  };
+  glm::dvec3 vertex0;
+  glm::dvec3 vertex1;
+  glm::dvec3 centroidOffset; ///< centroid - vertex0
+  glm::dvec3 gradient[3];    ///< grad L_1, L_2, L_3 (grad L_0 is minus their sum)
+  /// Bernstein coefficients of the field times `scale`: B_00, B_11, B_22, B_33, then B_ab of
+  /// the edges in mid-edge node order.
+  double form[10];
+  double scale; ///< a power of two bringing the largest nodal magnitude near 1
+  double valueLo; ///< the transverse test's range: which iso-values the cell can hold
+  double valueHi;
+  std::uint32_t cellId;
+  Kind kind;
+};
+
+struct SurfaceHit
+{
+  double t = 0.0; ///< ray parameter (distance along the unit direction)
+  NodeId cellId = -1;
+  /// Exact field gradient at the hit; for a field so large that it overflows, the gradient
+  /// scaled down by a power of two (the same direction).
+  glm::dvec3 gradient{ 0.0 };
+  std::size_t isoIndex = 0;   ///< which iso-value was crossed, in IsoValues::sorted() order
+  /// Where this crossing ends: t, or for a cell where the field equals the iso-value throughout,
+  /// where the ray leaves that cell (the whole stretch is one crossing).
+  double regionEnd = 0.0;
+};
+
+/// Barycentric tolerance by which a cell is widened when clipping a ray to it. Rounding in the
+/// two cells that share a face gives slightly different barycentric coordinates there; without
+/// overlap a ray through a shared edge or vertex could fall between them. A difference of 1e-10
+/// of a cell's size between the neighbours' polynomials moves a hit by the same fraction of the
+/// cell, far below pixel size.
+constexpr double kBarycentricTolerance = 1e-10;
+
+/// A power of two that brings `largest` (a magnitude) near 1; 1 for zero or non-finite.
+/// Clamped so the factor itself stays a normal double.
+inline double scaleFor(double largest)
+{
+  if (!(largest > 0.0) || !std::isfinite(largest))
+  {
+    return 1.0;
+  }
+  return std::ldexp(1.0, -std::clamp(std::ilogb(largest), -1020, 1020));
+}
+
+/// scaleFor the largest magnitude of a cell's nodal values.
+inline double unitScale(const double values[kCellNodes])
+{
+  double largest = 0.0;
+  for (int n = 0; n < kCellNodes; ++n)
+  {
+    largest = std::max(largest, std::abs(values[n]));
+  }
+  return scaleFor(largest);
+}
+
+/// The longest edge of a tet. sqrt is monotonic and correctly rounded: one root of the largest
+/// square is the largest length.
+inline double longestEdge(const glm::dvec3 vertices[4])
+{
+  double longest2 = 0.0;
+  for (const auto& edge : kEdgeVertices)
+  {
+    const glm::dvec3 d = vertices[edge[0]] - vertices[edge[1]];
+    longest2 = std::max(longest2, glm::dot(d, d));
+  }
+  return std::sqrt(longest2);
+}
+
+/// Whether a field whose Bernstein bound is [lo, hi] is constant over the cell to rounding: the
+/// bound's width within 8 roundings of its magnitude (the coefficients' own rounding is 2-3).
+inline bool constantToRounding(double lo, double hi)
+{
+  return hi - lo <= 8.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(lo), std::abs(hi));
+}
+
+} // namespace tetdsr

@@ -1,0 +1,294 @@
+// The straight quadratic tetrahedron (VTK_QUADRATIC_TETRA whose mid-edge nodes lie on their
+// edges' midpoints): an affine map, so along a ray the barycentric coordinates are affine and the
+// field is exactly a quadratic in t (QuadraticTet.h). The cell seam's steps (Cells.h).
+#pragma once
+
+#include "tetdsr/Cells.h"
+#include "tetdsr/QuadraticTet.h"
+#include "tetdsr/Roots.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cstdint>
+
+namespace tetdsr
+{
+
+struct QuadraticTetCell
+{
+  /// The range of cell sizes (longest edge) whose barycentric frames stay within double
+  /// precision: the volume (size^3) and its inverse times size^2 stay far from under- and
+  /// overflow. Cells outside it are skipped and counted (outOfScaleCells).
+  static constexpr double kMinCellSize = 1e-100;
+  static constexpr double kMaxCellSize = 1e100;
+  /// Below this fraction of max-edge^3, 6*volume is treated as zero: the barycentric frame would
+  /// amplify rounding by more than 1e13. Slivers and needles of aspect ratio 1e4 stay far above.
+  static constexpr double kDegenerateVolumeRatio = 1e-13;
+  /// A mid-edge node farther than this many times the coordinates' rounding (pointRounding),
+  /// relative to the cell's longest edge, from its edge's midpoint makes the cell curved
+  /// (isoparametric). Treating a cell straight moves its surface by about the offset: below
+  /// this, by less than 1e-13 of the cell for double coordinates.
+  static constexpr double kCurvedRoundings = 64.0;
+
+  /// validate: size, volume and orientation of the cell's 10 finite nodes, and whether a
+  /// mid-edge node is off its edge (kCurved: the cell is then CurvedTetCell's). `pointRounding`
+  /// is the coordinates' relative rounding (2^-52 for double, 2^-23 for float).
+  static std::uint16_t validate(const glm::dvec3 nodes[kCellNodes], double pointRounding)
+  {
+    const glm::dvec3* vertices = nodes;
+    const double maxEdge = longestEdge(vertices);
+    if (!(maxEdge >= kMinCellSize && maxEdge <= kMaxCellSize)) // also an overflowed (Inf) length
+    {
+      return kOutOfScale;
+    }
+    // 6 x the signed volume, as TetFrame::fromVertices computes it (its frame is not needed).
+    const glm::dvec3 e1 = vertices[1] - vertices[0];
+    const double volume6 =
+      glm::dot(e1, glm::cross(vertices[2] - vertices[0], vertices[3] - vertices[0]));
+    if (!std::isfinite(volume6) ||
+      std::abs(volume6) <= kDegenerateVolumeRatio * maxEdge * maxEdge * maxEdge)
+    {
+      return kDegenerate;
+    }
+    std::uint16_t flags = kValid;
+    if (volume6 < 0.0)
+    {
+      flags |= kInverted;
+    }
+    // Rounding is relative to the coordinates' magnitude (a float coordinate near 2.5e6 rounds
+    // by 0.25), so it is measured against the larger of the cell's size and its distance from 0.
+    double reach = maxEdge;
+    for (int k = 0; k < 4; ++k)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        reach = std::max(reach, std::abs(vertices[k][a]));
+      }
+    }
+    const double curvedTolerance = kCurvedRoundings * pointRounding * reach;
+    for (int e = 0; e < 6; ++e)
+    {
+      const glm::dvec3 offset =
+        nodes[4 + e] - 0.5 * (vertices[kEdgeVertices[e][0]] + vertices[kEdgeVertices[e][1]]);
+      // Components within half the tolerance put the length within it (sqrt(3) / 2 < 1): the
+      // length is only needed for the rare others.
+      const double largest = std::max({ std::abs(offset.x), std::abs(offset.y), std::abs(offset.z) });
+      if (largest > 0.5 * curvedTolerance && glm::length(offset) > curvedTolerance)
+      {
+        return flags | kCurved;
+      }
+    }
+    return flags;
+  }
+
+  /// valueBound: the transverse test's range of the field over the cell.
+  static void valueBound(
+    const double values[kCellNodes], const TransverseTest& transverse, double& lo, double& hi)
+  {
+    transverse.range(values, lo, hi);
+  }
+
+  /// extent: the vertices' box (a straight cell is their convex hull); false if not finite.
+  static bool extent(const glm::dvec3 nodes[kCellNodes], glm::dvec3& lo, glm::dvec3& hi)
+  {
+    lo = glm::min(glm::min(nodes[0], nodes[1]), glm::min(nodes[2], nodes[3]));
+    hi = glm::max(glm::max(nodes[0], nodes[1]), glm::max(nodes[2], nodes[3]));
+    return isFinite(lo) && isFinite(hi);
+  }
+
+  /// record: the barycentric map and the Bernstein coefficients of the field (scaled by a power
+  /// of two), for a valid cell; `cell` keeps its id and value range.
+  static void record(const glm::dvec3 vertices[4], const double nodeValues[kCellNodes], CellRecord& cell)
+  {
+    TetFrame frame;
+    if (!TetFrame::fromVertices(vertices, frame))
+    {
+      return; // (not for a valid cell)
+    }
+    cell.vertex0 = vertices[0];
+    cell.vertex1 = vertices[1];
+    cell.centroidOffset =
+      0.25 * ((vertices[1] - vertices[0]) + (vertices[2] - vertices[0]) + (vertices[3] - vertices[0]));
+    for (int k = 0; k < 3; ++k)
+    {
+      cell.gradient[k] = frame.gradient[k + 1];
+    }
+    // Scale the field by a power of two (exact) so that its largest nodal magnitude is about 1:
+    // the products in the quadratic's coefficients and its discriminant (field^2) then neither
+    // overflow nor underflow, whatever the field's scale within double range.
+    cell.scale = unitScale(nodeValues);
+    double values[kCellNodes];
+    for (int n = 0; n < kCellNodes; ++n)
+    {
+      values[n] = nodeValues[n] * cell.scale;
+    }
+    const BernsteinForm form = BernsteinForm::fromNodeValues(values);
+    for (int i = 0; i < 4; ++i)
+    {
+      cell.form[i] = form.b[i][i];
+    }
+    for (int e = 0; e < 6; ++e)
+    {
+      cell.form[4 + e] = form.b[kEdgeVertices[e][0]][kEdgeVertices[e][1]];
+    }
+    // A field constant over the cell (to rounding): the Bernstein bound (a true bound whatever
+    // the transverse test) is within rounding of one value.
+    double boundLo, boundHi;
+    form.range(boundLo, boundHi);
+    cell.kind = constantToRounding(boundLo, boundHi) ? CellRecord::Kind::Constant
+                                                     : CellRecord::Kind::Quadratic;
+  }
+
+  /// intersect: the first crossing along the ray, with tMin <= t <= tLimit, of one of the
+  /// iso-values sorted()[first, last) (those within the cell's range). Inline: the innermost
+  /// test of every ray.
+  static bool intersect(const CellRecord& cell, const Ray& ray, const IsoValues& isoValues,
+    std::size_t first, std::size_t last, double tMin, double tLimit, SurfaceHit& hit);
+
+  /// contains / coordinates: the barycentric coordinates of `point` (exact outside the cell too:
+  /// the map is affine); true if the point lies in the cell, within kBarycentricTolerance.
+  static bool contains(const glm::dvec3 vertices[4], const glm::dvec3& point, double L[4])
+  {
+    TetFrame frame;
+    TetFrame::fromVertices(vertices, frame);
+    frame.barycentricOfOffsets(point - vertices[0], point - vertices[1], L);
+    return L[0] >= -kBarycentricTolerance && L[1] >= -kBarycentricTolerance &&
+      L[2] >= -kBarycentricTolerance && L[3] >= -kBarycentricTolerance;
+  }
+
+  /// interpolate: nodal values at barycentric coordinates with the quadratic shape functions (the
+  /// paper's eq. 2, as L^T B L). Scaled (exactly) so that the Bernstein coefficients cannot
+  /// overflow for values near the largest double; the result overflows only if the value does.
+  static double interpolate(const double nodeValues[kCellNodes], const double L[4])
+  {
+    const double scale = unitScale(nodeValues);
+    double values[kCellNodes];
+    for (int n = 0; n < kCellNodes; ++n)
+    {
+      values[n] = nodeValues[n] * scale;
+    }
+    return BernsteinForm::fromNodeValues(values).bilinear(L, L) / scale;
+  }
+
+  /// gradient: the exact gradient of the field with these nodal values at barycentric L.
+  static glm::dvec3 gradient(
+    const glm::dvec3 vertices[4], const double values[kCellNodes], const double L[4])
+  {
+    TetFrame frame;
+    TetFrame::fromVertices(vertices, frame);
+    return fieldGradient(BernsteinForm::fromNodeValues(values), frame, L);
+  }
+};
+
+inline bool QuadraticTetCell::intersect(const CellRecord& cell, const Ray& ray,
+  const IsoValues& isoValues, std::size_t first, std::size_t last, double tMin, double tLimit,
+  SurfaceHit& hit)
+{
+  TetFrame frame;
+  for (int k = 0; k < 3; ++k)
+  {
+    frame.gradient[k + 1] = cell.gradient[k];
+  }
+  frame.gradient[0] = -(frame.gradient[1] + frame.gradient[2] + frame.gradient[3]);
+  // Re-origin the ray at its point nearest the cell centroid: the barycentric coordinates and the
+  // quadratic's coefficients are then of the cell's own scale, not of the camera distance.
+  // The point is formed as offsets from the cell's vertices (origin - vertex first, both of the
+  // scene's magnitude, then the small step): never rounded at the coordinates' own magnitude.
+  const glm::dvec3 fromVertex0 = ray.origin - cell.vertex0;
+  const double tCentre = glm::dot(cell.centroidOffset - fromVertex0, ray.direction);
+  double L[4], dL[4];
+  frame.barycentricOfOffsets(fromVertex0 + tCentre * ray.direction,
+    (ray.origin - cell.vertex1) + tCentre * ray.direction, L);
+  frame.barycentricDirection(ray.direction, dL);
+
+  // Entry and exit: the tet is {L_k >= 0}; each L_k(s) = L_k + s dL_k is affine in s.
+  double sEntry = tMin - tCentre;
+  double sExit = tLimit - tCentre;
+  for (int k = 0; k < 4; ++k)
+  {
+    const double bound = (-kBarycentricTolerance - L[k]);
+    if (dL[k] > 0.0)
+    {
+      sEntry = std::max(sEntry, bound / dL[k]);
+    }
+    else if (dL[k] < 0.0)
+    {
+      sExit = std::min(sExit, bound / dL[k]);
+    }
+    else if (L[k] < -kBarycentricTolerance)
+    {
+      return false; // parallel to face k and outside it
+    }
+  }
+  if (!(sEntry <= sExit))
+  {
+    return false;
+  }
+  BernsteinForm form;
+  for (int i = 0; i < 4; ++i)
+  {
+    form.b[i][i] = cell.form[i];
+  }
+  for (int e = 0; e < 6; ++e)
+  {
+    const int a = kEdgeVertices[e][0], c = kEdgeVertices[e][1];
+    form.b[a][c] = form.b[c][a] = cell.form[4 + e];
+  }
+  if (cell.kind == CellRecord::Kind::Constant)
+  {
+    // The field constant over the cell (to rounding) and equal to an iso-value: the whole cell
+    // is on the "surface"; the ray meets it where it enters, with no gradient. Rounding would
+    // otherwise scatter the roots of a quadratic whose coefficients are all noise.
+    double boundLo, boundHi;
+    form.range(boundLo, boundHi);
+    std::size_t equal, beyond;
+    if (!isoValues.within(boundLo / cell.scale, boundHi / cell.scale, equal, beyond))
+    {
+      return false;
+    }
+    hit.t = tCentre + sEntry;
+    hit.regionEnd = tCentre + sExit;
+    hit.cellId = cell.cellId;
+    hit.gradient = glm::dvec3(0.0);
+    hit.isoIndex = equal;
+    return true;
+  }
+  // The field along the ray, exactly: f(s) = a s^2 + b s + c (see QuadraticTet.h).
+  const double a = form.bilinear(dL, dL);
+  const double b = 2.0 * form.bilinear(L, dL);
+  const double c = form.bilinear(L, L);
+
+  const std::vector<double>& sorted = isoValues.sorted();
+  bool found = false;
+  double sHit = sExit;
+  for (std::size_t k = first; k < last; ++k)
+  {
+    double s;
+    if (firstRootInInterval(a, b, c - sorted[k] * cell.scale, sEntry, sHit, s))
+    {
+      found = true;
+      sHit = s;
+      hit.isoIndex = k;
+    }
+  }
+  if (!found)
+  {
+    return false;
+  }
+  double LHit[4];
+  for (int k = 0; k < 4; ++k)
+  {
+    LHit[k] = L[k] + sHit * dL[k];
+  }
+  hit.t = tCentre + sHit;
+  hit.regionEnd = hit.t;
+  hit.cellId = cell.cellId;
+  // Unscaled exactly (a power of two), unless that overflows (a field near the largest double):
+  // then the scaled gradient, whose direction is the same.
+  const glm::dvec3 gradient = fieldGradient(form, frame, LHit);
+  hit.gradient = isFinite(gradient / cell.scale) ? gradient / cell.scale : gradient;
+  return true;
+}
+
+} // namespace tetdsr
