@@ -737,7 +737,9 @@ int vtkDirectSurfaceRayCaster::RequestData(
   const bool hasPiece = input && input->GetNumberOfCells() > 0 && input->GetNumberOfPoints() > 0;
   if (!processes.Any(hasPiece))
   {
-    vtkErrorMacro("The input mesh is empty: it has no cells or no points.");
+    tetdsr::checkMeshNotEmpty(input ? input->GetNumberOfPoints() : 0,
+      input ? input->GetNumberOfCells() : 0, messages); // (no process has a piece)
+    REPORT_MESSAGES(messages);
     return 0;
   }
 
@@ -833,7 +835,8 @@ int vtkDirectSurfaceRayCaster::RequestData(
   ImageArrays image(colorMapped);
   if (!processes.All(image.Allocate(pixels)))
   {
-    vtkErrorMacro("Cannot allocate the " << width << " x " << height << " output image.");
+    tetdsr::reportUnallocatedImage(width, height, messages);
+    REPORT_MESSAGES(messages);
     return 0;
   }
 

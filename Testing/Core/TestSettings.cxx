@@ -73,6 +73,9 @@ TEST(Settings, ImageSize)
   EXPECT_NE(error.find("; VTK images hold fewer than 2^31 pixels: choose a smaller size."),
     std::string::npos)
     << error;
+  messages = tetdsr::Messages();
+  tetdsr::reportUnallocatedImage(640, 480, messages);
+  EXPECT_EQ(onlyError(messages), "Cannot allocate the 640 x 480 output image.");
 }
 
 TEST(Settings, Camera)

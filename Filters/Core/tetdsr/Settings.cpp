@@ -86,6 +86,11 @@ bool checkImageSize(int width, int height, Messages& messages)
   return false;
 }
 
+void reportUnallocatedImage(int width, int height, Messages& messages)
+{
+  messages.errors.push_back(text("Cannot allocate the ", width, " x ", height, " output image."));
+}
+
 bool checkCamera(const Camera& camera, Messages& messages)
 {
   const CameraProblem problem = RayGenerator::check(camera);

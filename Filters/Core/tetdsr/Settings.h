@@ -51,6 +51,9 @@ bool checkClipPlanes(const std::vector<ClipPlane>& planes, Messages& messages);
 /// machine's physical memory, or 2^31 pixels or more (VTK's image extents and indices are ints).
 bool checkImageSize(int width, int height, Messages& messages);
 
+/// The error for an output image whose arrays could not be allocated.
+void reportUnallocatedImage(int width, int height, Messages& messages);
+
 /// False, with an error naming the reason, when the camera defines no rays.
 bool checkCamera(const Camera& camera, Messages& messages);
 /// The same, and false when the camera is farther than kMaxCameraDistance diagonals from the
