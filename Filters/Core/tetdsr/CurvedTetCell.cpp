@@ -65,6 +65,54 @@ void orthonormalPair(const glm::dvec3& d, glm::dvec3& u, glm::dvec3& v)
   u = glm::normalize(glm::cross(d, helper));
   v = glm::cross(d, u);
 }
+
+/// For a field constant over the cell (to rounding) and equal to an iso-value: the crossing is
+/// the stretch of the ray inside the cell, from where it enters (a root on a face, or the start
+/// if that is inside the cell) to where it next leaves. `equations` are the ray's two transverse
+/// equations, `depth` its depth form, [lo, hi] the local depth interval; t_world = (tCentre + T) / s.
+bool constantCrossing(const glm::dvec3 nodes[kCellNodes], const IsoValues& isoValues,
+  double boundLo, double boundHi, double scale, const QuadraticForm equations[2],
+  const QuadraticForm& depth, const Ray& ray, double tMin, double lo, double hi, double tCentre,
+  double s, SurfaceHit& hit)
+{
+  std::size_t index;
+  if (!constantIsoIndex(isoValues, boundLo, boundHi, scale, index))
+  {
+    return false;
+  }
+  // The nearest crossing of the cell's boundary with local depth in [from, to] (+inf if none).
+  auto firstFaceCrossing = [&](double from, double to) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int face = 0; face < 4; ++face)
+    {
+      const QuadraticForm faceEquations[2] = { equations[0].face(face), equations[1].face(face) };
+      const QuadraticForm faceDepth = depth.face(face);
+      SimplexRoot faceRoot;
+      if (solveOnSimplex(2, faceEquations, &faceDepth, from, std::min(nearest, to),
+            kBarycentricTolerance, faceRoot))
+      {
+        nearest = std::min(nearest, faceRoot.value);
+      }
+    }
+    return nearest;
+  };
+  // The start is inside when it is finite and the cell contains it; 1e-9 (local units, the
+  // cell's size near 1) steps past the entry root so that the exit search does not find it.
+  double startL[4];
+  const double enter = std::isfinite(lo) && CurvedTetCell::contains(nodes, ray.origin + tMin * ray.direction, startL)
+    ? lo
+    : firstFaceCrossing(lo, hi);
+  if (!std::isfinite(enter))
+  {
+    return false;
+  }
+  const double leave = firstFaceCrossing(enter + 1e-9, hi);
+  hit.isoIndex = index;
+  hit.t = (tCentre + enter) / s;
+  hit.regionEnd = std::isfinite(leave) ? (tCentre + leave) / s : hit.t;
+  hit.gradient = glm::dvec3(0.0);
+  return true;
+}
 } // namespace
 
 std::uint16_t CurvedTetCell::validate(const glm::dvec3 nodes[kCellNodes], std::uint16_t flags)
@@ -170,45 +218,8 @@ bool CurvedTetCell::intersect(const glm::dvec3 nodes[kCellNodes], const double v
   SimplexRoot root;
   if (constantToRounding(boundLo, boundHi))
   {
-    // Constant and equal to an iso-value: the crossing is the stretch of the ray inside the
-    // cell, from where it enters (a root on a face, or the start if that is inside the cell) to
-    // where it next leaves.
-    std::size_t index;
-    if (!constantIsoIndex(isoValues, boundLo, boundHi, scale, index))
-    {
-      return false;
-    }
-    double startL[4];
-    // The nearest crossing of the cell's boundary with local depth in [from, to] (+inf if none).
-    auto firstFaceCrossing = [&](double from, double to) {
-      double nearest = std::numeric_limits<double>::infinity();
-      for (int face = 0; face < 4; ++face)
-      {
-        const QuadraticForm faceEquations[2] = { equations[0].face(face), equations[1].face(face) };
-        const QuadraticForm faceDepth = depth.face(face);
-        SimplexRoot faceRoot;
-        if (solveOnSimplex(2, faceEquations, &faceDepth, from, std::min(nearest, to),
-              kBarycentricTolerance, faceRoot))
-        {
-          nearest = std::min(nearest, faceRoot.value);
-        }
-      }
-      return nearest;
-    };
-    // The start is inside when it is finite and the cell contains it; 1e-9 (local units, the
-    // cell's size near 1) steps past the entry root so that the exit search does not find it.
-    const double enter =
-      std::isfinite(lo) && contains(nodes, ray.origin + tMin * d, startL) ? lo : firstFaceCrossing(lo, hi);
-    if (!std::isfinite(enter))
-    {
-      return false;
-    }
-    const double leave = firstFaceCrossing(enter + 1e-9, hi);
-    hit.isoIndex = index;
-    hit.t = (tCentre + enter) / s;
-    hit.regionEnd = std::isfinite(leave) ? (tCentre + leave) / s : hit.t;
-    hit.gradient = glm::dvec3(0.0);
-    return true;
+    return constantCrossing(nodes, isoValues, boundLo, boundHi, scale, equations, depth, ray,
+      tMin, lo, hi, tCentre, s, hit);
   }
   // Every iso-value the cell's bound admits, in one subdivision (Levels); one, directly.
   Levels levels;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "tetdsr/Cells.h"
+#include "tetdsr/QuadraticTetCell.h"
 
 #include <glm/glm.hpp>
 
@@ -47,7 +48,23 @@ struct CurvedTetCell
   static glm::dvec3 gradient(
     const glm::dvec3 nodes[kCellNodes], const double values[kCellNodes], const double L[4]);
 
-  // valueBound and interpolate: QuadraticTetCell's (the field is the same quadratic in L).
+  /// valueBound and interpolate: QuadraticTetCell's (the field is the same quadratic in L).
+  static void valueBound(
+    const double values[kCellNodes], const TransverseTest& transverse, double& lo, double& hi)
+  {
+    QuadraticTetCell::valueBound(values, transverse, lo, hi);
+  }
+  static double interpolate(const double values[kCellNodes], const double L[4])
+  {
+    return QuadraticTetCell::interpolate(values, L);
+  }
+
+  /// record: only the kind (the cell is solved from the mesh: its nodes and values are read
+  /// for each ray test); `cell` keeps its id and value range.
+  static void record(const glm::dvec3[kCellNodes], const double[kCellNodes], CellRecord& cell)
+  {
+    cell.kind = CellRecord::Kind::Curved;
+  }
 };
 
 } // namespace tetdsr

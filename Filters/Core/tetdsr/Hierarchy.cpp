@@ -211,6 +211,20 @@ void Hierarchy::build(std::vector<BoxItem> items, const ParallelFor& parallelFor
   {
     return;
   }
+  const std::vector<Binary> binary = buildBinary(items, parallelFor);
+  setRootBox(binary);
+  collapse(binary);
+  Ids_.resize(items.size());
+  for (std::size_t i = 0; i < items.size(); ++i)
+  {
+    Ids_[i] = items[i].id;
+  }
+}
+
+
+std::vector<Hierarchy::Binary> Hierarchy::buildBinary(
+  std::vector<BoxItem>& items, const ParallelFor& parallelFor)
+{
   // The binary tree: the top levels are split serially; the subtrees below them (disjoint
   // ranges of `items`) are built concurrently, each into its own node list, then laid out in
   // preorder.
@@ -297,7 +311,11 @@ void Hierarchy::build(std::vector<BoxItem> items, const ParallelFor& parallelFor
     return index;
   };
   emit(0);
+  return binary;
+}
 
+void Hierarchy::setRootBox(const std::vector<Binary>& binary)
+{
   for (int a = 0; a < 3; ++a)
   {
     Lo_[a] = binary[0].lo[a];
@@ -311,12 +329,14 @@ void Hierarchy::build(std::vector<BoxItem> items, const ParallelFor& parallelFor
   // Float rounding of the re-origined ray and of the slab test errs by a few units of 2^-24 of
   // the coordinates' magnitude over the root box; 2^-16 of it is 256 times that.
   Pad_ = std::ldexp(magnitude, -16);
+}
 
-
+void Hierarchy::collapse(const std::vector<Binary>& binary)
+{
   // Collapse into 4-wide nodes: each takes its binary node's children and opens the interior
   // one of largest area until it has four (Wald et al.'s BVH4 collapse).
   Nodes_.reserve(binary.size() / 2 + 1);
-  std::function<std::uint32_t(const std::uint32_t*, int)> collapse =
+  std::function<std::uint32_t(const std::uint32_t*, int)> collapseNode =
     [&](const std::uint32_t* roots, int rootCount) {
       std::uint32_t children[4];
       int size = rootCount;
@@ -361,20 +381,14 @@ void Hierarchy::build(std::vector<BoxItem> items, const ParallelFor& parallelFor
         {
           const std::uint32_t pair[2] = { children[c] + 1,
             binary[children[c]].firstOrSecondChild };
-          node.child[c] = collapse(pair, 2);
+          node.child[c] = collapseNode(pair, 2);
         }
       }
       Nodes_[index] = node;
       return index;
     };
   const std::uint32_t root = 0;
-  collapse(&root, 1);
-
-  Ids_.resize(items.size());
-  for (std::size_t i = 0; i < items.size(); ++i)
-  {
-    Ids_[i] = items[i].id;
-  }
+  collapseNode(&root, 1);
 }
 
 std::size_t Hierarchy::memoryBytes() const

@@ -82,6 +82,14 @@ private:
     std::uint8_t size;
   };
   struct Binary;
+  // The build's steps.
+  /// The binary SAH tree over `items` (reordered into its leaves), in preorder: the top levels
+  /// split serially, the subtrees below them built concurrently.
+  static std::vector<Binary> buildBinary(std::vector<BoxItem>& items, const ParallelFor& parallelFor);
+  /// The root box and the padding of the float slab test, from the binary tree's root.
+  void setRootBox(const std::vector<Binary>& binary);
+  /// The binary tree collapsed into 4-wide nodes.
+  void collapse(const std::vector<Binary>& binary);
   /// The binary tree the build makes is under 48 + 32 levels deep (SAH splits to depth 48, then
   /// median splits of at most 2^32 items), and the 4-wide tree no deeper; traversal keeps at
   /// most three pending siblings per level (four at the last).

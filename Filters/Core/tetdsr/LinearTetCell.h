@@ -14,7 +14,8 @@
 namespace tetdsr
 {
 
-struct LinearTetCell
+/// Every step but validate is QuadraticTetCell's (inherited), on the completed cell.
+struct LinearTetCell : QuadraticTetCell
 {
   static constexpr int kNodes = 4;
 
@@ -42,9 +43,6 @@ struct LinearTetCell
   {
     return QuadraticTetCell::validate(nodes, pointRounding);
   }
-
-  // valueBound, extent, record, intersect, coordinates, interpolate and gradient: those of
-  // QuadraticTetCell on the completed cell (Scene dispatches LinearTet there).
 };
 
 } // namespace tetdsr

@@ -99,7 +99,7 @@ struct QuadraticTetCell
 
   /// record: the barycentric map and the Bernstein coefficients of the field (scaled by a power
   /// of two), for a valid cell; `cell` keeps its id and value range.
-  static void record(const glm::dvec3 vertices[4], const double nodeValues[kCellNodes], CellRecord& cell)
+  static void record(const glm::dvec3 vertices[kCellNodes], const double nodeValues[kCellNodes], CellRecord& cell)
   {
     TetFrame frame;
     if (!TetFrame::fromVertices(vertices, frame))
@@ -148,13 +148,18 @@ struct QuadraticTetCell
 
   /// contains / coordinates: the barycentric coordinates of `point` (exact outside the cell too:
   /// the map is affine); true if the point lies in the cell, within kBarycentricTolerance.
-  static bool contains(const glm::dvec3 vertices[4], const glm::dvec3& point, double L[4])
+  static bool contains(const glm::dvec3 vertices[kCellNodes], const glm::dvec3& point, double L[4])
   {
     TetFrame frame;
     TetFrame::fromVertices(vertices, frame);
     frame.barycentricOfOffsets(point - vertices[0], point - vertices[1], L);
     return L[0] >= -kBarycentricTolerance && L[1] >= -kBarycentricTolerance &&
       L[2] >= -kBarycentricTolerance && L[3] >= -kBarycentricTolerance;
+  }
+
+  static void coordinates(const glm::dvec3 nodes[kCellNodes], const glm::dvec3& point, double L[4])
+  {
+    contains(nodes, point, L);
   }
 
   /// interpolate: nodal values at barycentric coordinates with the quadratic shape functions (the
@@ -173,7 +178,7 @@ struct QuadraticTetCell
 
   /// gradient: the exact gradient of the field with these nodal values at barycentric L.
   static glm::dvec3 gradient(
-    const glm::dvec3 vertices[4], const double values[kCellNodes], const double L[4])
+    const glm::dvec3 vertices[kCellNodes], const double values[kCellNodes], const double L[4])
   {
     TetFrame frame;
     TetFrame::fromVertices(vertices, frame);
@@ -181,30 +186,28 @@ struct QuadraticTetCell
   }
 };
 
-inline bool QuadraticTetCell::intersect(const CellRecord& cell, const Ray& ray,
-  const IsoValues& isoValues, std::size_t first, std::size_t last, double tMin, double tLimit,
-  SurfaceHit& hit)
+namespace quadratic_tet_detail
 {
-  TetFrame frame;
-  for (int k = 0; k < 3; ++k)
-  {
-    frame.gradient[k + 1] = cell.gradient[k];
-  }
-  frame.gradient[0] = -(frame.gradient[1] + frame.gradient[2] + frame.gradient[3]);
-  // Re-origin the ray at its point nearest the cell centroid: the barycentric coordinates and the
-  // quadratic's coefficients are then of the cell's own scale, not of the camera distance.
-  // The point is formed as offsets from the cell's vertices (origin - vertex first, both of the
-  // scene's magnitude, then the small step): never rounded at the coordinates' own magnitude.
+/// The ray re-origined at its point nearest the cell centroid, in the cell's barycentric
+/// coordinates: L(s) = L + s dL, t = tCentre + s. Then the barycentric coordinates and the
+/// quadratic's coefficients are of the cell's own scale, not of the camera distance. The point is
+/// formed as offsets from the cell's vertices (origin - vertex first, both of the scene's
+/// magnitude, then the small step): never rounded at the coordinates' own magnitude.
+inline double localRay(const CellRecord& cell, const TetFrame& frame, const Ray& ray, double L[4],
+  double dL[4])
+{
   const glm::dvec3 fromVertex0 = ray.origin - cell.vertex0;
   const double tCentre = glm::dot(cell.centroidOffset - fromVertex0, ray.direction);
-  double L[4], dL[4];
   frame.barycentricOfOffsets(fromVertex0 + tCentre * ray.direction,
     (ray.origin - cell.vertex1) + tCentre * ray.direction, L);
   frame.barycentricDirection(ray.direction, dL);
+  return tCentre;
+}
 
-  // Entry and exit: the tet is {L_k >= 0}; each L_k(s) = L_k + s dL_k is affine in s.
-  double sEntry = tMin - tCentre;
-  double sExit = tLimit - tCentre;
+/// Entry and exit: the tet is {L_k >= 0} widened by kBarycentricTolerance; each L_k(s) is affine
+/// in s. Narrows [sEntry, sExit]; false if the ray misses the cell there.
+inline bool clipToCell(const double L[4], const double dL[4], double& sEntry, double& sExit)
+{
   for (int k = 0; k < 4; ++k)
   {
     const double bound = (-kBarycentricTolerance - L[k]);
@@ -221,10 +224,12 @@ inline bool QuadraticTetCell::intersect(const CellRecord& cell, const Ray& ray,
       return false; // parallel to face k and outside it
     }
   }
-  if (!(sEntry <= sExit))
-  {
-    return false;
-  }
+  return sEntry <= sExit;
+}
+
+/// The record's Bernstein coefficients as the symmetric form.
+inline BernsteinForm formOf(const CellRecord& cell)
+{
   BernsteinForm form;
   for (int i = 0; i < 4; ++i)
   {
@@ -235,6 +240,30 @@ inline bool QuadraticTetCell::intersect(const CellRecord& cell, const Ray& ray,
     const int a = kEdgeVertices[e][0], c = kEdgeVertices[e][1];
     form.b[a][c] = form.b[c][a] = cell.form[4 + e];
   }
+  return form;
+}
+} // namespace quadratic_tet_detail
+
+inline bool QuadraticTetCell::intersect(const CellRecord& cell, const Ray& ray,
+  const IsoValues& isoValues, std::size_t first, std::size_t last, double tMin, double tLimit,
+  SurfaceHit& hit)
+{
+  using namespace quadratic_tet_detail;
+  TetFrame frame;
+  for (int k = 0; k < 3; ++k)
+  {
+    frame.gradient[k + 1] = cell.gradient[k];
+  }
+  frame.gradient[0] = -(frame.gradient[1] + frame.gradient[2] + frame.gradient[3]);
+  double L[4], dL[4];
+  const double tCentre = localRay(cell, frame, ray, L, dL);
+  double sEntry = tMin - tCentre;
+  double sExit = tLimit - tCentre;
+  if (!clipToCell(L, dL, sEntry, sExit))
+  {
+    return false;
+  }
+  const BernsteinForm form = formOf(cell);
   if (cell.kind == CellRecord::Kind::Constant)
   {
     // The field constant over the cell (to rounding) and equal to an iso-value: the whole cell
@@ -254,11 +283,11 @@ inline bool QuadraticTetCell::intersect(const CellRecord& cell, const Ray& ray,
     hit.isoIndex = equal;
     return true;
   }
-  // The field along the ray, exactly: f(s) = a s^2 + b s + c (see QuadraticTet.h).
+  // The field along the ray, exactly: f(s) = a s^2 + b s + c (see QuadraticTet.h); the nearest
+  // root of f - iso in [sEntry, sHit] over the iso-values the cell can hold.
   const double a = form.bilinear(dL, dL);
   const double b = 2.0 * form.bilinear(L, dL);
   const double c = form.bilinear(L, L);
-
   const std::vector<double>& sorted = isoValues.sorted();
   bool found = false;
   double sHit = sExit;

@@ -1,9 +1,7 @@
 #include "tetdsr/Scene.h"
 
-#include "tetdsr/CurvedTetCell.h"
+#include "tetdsr/CellKinds.h"
 #include "tetdsr/Hierarchy.h"
-#include "tetdsr/LinearTetCell.h"
-#include "tetdsr/QuadraticTetCell.h"
 
 #include <algorithm>
 #include <cmath>
@@ -31,6 +29,36 @@ bool distinctIds(const NodeId* ids, int count)
     }
   }
   return true;
+}
+
+/// Adds one cell's validation outcome to the counts.
+void count(std::uint16_t flags, PreprocessSummary& summary)
+{
+  summary.validCells += (flags & kValid) != 0;
+  summary.invertedCells += (flags & kInverted) != 0;
+  summary.curvedCells += (flags & kCurved) != 0;
+  summary.degenerateCells += (flags & kDegenerate) != 0;
+  summary.nonFiniteCells += (flags & kNonFinite) != 0;
+  summary.invalidIdCells += (flags & kInvalidId) != 0;
+  summary.outOfScaleCells += (flags & kOutOfScale) != 0;
+  summary.tangledCells += (flags & kTangled) != 0;
+  summary.unsupportedCells += (flags & kUnsupported) != 0;
+  summary.malformedCells += (flags & kMalformed) != 0;
+}
+
+/// Adds counts to a total.
+void add(const PreprocessSummary& part, PreprocessSummary& total)
+{
+  total.validCells += part.validCells;
+  total.invertedCells += part.invertedCells;
+  total.curvedCells += part.curvedCells;
+  total.degenerateCells += part.degenerateCells;
+  total.nonFiniteCells += part.nonFiniteCells;
+  total.invalidIdCells += part.invalidIdCells;
+  total.outOfScaleCells += part.outOfScaleCells;
+  total.tangledCells += part.tangledCells;
+  total.unsupportedCells += part.unsupportedCells;
+  total.malformedCells += part.malformedCells;
 }
 
 float roundDown(double x)
@@ -97,13 +125,37 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
     Mesh_.numberOfCells = 0; // cannot be indexed: an empty scene (the caller reports it)
     return;
   }
-  // Whether a cell's type and offsets can be trusted to read its ids (validate counts the rest).
-  auto readable = [&](NodeId cell) {
-    const NodeId begin = mesh.offsets[cell];
-    const int count = nodeCount(mesh.cellTypes[cell]);
-    return count > 0 && begin >= 0 && mesh.offsets[cell + 1] - begin == count &&
-      mesh.offsets[cell + 1] <= mesh.connectivitySize;
-  };
+  chooseBoxUnits(parallelFor);
+  FillLaterVector<std::uint16_t> status;
+  glm::dvec3 lo, hi;
+  validateCells(parallelFor, status, lo, hi);
+  keepValidCells(status);
+  setSceneBox(lo, hi);
+}
+
+bool Scene::readable(NodeId cell) const
+{
+  const NodeId begin = Mesh_.offsets[cell];
+  const int count = nodeCount(Mesh_.cellTypes[cell]);
+  return count > 0 && begin >= 0 && Mesh_.offsets[cell + 1] - begin == count &&
+    Mesh_.offsets[cell + 1] <= Mesh_.connectivitySize;
+}
+
+void Scene::forChunks(const ParallelFor& parallelFor,
+  const std::function<void(NodeId chunk, NodeId begin, NodeId end)>& body) const
+{
+  const NodeId cells = Mesh_.numberOfCells;
+  parallelFor((cells + kChunkCells - 1) / kChunkCells, [&](NodeId first, NodeId last) {
+    for (NodeId chunk = first; chunk < last; ++chunk)
+    {
+      body(chunk, chunk * kChunkCells, std::min(cells, (chunk + 1) * kChunkCells));
+    }
+  });
+}
+
+void Scene::chooseBoxUnits(const ParallelFor& parallelFor)
+{
+  const MeshView& mesh = Mesh_;
   // Any finite vertex of the mesh will do as the origin of the float boxes.
   for (NodeId cell = 0; cell < mesh.numberOfCells; ++cell)
   {
@@ -118,22 +170,11 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
       }
     }
   }
-  // Work in fixed chunks of cells, each chunk's results merged in chunk order: the outcome does
-  // not depend on how parallelFor spreads the chunks over threads.
-  const NodeId chunks = (mesh.numberOfCells + kChunkCells - 1) / kChunkCells;
-  auto forChunks = [&](const std::function<void(NodeId chunk, NodeId begin, NodeId end)>& body) {
-    parallelFor(chunks, [&](NodeId first, NodeId last) {
-      for (NodeId chunk = first; chunk < last; ++chunk)
-      {
-        body(chunk, chunk * kChunkCells, std::min(mesh.numberOfCells, (chunk + 1) * kChunkCells));
-      }
-    });
-  };
-
   // The boxes' unit: a power of two near the extent of the cells' vertices around Origin_, so
   // float boxes resolve scenes of any size in double range (float alone stops near 1e-38).
-  std::vector<double> chunkExtent(static_cast<std::size_t>(chunks), 0.0);
-  forChunks([&](NodeId chunk, NodeId begin, NodeId end) {
+  // Per chunk, merged in chunk order: the outcome does not depend on the threads.
+  std::vector<double> chunkExtent(static_cast<std::size_t>((mesh.numberOfCells + kChunkCells - 1) / kChunkCells), 0.0);
+  forChunks(parallelFor, [&](NodeId chunk, NodeId begin, NodeId end) {
     double extent = 0.0;
     for (NodeId cell = begin; cell < end; ++cell)
     {
@@ -163,55 +204,55 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
     extent = std::max(extent, chunk);
   }
   BoxScale_ = scaleFor(extent);
+}
 
-  // Validate every cell, each writing only its own slot, and count per chunk...
-  const auto cells = static_cast<std::size_t>(mesh.numberOfCells);
+void Scene::validateCells(const ParallelFor& parallelFor, FillLaterVector<std::uint16_t>& status,
+  glm::dvec3& lo, glm::dvec3& hi)
+{
+  // Every cell writes only its own slots; counts and boxes are kept per chunk and merged in
+  // chunk order (deterministic for any number of threads).
+  const auto cells = static_cast<std::size_t>(Mesh_.numberOfCells);
+  const auto chunks = (cells + kChunkCells - 1) / kChunkCells;
   ValidCells_.resize(cells);
-  FillLaterVector<std::uint16_t> status(cells);
-  std::vector<PreprocessSummary> chunkSummary(static_cast<std::size_t>(chunks));
+  status.resize(cells);
+  std::vector<PreprocessSummary> chunkSummary(chunks);
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
-  std::vector<glm::dvec3> chunkLo(static_cast<std::size_t>(chunks), glm::dvec3(kInfinity));
-  std::vector<glm::dvec3> chunkHi(static_cast<std::size_t>(chunks), glm::dvec3(-kInfinity));
-  forChunks([&](NodeId chunk, NodeId begin, NodeId end) {
+  std::vector<glm::dvec3> chunkLo(chunks, glm::dvec3(kInfinity));
+  std::vector<glm::dvec3> chunkHi(chunks, glm::dvec3(-kInfinity));
+  forChunks(parallelFor, [&](NodeId chunk, NodeId begin, NodeId end) {
     PreprocessSummary& summary = chunkSummary[static_cast<std::size_t>(chunk)];
     glm::dvec3& aroundLo = chunkLo[static_cast<std::size_t>(chunk)];
     glm::dvec3& aroundHi = chunkHi[static_cast<std::size_t>(chunk)];
     for (NodeId cell = begin; cell < end; ++cell)
     {
       const auto c = static_cast<std::size_t>(cell);
-      glm::dvec3 lo, hi;
-      const std::uint16_t flags = validate(cell, ValidCells_[c], lo, hi);
+      glm::dvec3 cellLo, cellHi;
+      const std::uint16_t flags = validate(cell, ValidCells_[c], cellLo, cellHi);
       if (flags & kValid)
       {
-        aroundLo = glm::min(aroundLo, lo);
-        aroundHi = glm::max(aroundHi, hi);
+        aroundLo = glm::min(aroundLo, cellLo);
+        aroundHi = glm::max(aroundHi, cellHi);
       }
       status[c] = flags;
-      summary.validCells += (flags & kValid) != 0;
-      summary.invertedCells += (flags & kInverted) != 0;
-      summary.curvedCells += (flags & kCurved) != 0;
-      summary.degenerateCells += (flags & kDegenerate) != 0;
-      summary.nonFiniteCells += (flags & kNonFinite) != 0;
-      summary.invalidIdCells += (flags & kInvalidId) != 0;
-      summary.outOfScaleCells += (flags & kOutOfScale) != 0;
-      summary.tangledCells += (flags & kTangled) != 0;
-      summary.unsupportedCells += (flags & kUnsupported) != 0;
-      summary.malformedCells += (flags & kMalformed) != 0;
+      count(flags, summary);
     }
   });
   for (const PreprocessSummary& summary : chunkSummary)
   {
-    Summary_.validCells += summary.validCells;
-    Summary_.invertedCells += summary.invertedCells;
-    Summary_.curvedCells += summary.curvedCells;
-    Summary_.degenerateCells += summary.degenerateCells;
-    Summary_.nonFiniteCells += summary.nonFiniteCells;
-    Summary_.invalidIdCells += summary.invalidIdCells;
-    Summary_.outOfScaleCells += summary.outOfScaleCells;
-    Summary_.tangledCells += summary.tangledCells;
-    Summary_.unsupportedCells += summary.unsupportedCells;
-    Summary_.malformedCells += summary.malformedCells;
+    add(summary, Summary_);
   }
+  lo = glm::dvec3(kInfinity);
+  hi = glm::dvec3(-kInfinity);
+  for (std::size_t chunk = 0; chunk < chunks; ++chunk)
+  {
+    lo = glm::min(lo, chunkLo[chunk]);
+    hi = glm::max(hi, chunkHi[chunk]);
+  }
+}
+
+void Scene::keepValidCells(const FillLaterVector<std::uint16_t>& status)
+{
+  const std::size_t cells = status.size();
   if (Summary_.curvedCells > 0)
   {
     Curved_.assign(cells, 0);
@@ -220,7 +261,7 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
       Curved_[cell] = (status[cell] & kValid) && (status[cell] & kCurved);
     }
   }
-  // ...then keep the valid ones, in cell order (nothing moves when all are valid).
+  // The valid ones, in cell order (nothing moves when all are valid).
   const auto valid = static_cast<std::size_t>(Summary_.validCells);
   if (valid < cells)
   {
@@ -235,44 +276,30 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
     ValidCells_.resize(valid);
     ValidCells_.shrink_to_fit();
   }
-  // The box around every valid cell (box units), padded as cell boxes are (boxOf).
-  glm::dvec3 lo(kInfinity), hi(-kInfinity);
-  for (std::size_t chunk = 0; chunk < chunkLo.size(); ++chunk)
+}
+
+void Scene::setSceneBox(const glm::dvec3& lo, const glm::dvec3& hi)
+{
+  if (ValidCells_.empty())
   {
-    lo = glm::min(lo, chunkLo[chunk]);
-    hi = glm::max(hi, chunkHi[chunk]);
+    return;
   }
-  if (valid > 0)
+  // Padded as cell boxes are (boxOf).
+  double magnitude = 0.0;
+  for (int a = 0; a < 3; ++a)
   {
-    double magnitude = 0.0;
-    for (int a = 0; a < 3; ++a)
-    {
-      magnitude = std::max({ magnitude, std::abs(lo[a]), std::abs(hi[a]) });
-    }
-    const double pad =
-      1e-8 * glm::length(hi - lo) + 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
-    for (int a = 0; a < 3; ++a)
-    {
-      BoxLo_[a] = roundDown((lo[a] - pad - Origin_[a]) * BoxScale_);
-      BoxHi_[a] = roundUp((hi[a] + pad - Origin_[a]) * BoxScale_);
-    }
+    magnitude = std::max({ magnitude, std::abs(lo[a]), std::abs(hi[a]) });
+  }
+  const double pad =
+    1e-8 * glm::length(hi - lo) + 16.0 * std::numeric_limits<double>::epsilon() * magnitude;
+  for (int a = 0; a < 3; ++a)
+  {
+    BoxLo_[a] = roundDown((lo[a] - pad - Origin_[a]) * BoxScale_);
+    BoxHi_[a] = roundUp((hi[a] + pad - Origin_[a]) * BoxScale_);
   }
 }
 
 Scene::~Scene() = default;
-
-bool Scene::extentOf(CellKind kind, const glm::dvec3 nodes[kCellNodes], glm::dvec3& lo, glm::dvec3& hi)
-{
-  switch (kind)
-  {
-    case CellKind::CurvedTet:
-      return CurvedTetCell::extent(nodes, lo, hi);
-    case CellKind::LinearTet:
-    case CellKind::QuadraticTet:
-      break;
-  }
-  return QuadraticTetCell::extent(nodes, lo, hi);
-}
 
 BoxItem Scene::boxOf(const glm::dvec3& extentLo, const glm::dvec3& extentHi, double maxEdge) const
 {
@@ -298,7 +325,8 @@ BoxItem Scene::cellBox(NodeId cellId) const
   glm::dvec3 nodes[kCellNodes];
   loadNodes(cellId, nodes);
   glm::dvec3 lo, hi;
-  extentOf(kindOf(cellId), nodes, lo, hi); // succeeded when validated
+  forKind(kindOf(cellId), [&](auto cell) { return decltype(cell)::extent(nodes, lo, hi); });
+  // (succeeded when validated)
   BoxItem box = boxOf(lo, hi, longestEdge(nodes));
   box.id = static_cast<std::uint32_t>(cellId);
   return box;
@@ -370,13 +398,13 @@ std::uint16_t Scene::validate(
       return flags;
     }
   }
-  if (!extentOf(kind, nodes, extentLo, extentHi))
+  if (!forKind(kind, [&](auto cell) { return decltype(cell)::extent(nodes, extentLo, extentHi); }))
   {
     return kOutOfScale;
   }
   validCell.id = static_cast<std::uint32_t>(cell);
   double lo, hi;
-  QuadraticTetCell::valueBound(values, Transverse_, lo, hi);
+  forKind(kind, [&](auto cell) { decltype(cell)::valueBound(values, Transverse_, lo, hi); });
   validCell.valueLo = roundDown(lo);
   validCell.valueHi = roundUp(hi);
   return flags;
@@ -418,31 +446,14 @@ bool Scene::inCell(NodeId cellId, const glm::dvec3& point, double L[4]) const
 {
   glm::dvec3 nodes[kCellNodes];
   loadNodes(cellId, nodes);
-  switch (kindOf(cellId))
-  {
-    case CellKind::CurvedTet:
-      return CurvedTetCell::contains(nodes, point, L);
-    case CellKind::LinearTet:
-    case CellKind::QuadraticTet:
-      break;
-  }
-  return QuadraticTetCell::contains(nodes, point, L);
+  return forKind(kindOf(cellId), [&](auto cell) { return decltype(cell)::contains(nodes, point, L); });
 }
 
 void Scene::cellCoordinates(NodeId cellId, const glm::dvec3& point, double L[4]) const
 {
   glm::dvec3 nodes[kCellNodes];
   loadNodes(cellId, nodes);
-  switch (kindOf(cellId))
-  {
-    case CellKind::CurvedTet:
-      CurvedTetCell::coordinates(nodes, point, L);
-      return;
-    case CellKind::LinearTet:
-    case CellKind::QuadraticTet:
-      break;
-  }
-  QuadraticTetCell::contains(nodes, point, L); // (exact outside the cell too)
+  forKind(kindOf(cellId), [&](auto cell) { decltype(cell)::coordinates(nodes, point, L); });
 }
 
 bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues,
@@ -480,17 +491,11 @@ void Scene::prepareCell(NodeId cellId, CellRecord& cell) const
   loadNodes(cellId, nodes);
   loadValues(cellId, values, Mesh_.values);
   // The range the transverse test gives (which iso-values the cell can hold).
-  QuadraticTetCell::valueBound(values, Transverse_, cell.valueLo, cell.valueHi);
-  switch (kindOf(cellId))
-  {
-    case CellKind::CurvedTet:
-      cell.kind = CellRecord::Kind::Curved; // solved from the mesh (intersectCurvedCell)
-      return;
-    case CellKind::LinearTet:
-    case CellKind::QuadraticTet:
-      break;
-  }
-  QuadraticTetCell::record(nodes, values, cell);
+  forKind(kindOf(cellId), [&](auto kind) {
+    using Kind = decltype(kind);
+    Kind::valueBound(values, Transverse_, cell.valueLo, cell.valueHi);
+    Kind::record(nodes, values, cell);
+  });
 }
 
 std::size_t Scene::memoryBytes() const
@@ -507,8 +512,7 @@ double Scene::interpolate(NodeId cellId, const glm::dvec3& point, const double* 
   loadValues(cellId, values, pointValues, components, component);
   double L[4];
   cellCoordinates(cellId, point, L); // valid cells only reach here
-  // Every kind's field is the quadratic of its nodal values in L (QuadraticTetCell::interpolate).
-  return QuadraticTetCell::interpolate(values, L);
+  return forKind(kindOf(cellId), [&](auto cell) { return decltype(cell)::interpolate(values, L); });
 }
 
 double Scene::cellSize(NodeId cellId) const
@@ -619,9 +623,8 @@ void Scene::computeNodalGradients()
       {
         L[kEdgeVertices[n - 4][0]] = L[kEdgeVertices[n - 4][1]] = 0.5;
       }
-      sum[static_cast<std::size_t>(ids[n])] += kind == CellKind::CurvedTet
-        ? CurvedTetCell::gradient(nodes, values, L)
-        : QuadraticTetCell::gradient(nodes, values, L);
+      sum[static_cast<std::size_t>(ids[n])] +=
+        forKind(kind, [&](auto cell) { return decltype(cell)::gradient(nodes, values, L); });
       ++count[static_cast<std::size_t>(ids[n])];
     }
   }

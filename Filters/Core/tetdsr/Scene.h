@@ -212,6 +212,22 @@ public:
   std::size_t memoryBytes() const;
 
 private:
+  // The constructor's steps.
+  /// The origin and unit of the float boxes (box units) from the cells' vertices.
+  void chooseBoxUnits(const ParallelFor& parallelFor);
+  /// Validates every cell: its status, entry and counts, and the box around the valid ones.
+  void validateCells(const ParallelFor& parallelFor, FillLaterVector<std::uint16_t>& status,
+    glm::dvec3& lo, glm::dvec3& hi);
+  /// Keeps the valid cells' entries, in cell order, and marks the curved ones.
+  void keepValidCells(const FillLaterVector<std::uint16_t>& status);
+  /// The box around every valid cell (box units), padded.
+  void setSceneBox(const glm::dvec3& lo, const glm::dvec3& hi);
+  /// Whether a cell's type and offsets can be trusted to read its ids (validate counts the rest).
+  bool readable(NodeId cellId) const;
+  /// Runs body(chunk, begin, end) over fixed chunks of cells through parallelFor.
+  void forChunks(const ParallelFor& parallelFor,
+    const std::function<void(NodeId chunk, NodeId begin, NodeId end)>& body) const;
+
   /// A cell's point ids (nodeCount of its type: the caller checked them).
   const NodeId* nodeIds(NodeId cellId) const { return Mesh_.connectivity + Mesh_.offsets[cellId]; }
   /// A cell's 10 node positions (a linear tet completed: LinearTetCell).
@@ -229,8 +245,6 @@ private:
   /// valid one, fills its entry and its extent (the kind's). CellStatus bits.
   std::uint16_t validate(
     NodeId cellId, ValidCell& validCell, glm::dvec3& extentLo, glm::dvec3& extentHi) const;
-  /// The extent of a valid cell of this kind (the kind's step); false if not finite.
-  static bool extentOf(CellKind kind, const glm::dvec3 nodes[kCellNodes], glm::dvec3& lo, glm::dvec3& hi);
   /// The box (box units) of a cell with this extent and longest edge.
   BoxItem boxOf(const glm::dvec3& extentLo, const glm::dvec3& extentHi, double maxEdge) const;
 

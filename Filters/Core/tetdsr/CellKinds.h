@@ -1,0 +1,30 @@
+// Every kind of cell (Cells.h), and the one dispatch from a kind to its steps.
+#pragma once
+
+#include "tetdsr/Cells.h"
+#include "tetdsr/CurvedTetCell.h"
+#include "tetdsr/LinearTetCell.h"
+#include "tetdsr/QuadraticTetCell.h"
+
+namespace tetdsr
+{
+
+/// Runs `step` with an object of the cell kind's type (its steps are static: call them as
+/// decltype(cell)::extent(...)). The one place a new kind joins the steps Scene dispatches.
+template <typename Step>
+decltype(auto) forKind(CellKind kind, Step&& step)
+{
+  switch (kind)
+  {
+    case CellKind::LinearTet:
+      return step(LinearTetCell{});
+    case CellKind::CurvedTet:
+      return step(CurvedTetCell{});
+    case CellKind::QuadraticTet:
+      break;
+  }
+  return step(QuadraticTetCell{});
+}
+
+
+} // namespace tetdsr
