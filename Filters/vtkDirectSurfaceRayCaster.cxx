@@ -59,6 +59,12 @@ namespace adapter = tetdsr::vtkadapter;
 
 static_assert(vtkDirectSurfaceRayCaster::MaximumNumberOfClippingPlanes == tetdsr::kMaxClipPlanes,
   "the filter's plane limit is the core's");
+static_assert(vtkDirectSurfaceRayCaster::COOL_TO_WARM ==
+      static_cast<int>(tetdsr::BuiltInColorMap::CoolToWarm) &&
+    vtkDirectSurfaceRayCaster::RAINBOW == static_cast<int>(tetdsr::BuiltInColorMap::Rainbow) &&
+    vtkDirectSurfaceRayCaster::GRAYSCALE == static_cast<int>(tetdsr::BuiltInColorMap::Grayscale) &&
+    vtkDirectSurfaceRayCaster::BLACK_BODY == static_cast<int>(tetdsr::BuiltInColorMap::BlackBody),
+  "the filter's colour maps are numbered as the core's");
 
 /// One of the core's built-in colour maps (over [0, 1]) as a VTK lookup table.
 vtkSmartPointer<vtkScalarsToColors> BuiltInColorMap(int which)
