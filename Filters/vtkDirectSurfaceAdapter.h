@@ -17,6 +17,7 @@
 #include "tetdsr/Messages.h"
 #include "tetdsr/Renderer.h"
 #include "tetdsr/Scene.h"
+#include "tetdsr/Settings.h"
 #include "tetdsr/SurfaceIndex.h"
 
 #include <functional>
@@ -85,71 +86,59 @@ private:
 /// types' (vtkUnstructuredGrid::GetMTime does not follow edits of its cell arrays).
 TETDSRFILTERS_EXPORT vtkMTimeType MeshModifiedTime(vtkUnstructuredGrid* grid);
 
-/// Per-iso-value colours and opacities, as the filter and the mapper let users set them: index i
-/// is the i-th iso-value as given; unset entries fall back to the surface colour and opacity 1.
+/// The core's per-iso-value colours and opacities (tetdsr/Settings.h) with VTK's double[3]
+/// colours, for the filter's and the mapper's SetIsoValueColor / SetIsoValueOpacity.
 class TETDSRFILTERS_EXPORT IsoValueStyles
 {
 public:
-  /// Indices are refused at and beyond this (no scene needs a million surfaces).
-  static constexpr int kMaxIndex = 1 << 20;
-  /// False, with an error, for an index outside [0, kMaxIndex). Components are clamped to [0, 1].
-  bool SetColor(int i, double red, double green, double blue, Messages& messages);
-  bool SetOpacity(int i, double opacity, Messages& messages);
+  /// True when the stored value changed; false, with an error, for an index out of range.
+  bool SetColor(int i, double red, double green, double blue, Messages& messages)
+  {
+    return this->Core.setColor(i, glm::dvec3(red, green, blue), messages);
+  }
+  bool SetOpacity(int i, double opacity, Messages& messages)
+  {
+    return this->Core.setOpacity(i, opacity, messages);
+  }
   void GetColor(int i, const double fallback[3], double color[3]) const;
-  double GetOpacity(int i) const;
+  double GetOpacity(int i) const { return this->Core.opacity(i); }
   /// True when something was removed.
-  bool RemoveAllColors();
-  bool RemoveAllOpacities();
-  /// The core's styles of `count` iso-values; every opacity is multiplied by `opacityFactor`.
-  std::vector<SurfaceStyle> Styles(std::size_t count, const double fallback[3], double opacityFactor) const;
-  /// "r g b ..." and "a ..." of what is set, NaN where not.
-  std::string Describe() const;
+  bool RemoveAllColors() { return this->Core.removeAllColors(); }
+  bool RemoveAllOpacities() { return this->Core.removeAllOpacities(); }
+  std::vector<SurfaceStyle> Styles(std::size_t count, const double fallback[3], double opacityFactor) const
+  {
+    return this->Core.styles(
+      count, glm::dvec3(fallback[0], fallback[1], fallback[2]), opacityFactor);
+  }
+  std::string Describe() const { return this->Core.describe(); }
 
 private:
-  std::vector<double> Colors;    ///< 3 per iso-value; NaN: not set
-  std::vector<double> Opacities; ///< NaN: not set
+  tetdsr::IsoValueStyles Core;
 };
 
-/// Iso-values from VTK's contour values; false, with an error, when there is none or one is
-/// not finite.
+/// Iso-values from VTK's contour values, checked by the core.
 TETDSRFILTERS_EXPORT bool ConvertIsoValues(
   vtkContourValues* contourValues, std::vector<double>& values, Messages& messages);
 
-/// Clipping planes (at most `maximum`); false, with an error, for too many planes or a zero or
-/// non-finite normal or origin.
-TETDSRFILTERS_EXPORT bool ConvertClipPlanes(vtkPlaneCollection* planes, int maximum,
-  std::vector<ClipPlane>& clipPlanes, Messages& messages);
+/// Clipping planes from VTK's, checked by the core (at most kMaxClipPlanes, finite, a nonzero
+/// normal each).
+TETDSRFILTERS_EXPORT bool ConvertClipPlanes(
+  vtkPlaneCollection* planes, std::vector<ClipPlane>& clipPlanes, Messages& messages);
 
-/// Checks an array chosen as a field or colour array: a point array whose component
-/// `requestedComponent` exists (-1: the only one, or with allowMagnitude the vector's magnitude).
-/// `componentSetting` names the setting the user chose the component with, for the messages.
-/// Returns the component to use through `component`.
+/// The core's check of an array chosen as a field or colour array (choosePointArrayComponent)
+/// for a VTK array and its association.
 TETDSRFILTERS_EXPORT bool CheckPointArray(vtkDataArray* array, int association,
   int requestedComponent, bool allowMagnitude, const char* componentSetting, int& component,
   Messages& messages);
 
-/// The range of one component (-1: the magnitude) over its finite values only, so one Inf does
-/// not stretch a colour map to nothing; [0, 1] when no value is finite.
+/// The core's finite range of one component (-1: the magnitude) of a VTK array.
 TETDSRFILTERS_EXPORT void FiniteRange(vtkDataArray* array, int component, double range[2]);
 
-/// `lookupTable` sampled over its own range into a table spanning [lo, hi].
+/// `lookupTable` sampled over its own range into a table spanning [lo, hi] (sampleColorTable).
 TETDSRFILTERS_EXPORT ColorTable SampleColorTable(vtkScalarsToColors* lookupTable, double lo, double hi);
 
-/// False, with an error naming the size and the bytes, when an image of width x height pixels
-/// of `bytesPerPixel` each cannot be allocated: more than the machine's physical memory, or a
-/// size beyond VTK's 32-bit extents.
-TETDSRFILTERS_EXPORT bool CheckImageSize(
-  int width, int height, double bytesPerPixel, const char* what, Messages& messages);
-
-/// False, with an error, when the camera cannot see the scene with double-precision rays: a
-/// degenerate camera (the reason named), or one farther from the scene than kMaxCameraDistance
-/// times its diagonal (hits would carry a rounding error above 1e-7 of the scene).
-constexpr double kMaxCameraDistance = 1e9;
-TETDSRFILTERS_EXPORT bool CheckCamera(const Camera& camera, const Scene& scene, Messages& messages);
-
-/// Renders every tile of `renderer` on `numberOfThreads` threads (0: all cores), in steps
-/// between which `abort` is asked (true: stop) and `progress` told the fraction done. Returns
-/// the number of tiles rendered (all of them unless aborted).
+/// The core's castInSteps on vtkSMPTools' threads, `numberOfThreads` of them (0: all cores).
+/// Returns the number of tiles rendered (all of them unless aborted).
 TETDSRFILTERS_EXPORT NodeId Cast(const Renderer& renderer, bool depthBufferNormals,
   int numberOfThreads, const std::function<bool()>& abort,
   const std::function<void(double)>& progress);

@@ -57,40 +57,37 @@ namespace
 {
 namespace adapter = tetdsr::vtkadapter;
 
-// Bytes per output pixel: Colors (4), Depth (8), Normals (24), CellId (8), ColorValues (8), and
-// the depth-buffer normals' per-pixel record (64).
-constexpr double kBytesPerPixel = 4 + 8 + 24 + 8 + 8 + 64;
+static_assert(vtkDirectSurfaceRayCaster::MaximumNumberOfClippingPlanes == tetdsr::kMaxClipPlanes,
+  "the filter's plane limit is the core's");
+static_assert(vtkDirectSurfaceRayCaster::COOL_TO_WARM ==
+      static_cast<int>(tetdsr::BuiltInColorMap::CoolToWarm) &&
+    vtkDirectSurfaceRayCaster::RAINBOW == static_cast<int>(tetdsr::BuiltInColorMap::Rainbow) &&
+    vtkDirectSurfaceRayCaster::GRAYSCALE == static_cast<int>(tetdsr::BuiltInColorMap::Grayscale) &&
+    vtkDirectSurfaceRayCaster::BLACK_BODY == static_cast<int>(tetdsr::BuiltInColorMap::BlackBody),
+  "the filter's colour maps are numbered as the core's");
 
-/// One of the built-in colour maps over [0, 1].
+/// One of the core's built-in colour maps (over [0, 1]) as a VTK lookup table.
 vtkSmartPointer<vtkScalarsToColors> BuiltInColorMap(int which)
 {
+  const tetdsr::ColorMap& data = tetdsr::builtInColorMap(which);
   auto map = vtkSmartPointer<vtkColorTransferFunction>::New();
-  switch (which)
+  switch (data.space)
   {
-    case vtkDirectSurfaceRayCaster::RAINBOW:
+    case tetdsr::ColorSpace::HSV:
       map->SetColorSpaceToHSV();
-      map->AddRGBPoint(0.0, 0.0, 0.0, 1.0);
-      map->AddRGBPoint(1.0, 1.0, 0.0, 0.0);
       break;
-    case vtkDirectSurfaceRayCaster::GRAYSCALE:
-      map->AddRGBPoint(0.0, 0.0, 0.0, 0.0);
-      map->AddRGBPoint(1.0, 1.0, 1.0, 1.0);
-      break;
-    case vtkDirectSurfaceRayCaster::BLACK_BODY:
-      map->AddRGBPoint(0.0, 0.0, 0.0, 0.0);
-      map->AddRGBPoint(0.4, 0.9, 0.0, 0.0);
-      map->AddRGBPoint(0.8, 0.9, 0.9, 0.0);
-      map->AddRGBPoint(1.0, 1.0, 1.0, 1.0);
-      break;
-    case vtkDirectSurfaceRayCaster::COOL_TO_WARM:
-    default:
-      // Moreland's diverging map: blue (0.230, 0.299, 0.754) to red (0.706, 0.016, 0.150).
+    case tetdsr::ColorSpace::Diverging:
       map->SetColorSpaceToDiverging();
-      map->AddRGBPoint(0.0, 0.230, 0.299, 0.754);
-      map->AddRGBPoint(1.0, 0.706, 0.016, 0.150);
+      break;
+    case tetdsr::ColorSpace::RGB:
+      map->SetColorSpaceToRGB();
       break;
   }
-  map->SetNanColor(0.5, 0.5, 0.5);
+  for (const tetdsr::ColorMapPoint& point : data.points)
+  {
+    map->AddRGBPoint(point.x, point.color.r, point.color.g, point.color.b);
+  }
+  map->SetNanColor(data.nanColor.r, data.nanColor.g, data.nanColor.b);
   return map;
 }
 
@@ -487,45 +484,24 @@ void vtkDirectSurfaceRayCaster::RemoveAllIsoValueOpacities()
 }
 
 //------------------------------------------------------------------------------
-namespace
-{
-/// A clamped setter that refuses NaN (vtkSetClampMacro lets it through).
-bool ClampedUnlessNaN(double value, double lo, double hi, double& member)
-{
-  if (std::isnan(value))
-  {
-    return false;
+// The shading numbers: clamped into the core's ranges; NaN refused with the core's error.
+#define TETDSR_CLAMPED_SETTER(Name)                                                                \
+  void vtkDirectSurfaceRayCaster::Set##Name(double value)                                          \
+  {                                                                                                \
+    adapter::Messages messages;                                                                    \
+    if (tetdsr::setClamped(tetdsr::k##Name, value, this->Name, messages))                          \
+    {                                                                                              \
+      this->Modified();                                                                            \
+    }                                                                                              \
+    REPORT_MESSAGES(messages);                                                                     \
   }
-  value = std::min(std::max(value, lo), hi);
-  const bool changed = value != member;
-  member = value;
-  return changed;
-}
-}
-
-void vtkDirectSurfaceRayCaster::SetCentralDifferenceStep(double step)
-{
-  if (std::isnan(step))
-  {
-    vtkErrorMacro("CentralDifferenceStep must be a number, got NaN.");
-  }
-  else if (ClampedUnlessNaN(step, 1e-12, 1.0, this->CentralDifferenceStep))
-  {
-    this->Modified();
-  }
-}
-
-void vtkDirectSurfaceRayCaster::SetNodalRangeWidening(double widening)
-{
-  if (std::isnan(widening))
-  {
-    vtkErrorMacro("NodalRangeWidening must be a number, got NaN.");
-  }
-  else if (ClampedUnlessNaN(widening, 0.0, VTK_DOUBLE_MAX, this->NodalRangeWidening))
-  {
-    this->Modified();
-  }
-}
+TETDSR_CLAMPED_SETTER(Ambient)
+TETDSR_CLAMPED_SETTER(Diffuse)
+TETDSR_CLAMPED_SETTER(Specular)
+TETDSR_CLAMPED_SETTER(SpecularPower)
+TETDSR_CLAMPED_SETTER(CentralDifferenceStep)
+TETDSR_CLAMPED_SETTER(NodalRangeWidening)
+#undef TETDSR_CLAMPED_SETTER
 
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceRayCaster::AddClippingPlane(vtkPlane* plane)
@@ -715,8 +691,7 @@ int vtkDirectSurfaceRayCaster::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   adapter::Messages messages;
-  if (!adapter::CheckImageSize(
-        this->ImageSize[0], this->ImageSize[1], kBytesPerPixel, "ImageSize", messages))
+  if (!tetdsr::checkImageSize(this->ImageSize[0], this->ImageSize[1], messages))
   {
     REPORT_MESSAGES(messages);
     return 0;
@@ -746,22 +721,10 @@ vtkDataArray* vtkDirectSurfaceRayCaster::GetPointArray(
   vtkInformation* info = this->GetInputArrayInformation(index);
   const char* name =
     info->Has(vtkDataObject::FIELD_NAME()) ? info->Get(vtkDataObject::FIELD_NAME()) : nullptr;
-  if (index == 0 && name)
-  {
-    vtkErrorMacro("No point array named '" << name << "' in the input.");
-  }
-  else if (index == 0)
-  {
-    vtkErrorMacro("No point scalars: the input has no active point scalars; choose an array "
-                  "with SetInputArrayToProcess(0, 0, 0, FIELD_ASSOCIATION_POINTS, name).");
-  }
-  else
-  {
-    vtkErrorMacro("ColorByArray is on but "
-      << (name ? "there is no point array named '" + std::string(name) + "'"
-               : std::string("no colour array is chosen"))
-      << ": choose one with SetInputArrayToProcess(1, 0, 0, FIELD_ASSOCIATION_POINTS, name).");
-  }
+  adapter::Messages messages;
+  tetdsr::reportMissingArray(
+    index == 0 ? tetdsr::InputArray::Field : tetdsr::InputArray::Color, name, messages);
+  REPORT_MESSAGES(messages);
   return nullptr;
 }
 
@@ -780,7 +743,9 @@ int vtkDirectSurfaceRayCaster::RequestData(
   const bool hasPiece = input && input->GetNumberOfCells() > 0 && input->GetNumberOfPoints() > 0;
   if (!processes.Any(hasPiece))
   {
-    vtkErrorMacro("The input mesh is empty: it has no cells or no points.");
+    tetdsr::checkMeshNotEmpty(input ? input->GetNumberOfPoints() : 0,
+      input ? input->GetNumberOfCells() : 0, messages); // (no process has a piece)
+    REPORT_MESSAGES(messages);
     return 0;
   }
 
@@ -807,8 +772,7 @@ int vtkDirectSurfaceRayCaster::RequestData(
   }
   std::vector<tetdsr::ClipPlane> clipPlanes;
   ok = ok &&
-    adapter::ConvertClipPlanes(
-      this->ClippingPlanes, MaximumNumberOfClippingPlanes, clipPlanes, messages);
+    adapter::ConvertClipPlanes(this->ClippingPlanes, clipPlanes, messages);
   if (!processes.All(ok))
   {
     REPORT_MESSAGES(messages);
@@ -864,7 +828,7 @@ int vtkDirectSurfaceRayCaster::RequestData(
     processes.UniteBoxes(bounds);
     camera = tetdsr::resetCamera(bounds, static_cast<double>(width) / height);
   }
-  if (!processes.All(!scene || adapter::CheckCamera(camera, *scene, messages)))
+  if (!processes.All(!scene || tetdsr::checkCamera(camera, *scene, messages)))
   {
     REPORT_MESSAGES(messages);
     return 0;
@@ -877,7 +841,8 @@ int vtkDirectSurfaceRayCaster::RequestData(
   ImageArrays image(colorMapped);
   if (!processes.All(image.Allocate(pixels)))
   {
-    vtkErrorMacro("Cannot allocate the " << width << " x " << height << " output image.");
+    tetdsr::reportUnallocatedImage(width, height, messages);
+    REPORT_MESSAGES(messages);
     return 0;
   }
 
@@ -939,7 +904,8 @@ int vtkDirectSurfaceRayCaster::RequestData(
       static_cast<vtkIdType>(scene->uncertifiedHits() - uncertifiedBefore);
     if (tilesDone < tiles)
     {
-      vtkWarningMacro("Aborted after " << tilesDone << " of " << tiles << " image tiles.");
+      tetdsr::reportAbortedCast(tilesDone, tiles, messages);
+      REPORT_MESSAGES(messages);
       aborted = true;
     }
   }

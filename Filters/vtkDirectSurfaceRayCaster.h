@@ -121,16 +121,17 @@ public:
   /**
    * Phong shading: surface colour (default white), ambient (0.1), diffuse (0.7),
    * specular (0.2) coefficients and specular power (30). The side facing the viewer is lit.
+   * The coefficients are clamped to [0, 1], the power to [0, 128]; NaN is refused with an error.
    */
   vtkSetVector3Macro(SurfaceColor, double);
   vtkGetVector3Macro(SurfaceColor, double);
-  vtkSetClampMacro(Ambient, double, 0.0, 1.0);
+  virtual void SetAmbient(double ambient);
   vtkGetMacro(Ambient, double);
-  vtkSetClampMacro(Diffuse, double, 0.0, 1.0);
+  virtual void SetDiffuse(double diffuse);
   vtkGetMacro(Diffuse, double);
-  vtkSetClampMacro(Specular, double, 0.0, 1.0);
+  virtual void SetSpecular(double specular);
   vtkGetMacro(Specular, double);
-  vtkSetClampMacro(SpecularPower, double, 0.0, 128.0);
+  virtual void SetSpecularPower(double power);
   vtkGetMacro(SpecularPower, double);
   ///@}
 

@@ -632,7 +632,7 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   std::vector<double> values;
   std::vector<tetdsr::ClipPlane> clipPlanes;
   if (!adapter::ConvertIsoValues(this->ContourValues, values, messages) ||
-    !adapter::ConvertClipPlanes(this->ClippingPlanes, 6, clipPlanes, messages))
+    !adapter::ConvertClipPlanes(this->ClippingPlanes, clipPlanes, messages))
   {
     for (const std::string& text : messages.errors)
     {

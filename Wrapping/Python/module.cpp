@@ -1,16 +1,23 @@
-// tetdsr._core: the VTK-free core (Filters/Core) for Python, with numpy arrays in and out. The
-// wheel's whole C++ binding is this file: the Python filter (tetdsr/filter.py) converts VTK data
-// and settings, this module checks every size it is given against the arrays, keeps the arrays
-// the core views alive, and renders image tiles on std::threads without the GIL.
+// tetdsr._core: the VTK-free core (Filters/Core) for Python. The wheel's whole C++ binding is
+// this file: the core's settings structs bound once as classes, its checks as functions writing
+// the core's Messages, its PreparedMesh fed with numpy arrays of the dtypes VTK hands over, and a
+// Renderer that checks every size against the arrays, keeps the arrays the core views alive and
+// casts on std::threads without the GIL. The Python filter (tetdsr/filter.py) only gets arrays
+// out of VTK objects and passes the messages on.
 #include "tetdsr/Camera.h"
+#include "tetdsr/MeshInput.h"
+#include "tetdsr/Messages.h"
 #include "tetdsr/Renderer.h"
-#include "tetdsr/SurfaceIndex.h"
 #include "tetdsr/Scene.h"
+#include "tetdsr/Settings.h"
+#include "tetdsr/SurfaceIndex.h"
 
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/array.h>
+#include <nanobind/stl/function.h>
 #include <nanobind/stl/optional.h>
+#include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
@@ -29,17 +36,59 @@
 namespace nb = nanobind;
 using namespace nb::literals;
 
+// glm::dvec3 <-> any sequence of 3 numbers (tuple, list, numpy array); given back as a tuple.
+namespace nanobind
+{
+namespace detail
+{
+template <>
+struct type_caster<glm::dvec3>
+{
+  NB_TYPE_CASTER(glm::dvec3, const_name("tuple[float, float, float]"))
+
+  bool from_python(handle src, uint8_t, cleanup_list*) noexcept
+  {
+    if (!PySequence_Check(src.ptr()) || PySequence_Size(src.ptr()) != 3)
+    {
+      PyErr_Clear();
+      return false;
+    }
+    for (Py_ssize_t k = 0; k < 3; ++k)
+    {
+      PyObject* item = PySequence_GetItem(src.ptr(), k);
+      const double number = item ? PyFloat_AsDouble(item) : -1.0;
+      Py_XDECREF(item);
+      if (number == -1.0 && PyErr_Occurred())
+      {
+        PyErr_Clear();
+        return false;
+      }
+      value[static_cast<int>(k)] = number;
+    }
+    return true;
+  }
+
+  static handle from_cpp(const glm::dvec3& v, rv_policy, cleanup_list*) noexcept
+  {
+    PyObject* tuple = PyTuple_New(3);
+    for (Py_ssize_t k = 0; k < 3; ++k)
+    {
+      PyTuple_SET_ITEM(tuple, k, PyFloat_FromDouble(v[static_cast<int>(k)]));
+    }
+    return tuple;
+  }
+};
+} // namespace detail
+} // namespace nanobind
+
 namespace
 {
 static_assert(sizeof(std::int64_t) == sizeof(tetdsr::NodeId), "ids are 64-bit in the core");
 
 template <typename T>
 using Array = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
-
-glm::dvec3 Vec(const std::array<double, 3>& v)
-{
-  return glm::dvec3(v[0], v[1], v[2]);
-}
+/// An array of any number type (the core reads VTK's types).
+using AnyArray = nb::ndarray<nb::c_contig, nb::device::cpu>;
 
 int ThreadCount(int requested)
 {
@@ -50,7 +99,7 @@ int ThreadCount(int requested)
 /// Runs body(begin, end) over [0, count) on `threads` std::threads (0: all cores), handing out
 /// chunks of `grain` indices from a shared counter (tiles differ in cost). The first exception
 /// thrown in any thread is rethrown here once all have stopped.
-void ParallelFor(int threads, tetdsr::NodeId count, tetdsr::NodeId grain,
+void ThreadedFor(int threads, tetdsr::NodeId count, tetdsr::NodeId grain,
   const std::function<void(tetdsr::NodeId, tetdsr::NodeId)>& body)
 {
   if (count <= 0)
@@ -96,406 +145,593 @@ void ParallelFor(int threads, tetdsr::NodeId count, tetdsr::NodeId grain,
   }
 }
 
-/// A Scene and the arrays it views (kept alive as long as it lives).
-struct PyScene
+/// The core's ParallelFor on `threads` threads, in chunks of at least 1024 indices (cells).
+tetdsr::ParallelFor CellsFor(int threads)
 {
-  Array<const double> Points;
-  Array<const std::int64_t> Cells;
-  Array<const double> Values;
-  std::unique_ptr<tetdsr::Scene> Scene;
-  int Threads = 0;
-  /// The surface index of the last iso-values rendered (as given), rebuilt when they change.
-  std::shared_ptr<const tetdsr::SurfaceIndex> Surface;
-  std::vector<double> SurfaceValues;
+  return [threads](tetdsr::NodeId count, const std::function<void(tetdsr::NodeId, tetdsr::NodeId)>& body) {
+    ThreadedFor(threads, count, std::max<tetdsr::NodeId>(1024, count / 256), body);
+  };
+}
+
+/// A ValueError carrying the core's first error (for arguments a face should have checked).
+[[noreturn]] void ThrowFirstError(const tetdsr::Messages& messages)
+{
+  throw nb::value_error(messages.errors.front().c_str());
+}
+
+/// The core's view of a numpy array: (tuples,) or (tuples, components), any number type.
+tetdsr::ArrayView ViewOf(const AnyArray& array, const std::string& name, const char* what)
+{
+  tetdsr::ArrayView view;
+  const nb::dlpack::dtype type = array.dtype();
+  static const std::pair<nb::dlpack::dtype, tetdsr::NumberType> kTypes[] = {
+    { nb::dtype<float>(), tetdsr::NumberType::Float32 },
+    { nb::dtype<double>(), tetdsr::NumberType::Float64 },
+    { nb::dtype<std::int8_t>(), tetdsr::NumberType::Int8 },
+    { nb::dtype<std::uint8_t>(), tetdsr::NumberType::UInt8 },
+    { nb::dtype<std::int16_t>(), tetdsr::NumberType::Int16 },
+    { nb::dtype<std::uint16_t>(), tetdsr::NumberType::UInt16 },
+    { nb::dtype<std::int32_t>(), tetdsr::NumberType::Int32 },
+    { nb::dtype<std::uint32_t>(), tetdsr::NumberType::UInt32 },
+    { nb::dtype<std::int64_t>(), tetdsr::NumberType::Int64 },
+    { nb::dtype<std::uint64_t>(), tetdsr::NumberType::UInt64 },
+  };
+  const auto* found = std::find_if(std::begin(kTypes), std::end(kTypes),
+    [&](const auto& entry) { return entry.first == type; });
+  if (found == std::end(kTypes) || array.ndim() < 1 || array.ndim() > 2)
+  {
+    throw nb::type_error((std::string(what) +
+      " must be a 1- or 2-d array of a float or integer type (8 to 64 bits)")
+                           .c_str());
+  }
+  view.type = found->second;
+  view.data = array.data();
+  view.tuples = static_cast<tetdsr::NodeId>(array.shape(0));
+  view.components = array.ndim() == 2 ? static_cast<int>(array.shape(1)) : 1;
+  view.name = name;
+  return view;
+}
+
+/// The core's PreparedMesh and the numpy arrays its scene views. `Generation` counts what may
+/// move the memory a Renderer reads (a new prepare, new colour values, another surface), so that
+/// a Renderer left behind refuses to cast instead of reading freed memory.
+struct PyPreparedMesh
+{
+  tetdsr::PreparedMesh Core;
+  std::vector<AnyArray> Viewed;
+  std::optional<AnyArray> ColorViewed;
+  std::uint64_t Generation = 0;
+
+  tetdsr::Scene& SceneOrThrow() const
+  {
+    tetdsr::Scene* scene = this->Core.scene();
+    if (!scene)
+    {
+      throw nb::value_error("the PreparedMesh has no scene: its last prepare failed");
+    }
+    return *scene;
+  }
 };
 
-PyScene* MakeScene(Array<const double> points, Array<const std::int64_t> cells,
-  Array<const double> values, double pointRounding, bool straightEdgeMarkers, int transverseMode,
-  double widening, int threads)
+bool Prepare(PyPreparedMesh& self, AnyArray points, AnyArray cellTypes, AnyArray offsets,
+  AnyArray connectivity, AnyArray field, const std::string& fieldName, int component,
+  const tetdsr::TransverseTest& transverse, int threads, tetdsr::Messages& messages)
 {
-  if (points.ndim() != 2 || points.shape(1) != 3)
-  {
-    throw nb::value_error("points must be an (n, 3) array of float64");
-  }
-  if (cells.ndim() != 2 || cells.shape(1) != 10)
-  {
-    throw nb::value_error("cells must be an (m, 10) array of int64 node ids");
-  }
-  const auto numberOfPoints = static_cast<tetdsr::NodeId>(points.shape(0));
-  const auto numberOfCells = static_cast<tetdsr::NodeId>(cells.shape(0));
-  if (values.ndim() != 1 || static_cast<tetdsr::NodeId>(values.shape(0)) < numberOfPoints)
-  {
-    throw nb::value_error(("values must be a 1-d float64 array with a value per point (" +
-      std::to_string(numberOfPoints) + " points, " +
-      std::to_string(values.ndim() == 1 ? values.shape(0) : 0) + " values)")
-                            .c_str());
-  }
-  if (numberOfCells > tetdsr::Scene::kMaxCells)
-  {
-    throw nb::value_error("too many cells for one scene");
-  }
-  if (transverseMode != 0 && transverseMode != 1)
-  {
-    throw nb::value_error("transverse_mode must be 0 (Bernstein bound) or 1 (widened nodal range)");
-  }
-  if (!(pointRounding > 0.0) || !(widening >= 0.0))
-  {
-    throw nb::value_error("point_rounding must be positive and widening not negative");
-  }
-  auto* result = new PyScene{ points, cells, values, nullptr, threads, nullptr, {} };
-  tetdsr::MeshView mesh;
-  mesh.points = points.data();
-  mesh.numberOfPoints = numberOfPoints;
-  mesh.cellNodes = reinterpret_cast<const tetdsr::NodeId*>(cells.data());
-  mesh.numberOfCells = numberOfCells;
-  mesh.values = values.data();
-  mesh.straightEdgeMarkers = straightEdgeMarkers;
-  mesh.pointRounding = pointRounding;
-  tetdsr::TransverseTest transverse;
-  transverse.mode = transverseMode == 1 ? tetdsr::TransverseTest::Mode::WidenedNodalRange
-                                        : tetdsr::TransverseTest::Mode::BernsteinBound;
-  transverse.widening = widening;
-  {
-    nb::gil_scoped_release release;
-    const tetdsr::NodeId grain = std::max<tetdsr::NodeId>(1024, numberOfCells / 256);
-    result->Scene.reset(new tetdsr::Scene(
-      mesh,
-      [threads, grain](tetdsr::NodeId count,
-        const std::function<void(tetdsr::NodeId, tetdsr::NodeId)>& body) {
-        ParallelFor(threads, count, grain, body);
-      },
-      transverse));
-  }
-  return result;
+  tetdsr::MeshArrays arrays;
+  arrays.points = ViewOf(points, "", "points");
+  arrays.cellTypes = ViewOf(cellTypes, "", "cell_types");
+  arrays.offsets = ViewOf(offsets, "", "offsets");
+  arrays.connectivity = ViewOf(connectivity, "", "connectivity");
+  arrays.field = ViewOf(field, fieldName, "field");
+  arrays.fieldComponent = component;
+  ++self.Generation;
+  self.Viewed = { points, cellTypes, offsets, connectivity, field };
+  self.ColorViewed.reset();
+  nb::gil_scoped_release release;
+  return self.Core.prepare(arrays, transverse, CellsFor(threads), messages);
 }
 
-tetdsr::Camera MakeCamera(const std::array<double, 3>& position,
-  const std::array<double, 3>& focalPoint, const std::array<double, 3>& viewUp, double viewAngle,
-  bool parallel, double parallelScale)
+/// A colour array for RenderSettings: (n,) or (n, k) float64 values (PreparedMesh.point_values),
+/// kept alive with the settings.
+struct PyColorBy
 {
-  tetdsr::Camera camera;
-  camera.position = Vec(position);
-  camera.focalPoint = Vec(focalPoint);
-  camera.viewUp = Vec(viewUp);
-  camera.viewAngleDegrees = viewAngle;
-  camera.parallelProjection = parallel;
-  camera.parallelScale = parallelScale;
-  return camera;
+  Array<const double> Values;
+  tetdsr::ColorByArray Core;
+};
+
+PyColorBy MakeColorBy(Array<const double> values, int component, bool directColors)
+{
+  if (values.ndim() < 1 || values.ndim() > 2)
+  {
+    throw nb::value_error("values must be an (n,) or (n, k) array of float64");
+  }
+  PyColorBy colorBy{ values, {} };
+  colorBy.Core.values = values.data();
+  colorBy.Core.components = values.ndim() == 2 ? static_cast<int>(values.shape(1)) : 1;
+  colorBy.Core.component = component;
+  colorBy.Core.directColors = directColors;
+  if (component < -1 || component >= colorBy.Core.components)
+  {
+    throw nb::value_error("component must be -1 (magnitude) or a component of the values");
+  }
+  if (directColors && colorBy.Core.components < 3)
+  {
+    throw nb::value_error("direct colours need 3 or 4 components (red, green, blue)");
+  }
+  return colorBy;
 }
 
-/// One image being rendered: the renderer, the iso-values and settings it refers to, and the
-/// arrays it reads and writes (kept alive as long as it lives).
+/// The core's RenderSettings, and the colour array its colorBy views.
+struct PySettings
+{
+  tetdsr::RenderSettings Core;
+  std::optional<PyColorBy> ColorBy;
+};
+
+/// One image being rendered: the renderer, the settings it refers to, and the arrays it reads
+/// and writes (kept alive as long as it lives).
 struct PyRenderer
 {
-  nb::object SceneOwner; // the PyScene
+  nb::object MeshOwner; // the PyPreparedMesh
+  std::uint64_t Generation = 0;
+  PySettings Settings;
   Array<std::uint8_t> Colors;
   Array<double> Depth;
   Array<double> Normals;
   Array<std::int64_t> CellIds;
   std::optional<Array<double>> ColorValues;
-  std::optional<Array<const double>> ColorByValues;
-  std::shared_ptr<const tetdsr::SurfaceIndex> Surface;
   std::unique_ptr<tetdsr::Renderer> Renderer;
-  std::vector<bool> TileDone;
 };
 
+/// Checks that `array` has `shape` (height, width[, components]).
 template <typename T>
-void CheckSize(const Array<T>& array, std::size_t expected, const char* name)
+void CheckShape(const Array<T>& array, std::size_t height, std::size_t width, std::size_t components,
+  const char* name)
 {
-  if (array.size() != expected)
+  const bool ok = array.ndim() == (components > 1 ? 3u : 2u) && array.shape(0) == height &&
+    array.shape(1) == width && (components == 1 || array.shape(2) == components);
+  if (!ok)
   {
-    throw nb::value_error((std::string(name) + " has " + std::to_string(array.size()) +
-      " values; the image needs " + std::to_string(expected))
+    std::string expected = "(" + std::to_string(height) + ", " + std::to_string(width);
+    expected += components > 1 ? ", " + std::to_string(components) + ")" : std::string(")");
+    throw nb::value_error((std::string(name) + " must have the shape " + expected +
+      " of the depth image, C-contiguous")
                             .c_str());
   }
 }
 
 /// Renderer.__init__: checks every argument, then constructs the renderer in place at `self`.
-void InitRenderer(PyRenderer* self, nb::object sceneObject, const std::vector<double>& isoValues,
-  const std::array<double, 3>& position, const std::array<double, 3>& focalPoint,
-  const std::array<double, 3>& viewUp, double viewAngle, bool parallel, double parallelScale,
-  int width, int height, Array<std::uint8_t> colors,
+void InitRenderer(PyRenderer* self, nb::object meshObject, const std::vector<double>& isoValues,
+  const tetdsr::Camera& camera, const PySettings& settings, Array<std::uint8_t> colors,
   Array<double> depth, Array<double> normals, Array<std::int64_t> cellIds,
-  std::optional<Array<double>> colorValues, const std::array<double, 3>& surfaceColor,
-  double ambient, double diffuse, double specular, double specularPower,
-  const std::array<double, 3>& lightPosition, int normalMode, double relativeStep,
-  Array<const double> isoStyles, std::optional<Array<const double>> colorByValues,
-  int colorByComponents, int colorByComponent, double colorTableLo, double colorTableHi,
-  Array<const double> colorTableColors, const std::array<double, 3>& nanColor,
-  Array<const double> clipPlanes, int cap)
+  std::optional<Array<double>> colorValues, int threads)
 {
-  const tetdsr::Camera camera =
-    MakeCamera(position, focalPoint, viewUp, viewAngle, parallel, parallelScale);
-  PyScene& scene = nb::cast<PyScene&>(sceneObject);
-  if (isoValues.empty())
+  PyPreparedMesh& mesh = nb::cast<PyPreparedMesh&>(meshObject);
+  tetdsr::Scene& scene = mesh.SceneOrThrow();
+  tetdsr::Messages messages;
+  if (!tetdsr::checkIsoValues(isoValues, messages) || !tetdsr::checkCamera(camera, messages) ||
+    !tetdsr::checkClipPlanes(settings.Core.clipPlanes, messages))
   {
-    throw nb::value_error("no iso-value");
+    ThrowFirstError(messages);
   }
-  if (width <= 0 || height <= 0 ||
-    static_cast<double>(width) * static_cast<double>(height) >= 2147483647.0)
+  // The image's size is the depth array's shape: (height, width).
+  if (depth.ndim() != 2 || depth.shape(0) == 0 || depth.shape(1) == 0 ||
+    static_cast<double>(depth.shape(0)) * static_cast<double>(depth.shape(1)) >= 2147483647.0)
   {
-    throw nb::value_error("the image must have a positive width and height and fewer than 2^31 pixels");
+    throw nb::value_error("depth must be a (height, width) array with fewer than 2^31 pixels");
   }
-  const tetdsr::CameraProblem problem = tetdsr::RayGenerator::check(camera);
-  if (problem != tetdsr::CameraProblem::None)
-  {
-    throw nb::value_error(tetdsr::describe(problem));
-  }
-  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  CheckSize(colors, 4 * pixels, "colors");
-  CheckSize(depth, pixels, "depth");
-  CheckSize(normals, 3 * pixels, "normals");
-  CheckSize(cellIds, pixels, "cell_ids");
+  const std::size_t height = depth.shape(0), width = depth.shape(1);
+  CheckShape(colors, height, width, 4, "colors");
+  CheckShape(normals, height, width, 3, "normals");
+  CheckShape(cellIds, height, width, 1, "cell_ids");
   if (colorValues)
   {
-    CheckSize(*colorValues, pixels, "color_values");
+    CheckShape(*colorValues, height, width, 1, "color_values");
   }
-  if (normalMode < 0 || normalMode > 3)
+  const tetdsr::RenderSettings& core = settings.Core;
+  if (settings.ColorBy &&
+    settings.ColorBy->Values.shape(0) < static_cast<std::size_t>(scene.mesh().numberOfPoints))
   {
-    throw nb::value_error("normal_mode must be 0 to 3");
+    throw nb::value_error(("the colour array has " + std::to_string(settings.ColorBy->Values.shape(0)) +
+      " tuples for " + std::to_string(scene.mesh().numberOfPoints) + " points")
+                            .c_str());
   }
-  if (cap < 0 || cap > 2)
+  const bool mapped = (settings.ColorBy && !settings.ColorBy->Core.directColors) ||
+    (core.cap != tetdsr::CapRegion::None && !core.clipPlanes.empty());
+  if (mapped && core.colorTable.colors.size() < 2)
   {
-    throw nb::value_error("cap must be 0 (none), 1 (below) or 2 (above the iso-value)");
-  }
-  if (isoStyles.ndim() != 2 || isoStyles.shape(1) != 4)
-  {
-    throw nb::value_error("iso_styles must be a (k, 4) array: red, green, blue, opacity");
-  }
-  if (clipPlanes.ndim() != 2 || clipPlanes.shape(1) != 6)
-  {
-    throw nb::value_error("clip_planes must be a (k, 6) array: origin, normal");
-  }
-  if (colorTableColors.ndim() != 2 || colorTableColors.shape(1) != 3 ||
-    colorTableColors.shape(0) < 2)
-  {
-    throw nb::value_error("color_table_colors must be an (m, 3) array with m >= 2");
+    throw nb::value_error("colour mapping needs a color_table with at least 2 colours");
   }
 
-  tetdsr::RenderSettings settings;
-  settings.material.color = Vec(surfaceColor);
-  settings.material.ambient = ambient;
-  settings.material.diffuse = diffuse;
-  settings.material.specular = specular;
-  settings.material.specularPower = specularPower;
-  tetdsr::Light light; // one white point light
-  light.positional = true;
-  light.position = Vec(lightPosition);
-  settings.lighting.lights.push_back(light);
-  settings.normals.mode = static_cast<tetdsr::NormalMode>(normalMode);
-  settings.normals.relativeStep = relativeStep;
-  for (std::size_t k = 0; k < isoStyles.shape(0); ++k)
-  {
-    const double* style = isoStyles.data() + 4 * k;
-    settings.isoStyles.push_back({ glm::dvec3(style[0], style[1], style[2]), style[3] });
-  }
-  const tetdsr::NodeId numberOfPoints = scene.Scene->mesh().numberOfPoints;
-  if (colorByValues)
-  {
-    if (colorByComponents < 1 || colorByComponent < -1 || colorByComponent >= colorByComponents)
-    {
-      throw nb::value_error("color_by_component must be -1 (magnitude) or a component of the colour array");
-    }
-    if (colorByValues->size() < static_cast<std::size_t>(numberOfPoints) * colorByComponents)
-    {
-      throw nb::value_error(("the colour array has " + std::to_string(colorByValues->size()) +
-        " values for " + std::to_string(numberOfPoints) + " points of " +
-        std::to_string(colorByComponents) + " components")
-                              .c_str());
-    }
-    settings.colorBy.values = colorByValues->data();
-    settings.colorBy.components = colorByComponents;
-    settings.colorBy.component = colorByComponent;
-  }
-  settings.colorTable.lo = colorTableLo;
-  settings.colorTable.hi = colorTableHi;
-  settings.colorTable.colors.clear();
-  for (std::size_t k = 0; k < colorTableColors.shape(0); ++k)
-  {
-    const double* c = colorTableColors.data() + 3 * k;
-    settings.colorTable.colors.emplace_back(c[0], c[1], c[2]);
-  }
-  settings.colorTable.nanColor = Vec(nanColor);
-  for (std::size_t k = 0; k < clipPlanes.shape(0); ++k)
-  {
-    const double* p = clipPlanes.data() + 6 * k;
-    tetdsr::ClipPlane plane;
-    plane.origin = glm::dvec3(p[0], p[1], p[2]);
-    plane.normal = glm::dvec3(p[3], p[4], p[5]);
-    if (!tetdsr::isFinite(plane.origin) || tetdsr::unitVector(plane.normal) == glm::dvec3(0.0))
-    {
-      throw nb::value_error("a clipping plane has a non-finite origin or a zero or non-finite normal");
-    }
-    settings.clipPlanes.push_back(plane);
-  }
-  settings.cap = static_cast<tetdsr::CapRegion>(cap);
-  if (settings.normals.mode == tetdsr::NormalMode::NodalInterpolation &&
-    !scene.Scene->hasNodalGradients())
+  PyRenderer made{ meshObject, 0, settings, colors, depth, normals, cellIds, colorValues, nullptr };
+  made.Settings.Core.colorBy = settings.ColorBy ? settings.ColorBy->Core : tetdsr::ColorByArray();
+  const tetdsr::SurfaceIndex* surface = nullptr;
   {
     nb::gil_scoped_release release;
-    scene.Scene->computeNodalGradients(); // once per scene: kept with it
+    if (core.normals.mode == tetdsr::NormalMode::NodalInterpolation && !scene.hasNodalGradients())
+    {
+      scene.computeNodalGradients(); // once per scene: kept with it
+    }
+    surface = &mesh.Core.surface(isoValues, CellsFor(threads));
   }
-
-  if (!scene.Surface || scene.SurfaceValues != isoValues)
-  {
-    nb::gil_scoped_release release;
-    const int threads = scene.Threads;
-    const tetdsr::NodeId grain =
-      std::max<tetdsr::NodeId>(1024, scene.Scene->summary().validCells / 256);
-    scene.Surface = std::make_shared<const tetdsr::SurfaceIndex>(*scene.Scene,
-      tetdsr::IsoValues(isoValues),
-      [threads, grain](tetdsr::NodeId count,
-        const std::function<void(tetdsr::NodeId, tetdsr::NodeId)>& body) {
-        ParallelFor(threads, count, grain, body);
-      },
-      scene.Surface.get());
-    scene.SurfaceValues = isoValues;
-  }
-  PyRenderer made{ sceneObject, colors, depth, normals, cellIds, colorValues, colorByValues,
-    scene.Surface, nullptr, {} };
+  made.Generation = ++mesh.Generation; // earlier renderers may view another surface now
   tetdsr::ImageView view;
-  view.width = width;
-  view.height = height;
+  view.width = static_cast<int>(width);
+  view.height = static_cast<int>(height);
   view.colors = colors.data();
   view.depth = depth.data();
   view.normals = normals.data();
   view.cellIds = reinterpret_cast<tetdsr::NodeId*>(cellIds.data());
   view.colorValues = colorValues ? colorValues->data() : nullptr;
-  made.Renderer.reset(new tetdsr::Renderer(*made.Surface, camera, settings, view));
-  made.TileDone.assign(static_cast<std::size_t>(made.Renderer->numberOfTiles()), false);
+  made.Renderer.reset(new tetdsr::Renderer(*surface, camera, made.Settings.Core, view));
   new (self) PyRenderer(std::move(made));
 }
 
-void CheckTiles(const PyRenderer& renderer, tetdsr::NodeId begin, tetdsr::NodeId end)
+nb::dict SummaryOf(const tetdsr::PreprocessSummary& summary)
 {
-  if (begin < 0 || end < begin || end > renderer.Renderer->numberOfTiles())
-  {
-    throw nb::index_error("tile range outside [0, number_of_tiles]");
-  }
+  nb::dict d;
+  d["valid"] = summary.validCells;
+  d["inverted"] = summary.invertedCells;
+  d["curved"] = summary.curvedCells;
+  d["tangled"] = summary.tangledCells;
+  d["degenerate"] = summary.degenerateCells;
+  d["out_of_scale"] = summary.outOfScaleCells;
+  d["non_finite"] = summary.nonFiniteCells;
+  d["invalid_id"] = summary.invalidIdCells;
+  d["unsupported"] = summary.unsupportedCells;
+  d["malformed"] = summary.malformedCells;
+  return d;
+}
+
+/// One of RenderSettings' members as a property: by reference, so that
+/// settings.material.ambient = 0.3 changes the settings (lists are copies: assign a new one).
+template <typename T>
+void Member(nb::class_<PySettings>& settings, const char* name, T tetdsr::RenderSettings::*member)
+{
+  settings.def_prop_rw(
+    name, [member](PySettings& s) -> T& { return s.Core.*member; },
+    [member](PySettings& s, const T& value) { s.Core.*member = value; });
 }
 } // namespace
 
 NB_MODULE(_core, m)
 {
-  m.doc() = "The VTK-free TetDSR core: scenes of 10-node tetrahedra and their ray-cast images.";
-  // ParaView finalizes Python while its proxies still hold Python algorithms (and so scenes):
+  m.doc() = "The VTK-free TetDSR core: meshes of 10- and 4-node tetrahedra, the settings every "
+            "face shares with their checks and messages, and ray-cast images.";
+  // ParaView finalizes Python while its proxies still hold Python algorithms (and so meshes):
   // nanobind would list those as leaks at every pvpython exit.
   nb::set_leak_warnings(false);
 
-  nb::class_<PyScene>(m, "Scene",
-    "A validated mesh of 10-node tetrahedra (VTK node order) with its acceleration structure. "
-    "Keeps the arrays it views alive.")
-    .def(nb::new_(&MakeScene), "points"_a, "cells"_a, "values"_a,
-      "point_rounding"_a = 0x1p-52, "straight_edge_markers"_a = false, "transverse_mode"_a = 0,
-      "widening"_a = 0.25, "threads"_a = 0,
-      "points: (n, 3) float64; cells: (m, 10) int64 node ids; values: float64, one per point. "
-      "point_rounding: 2^-52 for coordinates given in double, 2^-23 in float. With "
-      "straight_edge_markers a mid-edge id of -1 marks a straight edge (a linear tetrahedron).")
-    .def_prop_ro("summary",
-      [](const PyScene& s) {
-        const tetdsr::PreprocessSummary& summary = s.Scene->summary();
-        nb::dict d;
-        d["valid"] = summary.validCells;
-        d["inverted"] = summary.invertedCells;
-        d["curved"] = summary.curvedCells;
-        d["tangled"] = summary.tangledCells;
-        d["degenerate"] = summary.degenerateCells;
-        d["out_of_scale"] = summary.outOfScaleCells;
-        d["non_finite"] = summary.nonFiniteCells;
-        d["invalid_id"] = summary.invalidIdCells;
-        return d;
-      })
-    .def("bounds",
-      [](const PyScene& s) -> std::optional<std::array<double, 6>> {
+  // -- messages
+  nb::class_<tetdsr::Messages>(m, "Messages",
+    "What the core tells a user: errors (nothing rendered) and warnings (something skipped).")
+    .def(nb::init<>())
+    .def_ro("errors", &tetdsr::Messages::errors)
+    .def_ro("warnings", &tetdsr::Messages::warnings)
+    .def_prop_ro("ok", &tetdsr::Messages::ok)
+    .def("clear", [](tetdsr::Messages& messages) { messages = tetdsr::Messages(); });
+
+  // -- enumerations
+  nb::enum_<tetdsr::NormalMode>(m, "NormalMode")
+    .value("EXACT_GRADIENT", tetdsr::NormalMode::ExactGradient)
+    .value("CENTRAL_DIFFERENCES", tetdsr::NormalMode::CentralDifferences)
+    .value("NODAL_INTERPOLATION", tetdsr::NormalMode::NodalInterpolation)
+    .value("DEPTH_BUFFER", tetdsr::NormalMode::DepthBuffer);
+  nb::enum_<tetdsr::CapRegion>(m, "CapRegion")
+    .value("NONE", tetdsr::CapRegion::None)
+    .value("BELOW_ISO_VALUE", tetdsr::CapRegion::BelowIsoValue)
+    .value("ABOVE_ISO_VALUE", tetdsr::CapRegion::AboveIsoValue);
+  nb::enum_<tetdsr::TransverseTest::Mode>(m, "TransverseMode")
+    .value("BERNSTEIN_BOUND", tetdsr::TransverseTest::Mode::BernsteinBound)
+    .value("WIDENED_NODAL_RANGE", tetdsr::TransverseTest::Mode::WidenedNodalRange);
+  nb::enum_<tetdsr::ColorSpace>(m, "ColorSpace")
+    .value("RGB", tetdsr::ColorSpace::RGB)
+    .value("HSV", tetdsr::ColorSpace::HSV)
+    .value("DIVERGING", tetdsr::ColorSpace::Diverging);
+  nb::enum_<tetdsr::InputArray>(m, "InputArray")
+    .value("FIELD", tetdsr::InputArray::Field)
+    .value("COLOR", tetdsr::InputArray::Color);
+
+  // -- the settings structs, with the core's defaults
+  nb::class_<tetdsr::Camera>(m, "Camera", "vtkCamera's frame and projection.")
+    .def(nb::init<>())
+    .def_rw("position", &tetdsr::Camera::position)
+    .def_rw("focal_point", &tetdsr::Camera::focalPoint)
+    .def_rw("view_up", &tetdsr::Camera::viewUp)
+    .def_rw("view_angle", &tetdsr::Camera::viewAngleDegrees, "vertical, in degrees")
+    .def_rw("parallel_projection", &tetdsr::Camera::parallelProjection)
+    .def_rw("parallel_scale", &tetdsr::Camera::parallelScale);
+  nb::class_<tetdsr::Material>(m, "Material")
+    .def(nb::init<>())
+    .def_rw("color", &tetdsr::Material::color)
+    .def_rw("specular_color", &tetdsr::Material::specularColor)
+    .def_rw("ambient", &tetdsr::Material::ambient)
+    .def_rw("diffuse", &tetdsr::Material::diffuse)
+    .def_rw("specular", &tetdsr::Material::specular)
+    .def_rw("specular_power", &tetdsr::Material::specularPower);
+  nb::class_<tetdsr::Light>(m, "Light")
+    .def(nb::init<>())
+    .def_rw("color", &tetdsr::Light::color)
+    .def_rw("positional", &tetdsr::Light::positional)
+    .def_rw("direction", &tetdsr::Light::direction)
+    .def_rw("position", &tetdsr::Light::position);
+  nb::class_<tetdsr::Lighting>(m, "Lighting", "lights is a list: assign a new one to change it.")
+    .def(nb::init<>())
+    .def_rw("lights", &tetdsr::Lighting::lights)
+    .def_rw("headlight_only", &tetdsr::Lighting::headlightOnly)
+    .def_rw("has_eye", &tetdsr::Lighting::hasEye)
+    .def_rw("eye", &tetdsr::Lighting::eye);
+  nb::class_<tetdsr::NormalSettings>(m, "NormalSettings")
+    .def(nb::init<>())
+    .def_rw("mode", &tetdsr::NormalSettings::mode)
+    .def_rw("relative_step", &tetdsr::NormalSettings::relativeStep);
+  nb::class_<tetdsr::TransverseTest>(m, "TransverseTest", "Which cells are searched for an iso-value.")
+    .def(nb::init<>())
+    .def_rw("mode", &tetdsr::TransverseTest::mode)
+    .def_rw("widening", &tetdsr::TransverseTest::widening,
+      "WIDENED_NODAL_RANGE: the nodal range's widening on each side, a fraction of it");
+  nb::class_<tetdsr::ColorTable>(m, "ColorTable")
+    .def(nb::init<>())
+    .def_rw("lo", &tetdsr::ColorTable::lo)
+    .def_rw("hi", &tetdsr::ColorTable::hi)
+    .def_rw("colors", &tetdsr::ColorTable::colors)
+    .def_rw("nan_color", &tetdsr::ColorTable::nanColor)
+    .def("map", &tetdsr::ColorTable::map, "value"_a);
+  nb::class_<tetdsr::ClipPlane>(m, "ClipPlane", "Keeps the side the normal points to.")
+    .def(nb::init<>())
+    .def(
+      "__init__",
+      [](tetdsr::ClipPlane* self, const glm::dvec3& origin, const glm::dvec3& normal) {
+        new (self) tetdsr::ClipPlane{ origin, normal };
+      },
+      "origin"_a, "normal"_a)
+    .def_rw("origin", &tetdsr::ClipPlane::origin)
+    .def_rw("normal", &tetdsr::ClipPlane::normal);
+  nb::class_<tetdsr::SurfaceStyle>(m, "SurfaceStyle")
+    .def(nb::init<>())
+    .def_rw("color", &tetdsr::SurfaceStyle::color)
+    .def_rw("opacity", &tetdsr::SurfaceStyle::opacity);
+  nb::class_<PyColorBy>(m, "ColorByArray",
+    "A point array that colours the surfaces: (n,) or (n, k) float64 values, one tuple per point "
+    "(PreparedMesh.point_values), its component (-1: the magnitude), or direct RGB colours.")
+    .def(nb::new_(&MakeColorBy), "values"_a, "component"_a = 0, "direct_colors"_a = false)
+    .def_prop_ro("values", [](const PyColorBy& c) { return c.Values; })
+    .def_prop_ro("components", [](const PyColorBy& c) { return c.Core.components; })
+    .def_prop_ro("component", [](const PyColorBy& c) { return c.Core.component; })
+    .def_prop_ro("direct_colors", [](const PyColorBy& c) { return c.Core.directColors; });
+  nb::class_<PySettings> settings(m, "RenderSettings",
+    "Everything a Renderer shades with, with the core's defaults (no light, no colour array). "
+    "Nested settings change in place (settings.material.ambient = 0.3); lists by assignment.");
+  settings.def(nb::init<>());
+  Member(settings, "material", &tetdsr::RenderSettings::material);
+  Member(settings, "lighting", &tetdsr::RenderSettings::lighting);
+  Member(settings, "normals", &tetdsr::RenderSettings::normals);
+  Member(settings, "iso_styles", &tetdsr::RenderSettings::isoStyles);
+  Member(settings, "color_table", &tetdsr::RenderSettings::colorTable);
+  Member(settings, "clip_planes", &tetdsr::RenderSettings::clipPlanes);
+  Member(settings, "cap", &tetdsr::RenderSettings::cap);
+  settings.def_rw("color_by", &PySettings::ColorBy, nb::arg().none(), "a ColorByArray, or None");
+
+  // -- constants every face shares
+  m.attr("BYTES_PER_PIXEL") = tetdsr::kBytesPerPixel;
+  m.attr("COLOR_TABLE_SIZE") = tetdsr::kColorTableSize;
+  m.attr("PROGRESS_STEPS") = tetdsr::kProgressSteps;
+  m.attr("MAX_CAMERA_DISTANCE") = tetdsr::kMaxCameraDistance;
+  m.attr("MAX_CLIP_PLANES") = tetdsr::kMaxClipPlanes;
+  m.attr("MAX_STYLE_INDEX") = tetdsr::IsoValueStyles::kMaxIndex;
+  m.attr("TILE_SIZE") = tetdsr::Renderer::kTileSize;
+  m.attr("MAX_CELLS") = tetdsr::Scene::kMaxCells;
+
+  // -- the checks, writing the core's messages
+  m.def("check_mesh_not_empty", &tetdsr::checkMeshNotEmpty, "number_of_points"_a,
+    "number_of_cells"_a, "messages"_a);
+  m.def("check_iso_values", &tetdsr::checkIsoValues, "values"_a, "messages"_a);
+  m.def("check_clip_planes", &tetdsr::checkClipPlanes, "planes"_a, "messages"_a);
+  m.def("check_image_size", &tetdsr::checkImageSize, "width"_a, "height"_a, "messages"_a,
+    "False, with an error, for an ImageSize that cannot be allocated (BYTES_PER_PIXEL each).");
+  m.def("report_unallocated_image", &tetdsr::reportUnallocatedImage, "width"_a, "height"_a,
+    "messages"_a);
+  m.def(
+    "check_camera",
+    [](const tetdsr::Camera& camera, const PyPreparedMesh* mesh, tetdsr::Messages& messages) {
+      return mesh && mesh->Core.scene() ? tetdsr::checkCamera(camera, *mesh->Core.scene(), messages)
+                                        : tetdsr::checkCamera(camera, messages);
+    },
+    "camera"_a, "mesh"_a.none(), "messages"_a,
+    "False, with an error, for a camera that defines no rays, or (with a prepared mesh) one too "
+    "far from it.");
+  m.def(
+    "report_missing_array",
+    [](tetdsr::InputArray which, const std::optional<std::string>& name, tetdsr::Messages& messages) {
+      tetdsr::reportMissingArray(which, name ? name->c_str() : nullptr, messages);
+    },
+    "which"_a, "name"_a.none(), "messages"_a,
+    "The error for an input array not found: by name, or (None) as the active scalars / none chosen.");
+  m.def(
+    "choose_point_array_component",
+    [](const std::string& name, bool isPointArray, int components, int requested,
+      bool allowMagnitude, const std::string& setting,
+      tetdsr::Messages& messages) -> std::optional<int> {
+      int component = 0;
+      if (!tetdsr::choosePointArrayComponent(name, isPointArray, components, requested,
+            allowMagnitude, setting.c_str(), component, messages))
+      {
+        return std::nullopt;
+      }
+      return component;
+    },
+    "name"_a, "is_point_array"_a, "components"_a, "requested_component"_a, "allow_magnitude"_a,
+    "component_setting"_a, "messages"_a,
+    "The component of a field or colour array to use (-1: the magnitude), or None after an error.");
+  m.def(
+    "finite_range",
+    [](Array<const double> values, int component) {
+      const int components = values.ndim() == 2 ? static_cast<int>(values.shape(1)) : 1;
+      if (values.ndim() < 1 || values.ndim() > 2 || component < -1 || component >= components)
+      {
+        throw nb::value_error("values must be (n,) or (n, k) and component in [-1, k)");
+      }
+      tetdsr::FiniteRange finite;
+      finite.add(values.data(), static_cast<tetdsr::NodeId>(values.shape(0)), components, component);
+      std::array<double, 2> range;
+      finite.get(range.data());
+      return range;
+    },
+    "values"_a, "component"_a,
+    "(lo, hi) of one component (-1: the magnitude) over finite values; (0, 1) if none is.");
+
+  nb::class_<tetdsr::IsoValueStyles>(m, "IsoValueStyles",
+    "Per-iso-value colours and opacities (index i: the i-th iso-value as given).")
+    .def(nb::init<>())
+    .def("set_color", &tetdsr::IsoValueStyles::setColor, "i"_a, "color"_a, "messages"_a,
+      "True when it changed; False (with an error for an index out of range) otherwise.")
+    .def("set_opacity", &tetdsr::IsoValueStyles::setOpacity, "i"_a, "opacity"_a, "messages"_a)
+    .def("color", &tetdsr::IsoValueStyles::color, "i"_a, "fallback"_a)
+    .def("opacity", &tetdsr::IsoValueStyles::opacity, "i"_a)
+    .def("remove_all_colors", &tetdsr::IsoValueStyles::removeAllColors)
+    .def("remove_all_opacities", &tetdsr::IsoValueStyles::removeAllOpacities)
+    .def("styles", &tetdsr::IsoValueStyles::styles, "count"_a, "fallback"_a, "opacity_factor"_a)
+    .def("describe", &tetdsr::IsoValueStyles::describe);
+
+  nb::class_<tetdsr::NumberSetting>(m, "NumberSetting", "A number clamped into [lo, hi]; NaN refused.")
+    .def_prop_ro("name", [](const tetdsr::NumberSetting& s) { return std::string(s.name); })
+    .def_ro("lo", &tetdsr::NumberSetting::lo)
+    .def_ro("hi", &tetdsr::NumberSetting::hi);
+  nb::dict numbers;
+  for (const tetdsr::NumberSetting* setting : { &tetdsr::kAmbient, &tetdsr::kDiffuse,
+         &tetdsr::kSpecular, &tetdsr::kSpecularPower, &tetdsr::kCentralDifferenceStep,
+         &tetdsr::kNodalRangeWidening })
+  {
+    numbers[setting->name] = nb::cast(*setting);
+  }
+  m.attr("NUMBER_SETTINGS") = numbers;
+  m.def(
+    "set_clamped",
+    [](const tetdsr::NumberSetting& setting, double value, double member, tetdsr::Messages& messages) {
+      const bool changed = tetdsr::setClamped(setting, value, member, messages);
+      return std::make_pair(changed, member);
+    },
+    "setting"_a, "value"_a, "member"_a, "messages"_a,
+    "(changed, new value): `value` clamped into the setting's range; NaN keeps `member`, with an error.");
+
+  nb::class_<tetdsr::ColorMapPoint>(m, "ColorMapPoint")
+    .def_ro("x", &tetdsr::ColorMapPoint::x)
+    .def_ro("color", &tetdsr::ColorMapPoint::color);
+  nb::class_<tetdsr::ColorMap>(m, "ColorMap", "Control points over [0, 1] and their colour space.")
+    .def_ro("space", &tetdsr::ColorMap::space)
+    .def_ro("points", &tetdsr::ColorMap::points)
+    .def_ro("nan_color", &tetdsr::ColorMap::nanColor);
+  m.def("built_in_color_map", &tetdsr::builtInColorMap, "which"_a, nb::rv_policy::reference,
+    "0 cool to warm (also any unknown number), 1 rainbow, 2 grayscale, 3 black body.");
+  m.def("sample_color_table", &tetdsr::sampleColorTable, "color_of"_a, "table_lo"_a, "table_hi"_a,
+    "lo"_a, "hi"_a,
+    "A ColorTable for lo..hi from color_of(value) (a lookup table spanning table_lo..table_hi), "
+    "sampled at COLOR_TABLE_SIZE values, and color_of(nan).");
+  m.def("report_aborted_cast", &tetdsr::reportAbortedCast, "done"_a, "tiles"_a, "messages"_a);
+  m.def(
+    "reset_camera",
+    [](const std::array<double, 6>& bounds, double aspect) {
+      return tetdsr::resetCamera(bounds.data(), aspect);
+    },
+    "bounds"_a, "aspect"_a,
+    "The camera vtkRenderer::ResetCamera would place to see the box (looking down -z).");
+
+  // -- the mesh
+  nb::class_<PyPreparedMesh>(m, "PreparedMesh",
+    "A mesh as VTK holds it, checked and validated cell by cell into the core's scene; keeps the "
+    "arrays it views alive until the next prepare.")
+    .def(nb::init<>())
+    .def("prepare", &Prepare, "points"_a, "cell_types"_a, "offsets"_a, "connectivity"_a,
+      "field"_a, "field_name"_a = "", "component"_a = 0,
+      "transverse"_a = tetdsr::TransverseTest(), "threads"_a = 0, "messages"_a,
+      "points: (n, 3) float32/float64; cell_types: (m,) uint8 VTK cell types; offsets: (m + 1,) "
+      "and connectivity int32/int64; field: (n,) or (n, k) of any number type, `component` "
+      "contoured. False, with errors, when nothing can be rendered; warnings count skipped cells.")
+    .def(
+      "reuse", [](const PyPreparedMesh& p, tetdsr::Messages& messages) { return p.Core.reuse(messages); },
+      "messages"_a, "For an unchanged input: the last prepare's errors again; False if it failed.")
+    .def_prop_ro("ready", [](const PyPreparedMesh& p) { return p.Core.scene() != nullptr; })
+    .def_prop_ro("summary", [](const PyPreparedMesh& p) { return SummaryOf(p.Core.summary()); })
+    .def(
+      "bounds",
+      [](const PyPreparedMesh& p) -> std::optional<std::array<double, 6>> {
         std::array<double, 6> box;
-        if (!s.Scene->bounds(box.data()))
+        if (!p.SceneOrThrow().bounds(box.data()))
         {
           return std::nullopt;
         }
         return box;
       },
       "The box around the valid cells (xmin, xmax, ymin, ymax, zmin, zmax), or None.")
-    .def("diagonal", [](const PyScene& s) { return s.Scene->diagonal(); })
-    .def_prop_ro(
-      "uncertified_hits", [](const PyScene& s) { return s.Scene->uncertifiedHits(); })
-    .def_prop_ro("memory_bytes", [](const PyScene& s) { return s.Scene->memoryBytes(); })
-    .def_prop_ro("number_of_points", [](const PyScene& s) { return s.Scene->mesh().numberOfPoints; })
-    .def_prop_ro("number_of_cells", [](const PyScene& s) { return s.Scene->mesh().numberOfCells; });
+    .def("diagonal", [](const PyPreparedMesh& p) { return p.SceneOrThrow().diagonal(); })
+    .def_prop_ro("uncertified_hits",
+      [](const PyPreparedMesh& p) { return p.Core.scene() ? p.Core.scene()->uncertifiedHits() : 0; })
+    .def_prop_ro("memory_bytes", [](const PyPreparedMesh& p) { return p.Core.memoryBytes(); })
+    .def(
+      "point_values",
+      [](nb::handle self, AnyArray array, const std::string& name, std::uint64_t stamp,
+        const std::string& role, tetdsr::Messages& messages) -> nb::object {
+        PyPreparedMesh& p = nb::cast<PyPreparedMesh&>(self);
+        const tetdsr::ArrayView view = ViewOf(array, name, "point array");
+        const double* values = p.Core.pointValues(view, stamp, role.c_str(), messages);
+        if (!values)
+        {
+          return nb::none();
+        }
+        ++p.Generation; // (a Renderer made before may view the values this call replaced)
+        p.ColorViewed = array;
+        const std::size_t shape[2] = { static_cast<std::size_t>(p.SceneOrThrow().mesh().numberOfPoints),
+          static_cast<std::size_t>(view.components) };
+        return nb::cast(nb::ndarray<nb::numpy, const double, nb::ndim<2>>(values, 2, shape, self));
+      },
+      "array"_a, "name"_a, "stamp"_a, "role"_a, "messages"_a,
+      "A point array's values as an (n, k) float64 array: viewed when float64, else converted and "
+      "kept until another array or stamp is asked for (valid until then). None, with an error "
+      "naming `role`, when it has fewer tuples than the mesh has points.");
 
-  m.def("check_camera",
-    [](const std::array<double, 3>& position, const std::array<double, 3>& focalPoint,
-      const std::array<double, 3>& viewUp, double viewAngle, bool parallel,
-      double parallelScale) -> std::optional<std::string> {
-      const tetdsr::CameraProblem problem = tetdsr::RayGenerator::check(
-        MakeCamera(position, focalPoint, viewUp, viewAngle, parallel, parallelScale));
-      if (problem == tetdsr::CameraProblem::None)
-      {
-        return std::nullopt;
-      }
-      return std::string(tetdsr::describe(problem));
-    },
-    "position"_a, "focal_point"_a, "view_up"_a, "view_angle"_a, "parallel"_a, "parallel_scale"_a,
-    "None for a camera that defines rays, else why it does not.");
-
-  m.def("reset_camera",
-    [](const std::array<double, 6>& bounds, double aspect) {
-      const tetdsr::Camera camera = tetdsr::resetCamera(bounds.data(), aspect);
-      nb::dict d;
-      d["position"] = std::array<double, 3>{ camera.position.x, camera.position.y, camera.position.z };
-      d["focal_point"] =
-        std::array<double, 3>{ camera.focalPoint.x, camera.focalPoint.y, camera.focalPoint.z };
-      d["view_up"] = std::array<double, 3>{ camera.viewUp.x, camera.viewUp.y, camera.viewUp.z };
-      d["view_angle"] = camera.viewAngleDegrees;
-      d["parallel_scale"] = camera.parallelScale;
-      return d;
-    },
-    "bounds"_a, "aspect"_a,
-    "The camera vtkRenderer::ResetCamera would place to see the box (looking down -z).");
-
+  // -- images
   nb::class_<PyRenderer>(m, "Renderer",
-    "One image of a Scene: rays from a camera, written into the given arrays tile by tile.")
-    .def("__init__", &InitRenderer,
-      "scene"_a, "iso_values"_a, "position"_a, "focal_point"_a, "view_up"_a, "view_angle"_a,
-      "parallel"_a, "parallel_scale"_a, "width"_a, "height"_a,
+    "One image of a PreparedMesh: rays from a camera, written into the given arrays, whose "
+    "shapes give the size: depth (height, width), colors (height, width, 4) uint8, normals "
+    "(height, width, 3), cell_ids (height, width) int64, color_values (height, width) or None.")
+    .def("__init__", &InitRenderer, "mesh"_a, "iso_values"_a, "camera"_a, "settings"_a,
       // The output arrays are written in place: never a converted temporary copy.
       "colors"_a.noconvert(), "depth"_a.noconvert(), "normals"_a.noconvert(),
-      "cell_ids"_a.noconvert(), "color_values"_a.noconvert().none(), "surface_color"_a, "ambient"_a,
-      "diffuse"_a, "specular"_a, "specular_power"_a, "light_position"_a, "normal_mode"_a,
-      "relative_step"_a, "iso_styles"_a, "color_by_values"_a.none(), "color_by_components"_a,
-      "color_by_component"_a, "color_table_lo"_a, "color_table_hi"_a, "color_table_colors"_a,
-      "nan_color"_a, "clip_planes"_a, "cap"_a)
+      "cell_ids"_a.noconvert(), "color_values"_a.noconvert().none() = nb::none(), "threads"_a = 0)
     .def_prop_ro(
       "number_of_tiles", [](const PyRenderer& r) { return r.Renderer->numberOfTiles(); })
     .def(
-      "render_tiles",
-      [](PyRenderer& r, tetdsr::NodeId begin, tetdsr::NodeId end, int threads) {
-        CheckTiles(r, begin, end);
+      "cast",
+      [](PyRenderer& r, int threads, std::optional<std::function<bool()>> abort,
+        std::optional<std::function<void(double)>> progress) {
+        if (nb::cast<PyPreparedMesh&>(r.MeshOwner).Generation != r.Generation)
         {
-          nb::gil_scoped_release release;
-          // One tile at a time from a shared counter; pixels are independent, so the image is
-          // the same bit for bit for any number of threads.
-          ParallelFor(threads, end - begin, 1, [&](tetdsr::NodeId first, tetdsr::NodeId last) {
-            r.Renderer->renderTiles(begin + first, begin + last);
-          });
+          throw nb::value_error("the PreparedMesh changed since this Renderer was made: make a new one");
         }
-        std::fill(r.TileDone.begin() + begin, r.TileDone.begin() + end, true);
-      },
-      "begin"_a, "end"_a, "threads"_a = 0,
-      "Renders tiles [begin, end) on `threads` threads (0: all cores), without the GIL.")
-    .def(
-      "shade_from_depth",
-      [](PyRenderer& r, int threads) {
-        if (!std::all_of(r.TileDone.begin(), r.TileDone.end(), [](bool done) { return done; }))
-        {
-          throw nb::value_error("shade_from_depth needs every tile rendered first");
-        }
+        // Python is called between steps only, with the GIL; tiles are cast without it.
+        auto askAbort = [&]() {
+          nb::gil_scoped_acquire acquire;
+          return abort && (*abort)();
+        };
+        auto tell = [&](double fraction) {
+          nb::gil_scoped_acquire acquire;
+          if (progress)
+          {
+            (*progress)(fraction);
+          }
+        };
+        // One tile at a time from a shared counter; pixels are independent, so the image is the
+        // same bit for bit for any number of threads.
+        const tetdsr::ParallelFor tilesFor = [threads](tetdsr::NodeId count,
+                                               const std::function<void(tetdsr::NodeId, tetdsr::NodeId)>& body) {
+          ThreadedFor(threads, count, 1, body);
+        };
         nb::gil_scoped_release release;
-        ParallelFor(threads, r.Renderer->numberOfTiles(), 1,
-          [&](tetdsr::NodeId first, tetdsr::NodeId last) { r.Renderer->shadeFromDepth(first, last); });
+        return tetdsr::castInSteps(*r.Renderer,
+          r.Settings.Core.normals.mode == tetdsr::NormalMode::DepthBuffer, tilesFor, askAbort, tell);
       },
-      "threads"_a = 0,
-      "Depth-buffer normals (normal_mode 3): re-shades the nearest surfaces from the depth image.");
-
-  m.attr("TILE_SIZE") = tetdsr::Renderer::kTileSize;
-  m.attr("MAX_CELLS") = tetdsr::Scene::kMaxCells;
+      "threads"_a = 0, "abort"_a.none() = nb::none(), "progress"_a.none() = nb::none(),
+      "Casts every tile in PROGRESS_STEPS steps on `threads` threads (0: all cores) without the "
+      "GIL, asking abort() before each step and telling progress(fraction) after it; then the "
+      "depth-buffer normals' pass (NormalMode.DEPTH_BUFFER). Returns the tiles cast.");
 }
