@@ -27,6 +27,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include "vtkDirectSurfaceAdapter.h"
+#include "vtkDirectSurfaceReporting.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -400,21 +401,6 @@ private:
 
   vtkMultiProcessController* Controller; ///< null unless there are several processes
 };
-
-/// Reports the adapter's messages through this algorithm's error and warning macros.
-#define REPORT_MESSAGES(messages)                                                                  \
-  do                                                                                               \
-  {                                                                                                \
-    for (const std::string& text : (messages).warnings)                                            \
-    {                                                                                              \
-      vtkWarningMacro(<< text);                                                                    \
-    }                                                                                              \
-    for (const std::string& text : (messages).errors)                                              \
-    {                                                                                              \
-      vtkErrorMacro(<< text);                                                                      \
-    }                                                                                              \
-    (messages) = adapter::Messages();                                                              \
-  } while (false)
 }
 
 //------------------------------------------------------------------------------
@@ -447,7 +433,7 @@ void vtkDirectSurfaceRayCaster::SetIsoValueColor(int i, double red, double green
   {
     this->Modified();
   }
-  REPORT_MESSAGES(messages);
+  adapter::ReportMessages(this, messages);
 }
 
 void vtkDirectSurfaceRayCaster::GetIsoValueColor(int i, double color[3])
@@ -470,7 +456,7 @@ void vtkDirectSurfaceRayCaster::SetIsoValueOpacity(int i, double opacity)
   {
     this->Modified();
   }
-  REPORT_MESSAGES(messages);
+  adapter::ReportMessages(this, messages);
 }
 
 double vtkDirectSurfaceRayCaster::GetIsoValueOpacity(int i)
@@ -718,7 +704,7 @@ int vtkDirectSurfaceRayCaster::RequestInformation(
   if (!adapter::CheckImageSize(
         this->ImageSize[0], this->ImageSize[1], kBytesPerPixel, "ImageSize", messages))
   {
-    REPORT_MESSAGES(messages);
+    adapter::ReportMessages(this, messages);
     return 0;
   }
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
@@ -811,7 +797,7 @@ int vtkDirectSurfaceRayCaster::RequestData(
       this->ClippingPlanes, MaximumNumberOfClippingPlanes, clipPlanes, messages);
   if (!processes.All(ok))
   {
-    REPORT_MESSAGES(messages);
+    adapter::ReportMessages(this, messages);
     return 0;
   }
 
@@ -841,10 +827,10 @@ int vtkDirectSurfaceRayCaster::RequestData(
     : nullptr;
   if (!processes.All(messages.ok() && (ready || !hasPiece)))
   {
-    REPORT_MESSAGES(messages);
+    adapter::ReportMessages(this, messages);
     return 0;
   }
-  REPORT_MESSAGES(messages); // the warnings
+  adapter::ReportMessages(this, messages); // the warnings
   tetdsr::Scene* scene = ready ? prepared.GetScene() : nullptr;
 
   // Camera: the user's, or one that sees every rendered cell of every piece (points no cell uses
@@ -866,7 +852,7 @@ int vtkDirectSurfaceRayCaster::RequestData(
   }
   if (!processes.All(!scene || adapter::CheckCamera(camera, *scene, messages)))
   {
-    REPORT_MESSAGES(messages);
+    adapter::ReportMessages(this, messages);
     return 0;
   }
 

@@ -34,7 +34,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include "vtkDirectSurfaceAdapter.h"
-
+#include "vtkDirectSurfaceReporting.h"
 
 #include <algorithm>
 #include <cmath>
@@ -311,10 +311,7 @@ void vtkDirectSurfaceMapper::SetIsoValueColor(int i, double red, double green, d
   {
     this->Modified();
   }
-  for (const std::string& text : messages.errors)
-  {
-    vtkErrorMacro(<< text);
-  }
+  adapter::ReportMessages(this, messages);
 }
 
 void vtkDirectSurfaceMapper::GetIsoValueColor(int i, double color[3])
@@ -338,10 +335,7 @@ void vtkDirectSurfaceMapper::SetIsoValueOpacity(int i, double opacity)
   {
     this->Modified();
   }
-  for (const std::string& text : messages.errors)
-  {
-    vtkErrorMacro(<< text);
-  }
+  adapter::ReportMessages(this, messages);
 }
 
 double vtkDirectSurfaceMapper::GetIsoValueOpacity(int i)
@@ -634,10 +628,7 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   if (!adapter::ConvertIsoValues(this->ContourValues, values, messages) ||
     !adapter::ConvertClipPlanes(this->ClippingPlanes, 6, clipPlanes, messages))
   {
-    for (const std::string& text : messages.errors)
-    {
-      vtkErrorMacro(<< text);
-    }
+    adapter::ReportMessages(this, messages);
     timer->Delete();
     return;
   }
@@ -800,14 +791,7 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
       }
     }
   }
-  for (const std::string& text : messages.warnings)
-  {
-    vtkWarningMacro(<< text);
-  }
-  for (const std::string& text : messages.errors)
-  {
-    vtkErrorMacro(<< text);
-  }
+  adapter::ReportMessages(this, messages);
   if (aborted || this->NumberOfRenderedCells == 0)
   {
     timer->Delete();
