@@ -147,6 +147,20 @@ struct ImageArrays
     }
   }
 
+  /// The arrays as the core's image of `width` x `height` pixels, which it writes in place.
+  tetdsr::ImageView View(int width, int height) const
+  {
+    tetdsr::ImageView view;
+    view.width = width;
+    view.height = height;
+    view.colors = this->Colors->GetPointer(0);
+    view.depth = this->Depth->GetPointer(0);
+    view.normals = this->Normals->GetPointer(0);
+    view.cellIds = this->CellIds->GetPointer(0);
+    view.colorValues = this->ColorValues ? this->ColorValues->GetPointer(0) : nullptr;
+    return view;
+  }
+
   void AddTo(vtkPointData* pointData) const
   {
     pointData->SetScalars(this->Colors);
@@ -172,10 +186,10 @@ struct ImageArrays
 
 /// The processes the input is distributed over. With one process (or no controller) every step
 /// is local; with several, each is a collective operation every process must call.
-class Processes
+class ProcessGroup
 {
 public:
-  explicit Processes(vtkMultiProcessController* controller)
+  explicit ProcessGroup(vtkMultiProcessController* controller)
     : Controller(controller && controller->GetNumberOfProcesses() > 1 ? controller : nullptr)
   {
   }
@@ -405,8 +419,7 @@ private:
 
 //------------------------------------------------------------------------------
 vtkDirectSurfaceRayCaster::vtkDirectSurfaceRayCaster()
-  : ContourValues(vtkContourValues::New())
-  , Prepared(new Cache)
+  : Prepared(new Cache)
 {
   this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(1);
@@ -418,7 +431,6 @@ vtkDirectSurfaceRayCaster::vtkDirectSurfaceRayCaster()
 //------------------------------------------------------------------------------
 vtkDirectSurfaceRayCaster::~vtkDirectSurfaceRayCaster()
 {
-  this->ContourValues->Delete();
   this->SetCamera(nullptr);
   this->SetLookupTable(nullptr);
   this->SetClippingPlanes(nullptr);
@@ -657,7 +669,7 @@ tetdsr::RenderSettings ShadingSettings(vtkDirectSurfaceRayCaster* self,
 /// Puts `image` (this process's) into `output` over the requested extent: the whole image, a
 /// part of it, or, distributed, this process's block of the depth-composited image. False when
 /// compositing fails.
-bool WriteOutput(const Processes& processes, ImageArrays& image, int width, int height,
+bool WriteOutput(const ProcessGroup& processes, ImageArrays& image, int width, int height,
   bool colorMapped, vtkInformation* outInfo, vtkImageData* output)
 {
   int wholeExtent[6] = { 0, width - 1, 0, height - 1, 0, 0 };
@@ -752,66 +764,140 @@ vtkDataArray* vtkDirectSurfaceRayCaster::GetPointArray(
 }
 
 //------------------------------------------------------------------------------
+/// What one execution works with, from step to step of RequestData.
+struct vtkDirectSurfaceRayCaster::Execution
+{
+  Execution(vtkMultiProcessController* controller, vtkUnstructuredGrid* input, const int size[2])
+    : Processes(controller)
+    , Input(input)
+    , HasPiece(input && input->GetNumberOfCells() > 0 && input->GetNumberOfPoints() > 0)
+    , Width(size[0])
+    , Height(size[1])
+  {
+  }
+
+  const ProcessGroup Processes;
+  vtkUnstructuredGrid* const Input;
+  const bool HasPiece; ///< else this process only checks the settings and casts nothing
+  const int Width;     ///< of the image (RequestInformation checked the size)
+  const int Height;
+  adapter::Messages Messages;
+
+  // The field and its component, the iso-values, the colour array and its component, and the
+  // clipping planes.
+  vtkDataArray* Scalars = nullptr;
+  int Component = 0;
+  std::vector<double> Values;
+  vtkDataArray* ColorArray = nullptr;
+  int ColorComponent = -1;
+  std::vector<tetdsr::ClipPlane> ClipPlanes;
+  bool ColorMapped = false; ///< the output has ColorValues: colouring by an array, or capping
+
+  tetdsr::Scene* Scene = nullptr;      ///< the piece's (null when it has nothing to render)
+  const double* ColorValues = nullptr; ///< the colour array, in the scene's point order
+  tetdsr::Camera Camera;
+  tetdsr::RenderSettings Settings;
+  tetdsr::ImageView View; ///< the output arrays of this process's image
+
+  vtkIdType Pixels() const { return static_cast<vtkIdType>(this->Width) * this->Height; }
+};
+
+//------------------------------------------------------------------------------
 int vtkDirectSurfaceRayCaster::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0]);
-  vtkImageData* output = vtkImageData::GetData(outputVector);
-  const int width = this->ImageSize[0]; // RequestInformation checked the size
-  const int height = this->ImageSize[1];
-  adapter::Messages messages;
-  // Distributed, every process takes part in each collective step below (Processes::All and
+  // Distributed, every process takes part in each collective step below (ProcessGroup::All and
   // the rest), so that none returns while another waits for it.
-  const Processes processes(this->Controller);
-  const bool hasPiece = input && input->GetNumberOfCells() > 0 && input->GetNumberOfPoints() > 0;
-  if (!processes.Any(hasPiece))
+  Execution run(this->Controller, vtkUnstructuredGrid::GetData(inputVector[0]), this->ImageSize);
+  if (!run.Processes.Any(run.HasPiece))
   {
     vtkErrorMacro("The input mesh is empty: it has no cells or no points.");
     return 0;
   }
-
-  // The field, its iso-values, the colour array and the clipping planes (a process with an
-  // empty piece checks only the settings).
-  int association = -1;
-  vtkDataArray* scalars = hasPiece ? this->GetPointArray(0, inputVector, association) : nullptr;
-  int component = 0;
-  std::vector<double> values;
-  bool ok = (!hasPiece ||
-              (scalars &&
-                adapter::CheckPointArray(scalars, association, this->ArrayComponent, false,
-                  "ArrayComponent", component, messages))) &&
-    adapter::ConvertIsoValues(this->ContourValues, values, messages);
-  vtkDataArray* colorArray = nullptr;
-  int colorComponent = -1;
-  if (ok && this->ColorByArray && hasPiece)
+  if (!this->ChooseArraysAndSettings(inputVector, run) || !this->PrepareScene(run) ||
+    !this->ChooseCamera(run))
   {
-    int colorAssociation = -1;
-    colorArray = this->GetPointArray(1, inputVector, colorAssociation);
-    ok = colorArray &&
-      adapter::CheckPointArray(colorArray, colorAssociation, this->ColorArrayComponent, true,
-        "ColorArrayComponent", colorComponent, messages);
-  }
-  std::vector<tetdsr::ClipPlane> clipPlanes;
-  ok = ok &&
-    adapter::ConvertClipPlanes(
-      this->ClippingPlanes, MaximumNumberOfClippingPlanes, clipPlanes, messages);
-  if (!processes.All(ok))
-  {
-    adapter::ReportMessages(this, messages);
     return 0;
   }
 
-  // Preprocess once per mesh, array and transverse test.
+  // The image of this process's piece, written in place by the core.
+  ImageArrays image(run.ColorMapped);
+  if (!run.Processes.All(image.Allocate(run.Pixels())))
+  {
+    vtkErrorMacro("Cannot allocate the " << run.Width << " x " << run.Height << " output image.");
+    return 0;
+  }
+  run.View = image.View(run.Width, run.Height);
+  this->ChooseShading(run);
+  bool completed = true;
+  if (run.Scene)
+  {
+    completed = this->CastPiece(run);
+  }
+  else
+  {
+    image.FillMisses();
+  }
+  if (!run.Processes.All(completed))
+  {
+    // The executive empties the output and marks it aborted (CheckAbort set AbortOutput here, or
+    // another process aborted).
+    this->SetAbortOutput(true);
+    return 1;
+  }
+  this->MapCellIds(run);
+
+  // The requested extent: the whole image, a part of it, or (distributed) this process's block
+  // of the image all pieces give together.
+  if (!WriteOutput(run.Processes, image, run.Width, run.Height, run.ColorMapped,
+        outputVector->GetInformationObject(0), vtkImageData::GetData(outputVector)))
+  {
+    vtkErrorMacro("Cannot composite the processes' images into the requested extent.");
+    return 0;
+  }
+  return 1;
+}
+
+bool vtkDirectSurfaceRayCaster::ChooseArraysAndSettings(
+  vtkInformationVector** inputVector, Execution& run)
+{
+  int association = -1;
+  run.Scalars = run.HasPiece ? this->GetPointArray(0, inputVector, association) : nullptr;
+  bool ok = (!run.HasPiece ||
+              (run.Scalars &&
+                adapter::CheckPointArray(run.Scalars, association, this->ArrayComponent, false,
+                  "ArrayComponent", run.Component, run.Messages))) &&
+    adapter::ConvertIsoValues(this->ContourValues, run.Values, run.Messages);
+  if (ok && this->ColorByArray && run.HasPiece)
+  {
+    int colorAssociation = -1;
+    run.ColorArray = this->GetPointArray(1, inputVector, colorAssociation);
+    ok = run.ColorArray &&
+      adapter::CheckPointArray(run.ColorArray, colorAssociation, this->ColorArrayComponent, true,
+        "ColorArrayComponent", run.ColorComponent, run.Messages);
+  }
+  ok = ok &&
+    adapter::ConvertClipPlanes(
+      this->ClippingPlanes, MaximumNumberOfClippingPlanes, run.ClipPlanes, run.Messages);
+  run.ColorMapped = this->ColorByArray || (this->Capping != NO_CAP && !run.ClipPlanes.empty());
+  ok = run.Processes.All(ok);
+  adapter::ReportMessages(this, run.Messages);
+  return ok;
+}
+
+bool vtkDirectSurfaceRayCaster::PrepareScene(Execution& run)
+{
   tetdsr::TransverseTest transverse;
   transverse.mode = this->TransverseTest == WIDENED_NODAL_RANGE
     ? tetdsr::TransverseTest::Mode::WidenedNodalRange
     : tetdsr::TransverseTest::Mode::BernsteinBound;
   transverse.widening = this->NodalRangeWidening;
   adapter::PreparedMesh& prepared = this->Prepared->Mesh;
-  const bool ready = hasPiece &&
-    prepared.Prepare(input, scalars, component, transverse, this->NumberOfThreads, messages);
+  const bool ready = run.HasPiece &&
+    prepared.Prepare(
+      run.Input, run.Scalars, run.Component, transverse, this->NumberOfThreads, run.Messages);
   const tetdsr::PreprocessSummary summary =
-    hasPiece ? prepared.GetSummary() : tetdsr::PreprocessSummary();
+    run.HasPiece ? prepared.GetSummary() : tetdsr::PreprocessSummary();
   this->NumberOfRenderedCells = ready ? summary.validCells : 0;
   this->NumberOfInvertedCells = summary.invertedCells;
   this->NumberOfCurvedCells = summary.curvedCells;
@@ -820,148 +906,111 @@ int vtkDirectSurfaceRayCaster::RequestData(
   this->NumberOfOutOfScaleCells = summary.outOfScaleCells;
   this->NumberOfNonFiniteCells = summary.nonFiniteCells;
   this->NumberOfInvalidIdCells = summary.invalidIdCells;
-  this->NumberOfUnsupportedCells = hasPiece ? prepared.GetUnsupportedCells() : 0;
-  this->NumberOfMalformedCells = hasPiece ? prepared.GetMalformedCells() : 0;
-  const double* colorValues = colorArray && ready
-    ? prepared.PointArrayValues(colorArray, "colour array", messages)
+  this->NumberOfUnsupportedCells = run.HasPiece ? prepared.GetUnsupportedCells() : 0;
+  this->NumberOfMalformedCells = run.HasPiece ? prepared.GetMalformedCells() : 0;
+  run.ColorValues = run.ColorArray && ready
+    ? prepared.PointArrayValues(run.ColorArray, "colour array", run.Messages)
     : nullptr;
-  if (!processes.All(messages.ok() && (ready || !hasPiece)))
-  {
-    adapter::ReportMessages(this, messages);
-    return 0;
-  }
-  adapter::ReportMessages(this, messages); // the warnings
-  tetdsr::Scene* scene = ready ? prepared.GetScene() : nullptr;
+  const bool ok = run.Processes.All(run.Messages.ok() && (ready || !run.HasPiece));
+  adapter::ReportMessages(this, run.Messages); // the errors, or the warnings of cells skipped
+  run.Scene = ready ? prepared.GetScene() : nullptr;
+  return ok;
+}
 
-  // Camera: the user's, or one that sees every rendered cell of every piece (points no cell uses
-  // do not count).
-  tetdsr::Camera camera;
+bool vtkDirectSurfaceRayCaster::ChooseCamera(Execution& run)
+{
   if (this->Camera)
   {
-    camera = CoreCamera(this->Camera);
+    run.Camera = CoreCamera(this->Camera);
   }
   else
   {
     double bounds[6];
-    if (!scene || !scene->bounds(bounds))
+    if (!run.Scene || !run.Scene->bounds(bounds))
     {
-      Processes::EmptyBox(bounds);
+      ProcessGroup::EmptyBox(bounds);
     }
-    processes.UniteBoxes(bounds);
-    camera = tetdsr::resetCamera(bounds, static_cast<double>(width) / height);
+    run.Processes.UniteBoxes(bounds);
+    run.Camera = tetdsr::resetCamera(bounds, static_cast<double>(run.Width) / run.Height);
   }
-  if (!processes.All(!scene || adapter::CheckCamera(camera, *scene, messages)))
-  {
-    adapter::ReportMessages(this, messages);
-    return 0;
-  }
+  const bool ok =
+    run.Processes.All(!run.Scene || adapter::CheckCamera(run.Camera, *run.Scene, run.Messages));
+  adapter::ReportMessages(this, run.Messages);
+  return ok;
+}
 
-  // The image of this process's piece, written in place by the core.
-  const vtkIdType pixels = static_cast<vtkIdType>(width) * height;
-  const bool colorMapped =
-    this->ColorByArray || (this->Capping != NO_CAP && !clipPlanes.empty());
-  ImageArrays image(colorMapped);
-  if (!processes.All(image.Allocate(pixels)))
+void vtkDirectSurfaceRayCaster::ChooseShading(Execution& run)
+{
+  tetdsr::RenderSettings& settings = run.Settings;
+  settings = ShadingSettings(this, this->Prepared->Styles, run.Camera, run.Values.size());
+  if (run.Scene && settings.normals.mode == tetdsr::NormalMode::NodalInterpolation)
   {
-    vtkErrorMacro("Cannot allocate the " << width << " x " << height << " output image.");
-    return 0;
+    run.Scene->computeNodalGradients(); // once per mesh and array: kept with the scene
   }
+  settings.clipPlanes = run.ClipPlanes;
+  if (!run.ColorMapped)
+  {
+    return;
+  }
+  double range[2] = { this->ColorRange[0], this->ColorRange[1] };
+  if (!(range[0] <= range[1]) || !std::isfinite(range[0]) || !std::isfinite(range[1]))
+  {
+    // The colour array's finite range (-1: the magnitude's), else the field's, over every piece.
+    ProcessGroup::EmptyRange(range);
+    if (run.HasPiece)
+    {
+      adapter::FiniteRange(run.ColorArray ? run.ColorArray : run.Scalars,
+        run.ColorArray ? run.ColorComponent : run.Component, range);
+    }
+    run.Processes.UniteRanges(range);
+  }
+  if (run.ColorArray)
+  {
+    settings.colorBy.values = run.ColorValues;
+    settings.colorBy.components = run.ColorArray->GetNumberOfComponents();
+    settings.colorBy.component = run.ColorComponent;
+  }
+  vtkSmartPointer<vtkScalarsToColors> lookupTable = this->LookupTable;
+  if (!lookupTable)
+  {
+    lookupTable = BuiltInColorMap(this->ColorMap);
+  }
+  settings.colorTable = adapter::SampleColorTable(lookupTable, range[0], range[1]);
+}
 
-  tetdsr::ImageView view;
-  view.width = width;
-  view.height = height;
-  view.colors = image.Colors->GetPointer(0);
-  view.depth = image.Depth->GetPointer(0);
-  view.normals = image.Normals->GetPointer(0);
-  view.cellIds = image.CellIds->GetPointer(0);
-  view.colorValues = colorMapped ? image.ColorValues->GetPointer(0) : nullptr;
+bool vtkDirectSurfaceRayCaster::CastPiece(Execution& run)
+{
+  const tetdsr::Renderer renderer(this->Prepared->Mesh.GetSurface(run.Values, this->NumberOfThreads),
+    run.Camera, run.Settings, run.View);
+  const vtkIdType tiles = renderer.numberOfTiles();
+  const tetdsr::NodeId uncertifiedBefore = run.Scene->uncertifiedHits();
+  const vtkIdType tilesDone = adapter::Cast(renderer,
+    run.Settings.normals.mode == tetdsr::NormalMode::DepthBuffer, this->NumberOfThreads,
+    [this]() { return this->CheckAbort(); },
+    [this](double fraction) { this->UpdateProgress(fraction); });
+  this->NumberOfUncertifiedHits =
+    static_cast<vtkIdType>(run.Scene->uncertifiedHits() - uncertifiedBefore);
+  if (tilesDone < tiles)
+  {
+    vtkWarningMacro("Aborted after " << tilesDone << " of " << tiles << " image tiles.");
+    return false;
+  }
+  return true;
+}
 
-  tetdsr::RenderSettings settings =
-    ShadingSettings(this, this->Prepared->Styles, camera, values.size());
-  if (scene && settings.normals.mode == tetdsr::NormalMode::NodalInterpolation)
-  {
-    scene->computeNodalGradients(); // once per mesh and array: kept with the scene
-  }
-  settings.clipPlanes = clipPlanes;
-  if (colorMapped)
-  {
-    double range[2] = { this->ColorRange[0], this->ColorRange[1] };
-    if (!(range[0] <= range[1]) || !std::isfinite(range[0]) || !std::isfinite(range[1]))
-    {
-      // The colour array's finite range (-1: the magnitude's), else the field's, over every piece.
-      Processes::EmptyRange(range);
-      if (hasPiece)
-      {
-        adapter::FiniteRange(colorArray ? colorArray : scalars,
-          colorArray ? colorComponent : component, range);
-      }
-      processes.UniteRanges(range);
-    }
-    if (colorArray)
-    {
-      settings.colorBy.values = colorValues;
-      settings.colorBy.components = colorArray->GetNumberOfComponents();
-      settings.colorBy.component = colorComponent;
-    }
-    vtkSmartPointer<vtkScalarsToColors> lookupTable = this->LookupTable;
-    if (!lookupTable)
-    {
-      lookupTable = BuiltInColorMap(this->ColorMap);
-    }
-    settings.colorTable = adapter::SampleColorTable(lookupTable, range[0], range[1]);
-  }
-  bool aborted = false;
-  if (scene)
-  {
-    const tetdsr::Renderer renderer(
-      prepared.GetSurface(values, this->NumberOfThreads), camera, settings, view);
-    const vtkIdType tiles = renderer.numberOfTiles();
-    const tetdsr::NodeId uncertifiedBefore = scene->uncertifiedHits();
-    const vtkIdType tilesDone = adapter::Cast(renderer,
-      settings.normals.mode == tetdsr::NormalMode::DepthBuffer, this->NumberOfThreads,
-      [this]() { return this->CheckAbort(); },
-      [this](double fraction) { this->UpdateProgress(fraction); });
-    this->NumberOfUncertifiedHits =
-      static_cast<vtkIdType>(scene->uncertifiedHits() - uncertifiedBefore);
-    if (tilesDone < tiles)
-    {
-      vtkWarningMacro("Aborted after " << tilesDone << " of " << tiles << " image tiles.");
-      aborted = true;
-    }
-  }
-  else
-  {
-    image.FillMisses();
-  }
-  if (!processes.All(!aborted))
-  {
-    // The executive empties the output and marks it aborted (CheckAbort set AbortOutput here, or
-    // another process aborted).
-    this->SetAbortOutput(true);
-    return 1;
-  }
-
-  // Map scene cell indices back to input cell ids where cells were re-indexed; distributed, count
-  // the cells of the processes before this one first.
-  const vtkIdType cellOffset = processes.CellsBefore(hasPiece ? input->GetNumberOfCells() : 0);
-  vtkIdType* ids = image.CellIds->GetPointer(0);
+void vtkDirectSurfaceRayCaster::MapCellIds(const Execution& run)
+{
+  const vtkIdType cellOffset =
+    run.Processes.CellsBefore(run.HasPiece ? run.Input->GetNumberOfCells() : 0);
+  vtkIdType* ids = run.View.cellIds;
+  const vtkIdType pixels = run.Pixels();
   for (vtkIdType p = 0; p < pixels; ++p)
   {
     if (ids[p] >= 0)
     {
-      ids[p] = prepared.InputCellId(ids[p]) + cellOffset;
+      ids[p] = this->Prepared->Mesh.InputCellId(ids[p]) + cellOffset;
     }
   }
-
-  // The requested extent: the whole image, a part of it, or (distributed) this process's block
-  // of the image all pieces give together.
-  if (!WriteOutput(processes, image, width, height, colorMapped,
-        outputVector->GetInformationObject(0), output))
-  {
-    vtkErrorMacro("Cannot composite the processes' images into the requested extent.");
-    return 0;
-  }
-  return 1;
 }
 
 //------------------------------------------------------------------------------

@@ -57,6 +57,7 @@
 
 #include "TetDSRFiltersModule.h" // For export macro
 #include "vtkImageAlgorithm.h"
+#include "vtkNew.h" // For vtkNew
 
 #include <memory> // For std::unique_ptr
 #include <vector> // For std::vector
@@ -372,7 +373,7 @@ protected:
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 
-  vtkContourValues* ContourValues;
+  vtkNew<vtkContourValues> ContourValues;
   vtkCamera* Camera = nullptr;
   int ImageSize[2] = { 512, 512 };
   int ArrayComponent = -1;
@@ -415,6 +416,32 @@ private:
 
   /// Input array `index` (0: the field, 1: the colour array), or null after an error naming it.
   vtkDataArray* GetPointArray(int index, vtkInformationVector** inputVector, int& association);
+
+  ///@{
+  /**
+   * RequestData's steps. Distributed, each is collective: it returns the same on every process
+   * (false after reporting why on the processes that found a problem), so that all stop together.
+   */
+  struct Execution;
+  /// The field, the iso-values, the colour array and the clipping planes (a process with an
+  /// empty piece checks only the settings).
+  bool ChooseArraysAndSettings(vtkInformationVector** inputVector, Execution& run);
+  /// Validates the piece and builds its scene (once per mesh, array and transverse test), and
+  /// counts its cells by what was found; warns of the cells skipped.
+  bool PrepareScene(Execution& run);
+  /// The user's camera, or one that sees every rendered cell of every piece (points no cell
+  /// uses do not count).
+  bool ChooseCamera(Execution& run);
+  /// The core's shading, clipping and colour-mapping settings (the colour range, if automatic,
+  /// over every piece).
+  void ChooseShading(Execution& run);
+  /// Casts the piece into this process's image; false, with a warning, when aborted.
+  bool CastPiece(Execution& run);
+  /// Scene cell indices back to input cell ids (distributed: the pieces' cells counted one after
+  /// another in process order).
+  void MapCellIds(const Execution& run);
+  ///@}
+
   struct Cache;
   std::unique_ptr<Cache> Prepared;
 };
