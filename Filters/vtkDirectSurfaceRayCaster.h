@@ -25,9 +25,11 @@
  * every translucent surface along the ray (not premultiplied; alpha is the total opacity).
  * Pixel (i, j), point id i + j*width, is the ray through the pixel centre, j = 0 at the bottom.
  *
- * VTK_TETRA cells are rendered as exact (linear) quadratics; other cell types, cells of zero
- * volume or with repeated node ids, and cells with NaN/Inf values or coordinates are skipped
- * with a warning giving their count. Inverted cells are rendered like positive ones.
+ * The closed form above is that of a straight-sided cell; curved cells are rendered exactly too
+ * (see the warning below). VTK_TETRA cells are rendered as exact (linear) quadratics; other cell
+ * types, cells of zero volume or with repeated node ids, and cells with NaN/Inf values or
+ * coordinates are skipped with a warning giving their count. Inverted cells are rendered like
+ * positive ones.
  *
  * Preprocessing (cell validation) is cached against the input's and the scalar array's
  * modification times, and the acceleration structure (the cells that can hold one of the
@@ -43,12 +45,15 @@
  * processes in the order of their nearest crossing. CellId counts the cells of the processes'
  * pieces one after another in process order (the numbering of a .pvtu read whole).
  *
- * @warning Cells are treated as straight-sided: mid-edge node positions are not used; cells
- * whose mid-edge nodes lie off their edges' midpoints are counted and reported in a warning.
- * Distributed, three results are the serial ones only up to where the pieces meet: translucent
- * colours where one process's crossings lie between another's along a ray; DEPTH_BUFFER normals,
- * differenced within each process's image; and the default camera, fitted to the union of the
- * pieces' bounding boxes (each rounded outward to single precision).
+ * @warning Curved cells (a mid-edge node off its edge's midpoint by more than rounding) are
+ * rendered exactly, as the image of the reference tet under their quadratic map, by a subdivision
+ * solver rather than the quadratic formula: slower, and a hit at a tangent or near-tangent root
+ * is accepted without a certificate (NumberOfUncertifiedHits counts them); curved cells that fold
+ * (tangled) are skipped with a warning. Distributed, three results are the serial ones only up to
+ * where the pieces meet: translucent colours where one process's crossings lie between another's
+ * along a ray; DEPTH_BUFFER normals, differenced within each process's image; and the default
+ * camera, fitted to the union of the pieces' bounding boxes (each rounded outward to single
+ * precision).
  *
  * @sa vtkContourFilter vtkCamera
  */
