@@ -980,12 +980,13 @@ void vtkDirectSurfaceRayCaster::ChooseShading(Execution& run)
 
 bool vtkDirectSurfaceRayCaster::CastPiece(Execution& run)
 {
-  const tetdsr::Renderer renderer(this->Prepared->Mesh.GetSurface(run.Values, this->NumberOfThreads),
-    run.Camera, run.Settings, run.View);
+  const tetdsr::Renderer renderer(
+    this->Prepared->Mesh.GetSurface(run.Values, this->NumberOfThreads), run.Camera, run.Settings,
+    run.View);
   const vtkIdType tiles = renderer.numberOfTiles();
   const tetdsr::NodeId uncertifiedBefore = run.Scene->uncertifiedHits();
-  const vtkIdType tilesDone = adapter::Cast(renderer,
-    run.Settings.normals.mode == tetdsr::NormalMode::DepthBuffer, this->NumberOfThreads,
+  const vtkIdType tilesDone = adapter::Cast(
+    renderer, run.Settings.normals.mode == tetdsr::NormalMode::DepthBuffer, this->NumberOfThreads,
     [this]() { return this->CheckAbort(); },
     [this](double fraction) { this->UpdateProgress(fraction); });
   this->NumberOfUncertifiedHits =

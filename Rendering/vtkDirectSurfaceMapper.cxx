@@ -87,7 +87,8 @@ tetdsr::Light CoreLight(vtkLight* light, const glm::dmat4& worldToModel)
   entry.positional = light->GetPositional() != 0;
   entry.position = ToModelPoint(worldToModel, position);
   entry.direction = ToModelDirection(worldToModel,
-    glm::dvec3(focalPoint[0] - position[0], focalPoint[1] - position[1], focalPoint[2] - position[2]));
+    glm::dvec3(
+      focalPoint[0] - position[0], focalPoint[1] - position[1], focalPoint[2] - position[2]));
   return entry;
 }
 
@@ -184,7 +185,10 @@ struct vtkDirectSurfaceMapper::Frame
   tetdsr::RenderSettings Settings;
   adapter::Messages Messages;
 
-  std::size_t Pixels() const { return static_cast<std::size_t>(this->CastWidth) * this->CastHeight; }
+  std::size_t Pixels() const
+  {
+    return static_cast<std::size_t>(this->CastWidth) * this->CastHeight;
+  }
   bool SeveralBlocks() const { return this->Blocks.size() > 1; }
 
   /// The viewport, cast at `sampleDistance` pixels a ray, and the actor seen through the active
@@ -804,7 +808,7 @@ bool vtkDirectSurfaceMapper::CollectBlocks(Frame& frame)
   for (auto it = meshes.begin(); it != meshes.end();)
   {
     const bool kept = std::any_of(frame.Blocks.begin(), frame.Blocks.end(),
-      [&](const std::pair<unsigned int, vtkUnstructuredGrid*>& block) { return block.first == it->first; });
+      [&](const auto& block) { return block.first == it->first; });
     it = kept ? std::next(it) : meshes.erase(it);
   }
   if (frame.Blocks.empty())
@@ -834,9 +838,8 @@ double vtkDirectSurfaceMapper::ChooseSampleDistance(const Frame& frame)
     // is not the cast's to spend. A quarter of the allocation is always left to it.
     const double allocated = frame.Actor->GetAllocatedRenderTime();
     const double period = now - in.LastRenderStart;
-    const double others = in.LastWasInteractive && period < 1.0
-      ? std::max(0.0, period - in.LastCastSeconds)
-      : 0.0;
+    const double others =
+      in.LastWasInteractive && period < 1.0 ? std::max(0.0, period - in.LastCastSeconds) : 0.0;
     const double budget = std::max(allocated - others, 0.25 * allocated);
     distance = in.SampleDistance;
     if (budget > 0.0 && in.LastCastSeconds > 0.0)
@@ -897,7 +900,8 @@ bool vtkDirectSurfaceMapper::ConvertSettings(Frame& frame)
   property->GetDiffuseColor(diffuseColor);
   property->GetSpecularColor(specularColor);
   settings.material.color = glm::dvec3(diffuseColor[0], diffuseColor[1], diffuseColor[2]);
-  settings.material.specularColor = glm::dvec3(specularColor[0], specularColor[1], specularColor[2]);
+  settings.material.specularColor =
+    glm::dvec3(specularColor[0], specularColor[1], specularColor[2]);
   settings.material.ambient = property->GetAmbient();
   settings.material.diffuse = property->GetDiffuse();
   settings.material.specular = property->GetSpecular();
@@ -938,15 +942,16 @@ bool vtkDirectSurfaceMapper::CastBlock(Frame& frame, unsigned int index, vtkUnst
   int component = 0;
   if (!field)
   {
-    frame.Messages.errors.push_back("No scalar field: choose a point array with "
-                                    "SetInputArrayToProcess(0, 0, 0, FIELD_ASSOCIATION_POINTS, name).");
+    frame.Messages.errors.push_back(
+      "No scalar field: choose a point array with "
+      "SetInputArrayToProcess(0, 0, 0, FIELD_ASSOCIATION_POINTS, name).");
   }
   adapter::PreparedMesh& prepared = in.MeshOf(index);
   if (!field ||
-    !adapter::CheckPointArray(field, association, -1, false, "the field's component", component,
-      frame.Messages) ||
-    !prepared.Prepare(grid, field, component, tetdsr::TransverseTest(), this->NumberOfThreads,
-      frame.Messages))
+    !adapter::CheckPointArray(
+      field, association, -1, false, "the field's component", component, frame.Messages) ||
+    !prepared.Prepare(
+      grid, field, component, tetdsr::TransverseTest(), this->NumberOfThreads, frame.Messages))
   {
     return true; // skipped: the messages say why
   }
@@ -956,8 +961,9 @@ bool vtkDirectSurfaceMapper::CastBlock(Frame& frame, unsigned int index, vtkUnst
   const tetdsr::Renderer caster(prepared.GetSurface(frame.Values, this->NumberOfThreads),
     frame.Rays, frame.Settings, in.BlockImage(frame));
   vtkOpenGLRenderWindow* window = frame.Window;
-  const tetdsr::NodeId done = adapter::Cast(caster, false, this->NumberOfThreads,
-    [window]() { return window->CheckAbortStatus() != 0; }, [](double) {});
+  const tetdsr::NodeId done = adapter::Cast(
+    caster, false, this->NumberOfThreads, [window]() { return window->CheckAbortStatus() != 0; },
+    [](double) {});
   if (done < caster.numberOfTiles())
   {
     return false;
