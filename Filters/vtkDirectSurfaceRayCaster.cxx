@@ -256,19 +256,54 @@ public:
   bool CompositeByDepth(
     const ImageArrays& image, int width, const int extent[6], ImageArrays& composited) const
   {
+    const std::vector<double> received = this->ExchangeHits(image, width, extent);
+    const Block own(extent);
+    if (!this->All(composited.Allocate(own.Pixels())))
+    {
+      return false;
+    }
+    composited.FillMisses();
+    // Per pixel, its records nearest first (a stable sort: equal depths stay in process order).
+    std::vector<const double*> records(received.size() / kRecord);
+    for (std::size_t r = 0; r < records.size(); ++r)
+    {
+      records[r] = &received[kRecord * r];
+    }
+    std::stable_sort(records.begin(), records.end(), [](const double* first, const double* second) {
+      return first[0] < second[0] || (first[0] == second[0] && first[1] < second[1]);
+    });
+    for (std::size_t first = 0; first < records.size();)
+    {
+      std::size_t last = first + 1;
+      while (last < records.size() && records[last][0] == records[first][0])
+      {
+        ++last;
+      }
+      WritePixel(&records[first], last - first, composited);
+      first = last;
+    }
+    return true;
+  }
+
+private:
+  /// The doubles of a hit sent to another process: the pixel's index in the receiver's extent,
+  /// depth, normal (3), cell id, colour value, RGBA.
+  static constexpr int kRecord = 11;
+
+  /// Sends each process the hits of this process's whole `image` (width pixels a row) inside
+  /// that process's extent; returns the records of `extent` (this process's) from every process,
+  /// in process order.
+  std::vector<double> ExchangeHits(const ImageArrays& image, int width, const int extent[6]) const
+  {
     const int processes = this->Controller->GetNumberOfProcesses();
     std::vector<int> extents(6 * static_cast<std::size_t>(processes));
     this->Controller->AllGather(extent, extents.data(), 6);
-
-    // Each process sends each other the hits inside its extent, as records of kRecord doubles:
-    // the pixel's index in the receiver's extent, depth, normal (3), cell id, colour value, RGBA.
-    constexpr int kRecord = 11;
     const double* depth = image.Depth->GetPointer(0);
     const double* normals = image.Normals->GetPointer(0);
     const vtkIdType* cellIds = image.CellIds->GetPointer(0);
     const unsigned char* colors = image.Colors->GetPointer(0);
     const double* colorValues = image.ColorValues ? image.ColorValues->GetPointer(0) : nullptr;
-    std::vector<double> received; // this process's extent, from every process in process order
+    std::vector<double> received;
     for (int destination = 0; destination < processes; ++destination)
     {
       const Block block(&extents[6 * static_cast<std::size_t>(destination)]);
@@ -301,75 +336,52 @@ public:
       this->Controller->GatherV(
         records.data(), received.data(), length, lengths.data(), offsets.data(), destination);
     }
-
-    const Block own(extent);
-    if (!this->All(composited.Allocate(own.Pixels())))
-    {
-      return false;
-    }
-    composited.FillMisses();
-    // Per pixel, its records nearest first (a stable sort: equal depths stay in process order).
-    const std::size_t count = received.size() / kRecord;
-    std::vector<std::size_t> order(count);
-    std::iota(order.begin(), order.end(), 0);
-    const auto record = [&](std::size_t r) { return &received[kRecord * r]; };
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      const double *first = record(a), *second = record(b);
-      return first[0] < second[0] || (first[0] == second[0] && first[1] < second[1]);
-    });
-    for (std::size_t first = 0; first < count;)
-    {
-      const double* nearest = record(order[first]);
-      std::size_t last = first + 1;
-      while (last < count && record(order[last])[0] == nearest[0])
-      {
-        ++last;
-      }
-      const vtkIdType p = static_cast<vtkIdType>(nearest[0]);
-      composited.Depth->SetValue(p, nearest[1]);
-      composited.Normals->SetTypedTuple(p, nearest + 2);
-      composited.CellIds->SetValue(p, static_cast<vtkIdType>(nearest[5]));
-      if (composited.ColorValues)
-      {
-        composited.ColorValues->SetValue(p, nearest[6]);
-      }
-      unsigned char* rgba = composited.Colors->GetPointer(4 * p);
-      if (last - first == 1 || nearest[10] == 255.0)
-      {
-        // One surface, or an opaque one in front: its colour as the core wrote it.
-        for (int c = 0; c < 4; ++c)
-        {
-          rgba[c] = static_cast<unsigned char>(nearest[7 + c]);
-        }
-      }
-      else
-      {
-        // Front to back, as the core composites crossings: colour += (1 - opacity) * alpha *
-        // colour_k, opacity += (1 - opacity) * alpha.
-        double premultiplied[3] = { 0.0, 0.0, 0.0 };
-        double opacity = 0.0;
-        for (std::size_t k = first; k < last; ++k)
-        {
-          const double* layer = record(order[k]);
-          const double alpha = layer[10] / 255.0;
-          for (int c = 0; c < 3; ++c)
-          {
-            premultiplied[c] += (1.0 - opacity) * alpha * layer[7 + c] / 255.0;
-          }
-          opacity += (1.0 - opacity) * alpha;
-        }
-        for (int c = 0; c < 3; ++c)
-        {
-          rgba[c] = ToByte(premultiplied[c] / opacity);
-        }
-        rgba[3] = ToByte(opacity);
-      }
-      first = last;
-    }
-    return true;
+    return received;
   }
 
-private:
+  /// Writes one pixel of `composited` from its `count` records, nearest first: the nearest's
+  /// depth, normal, cell and colour value, and the colours of all composited front to back.
+  static void WritePixel(const double* const* layers, std::size_t count, ImageArrays& composited)
+  {
+    const double* nearest = layers[0];
+    const vtkIdType p = static_cast<vtkIdType>(nearest[0]);
+    composited.Depth->SetValue(p, nearest[1]);
+    composited.Normals->SetTypedTuple(p, nearest + 2);
+    composited.CellIds->SetValue(p, static_cast<vtkIdType>(nearest[5]));
+    if (composited.ColorValues)
+    {
+      composited.ColorValues->SetValue(p, nearest[6]);
+    }
+    unsigned char* rgba = composited.Colors->GetPointer(4 * p);
+    if (count == 1 || nearest[10] == 255.0)
+    {
+      // One surface, or an opaque one in front: its colour as the core wrote it.
+      for (int c = 0; c < 4; ++c)
+      {
+        rgba[c] = static_cast<unsigned char>(nearest[7 + c]);
+      }
+      return;
+    }
+    // Front to back, as the core composites crossings: colour += (1 - opacity) * alpha *
+    // colour_k, opacity += (1 - opacity) * alpha.
+    double premultiplied[3] = { 0.0, 0.0, 0.0 };
+    double opacity = 0.0;
+    for (std::size_t k = 0; k < count; ++k)
+    {
+      const double alpha = layers[k][10] / 255.0;
+      for (int c = 0; c < 3; ++c)
+      {
+        premultiplied[c] += (1.0 - opacity) * alpha * layers[k][7 + c] / 255.0;
+      }
+      opacity += (1.0 - opacity) * alpha;
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      rgba[c] = ToByte(premultiplied[c] / opacity);
+    }
+    rgba[3] = ToByte(opacity);
+  }
+
   /// The pixels of an extent of the image (within it), and their indices in the extent.
   struct Block
   {
