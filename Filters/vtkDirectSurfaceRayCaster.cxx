@@ -27,6 +27,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include "vtkDirectSurfaceAdapter.h"
+#include "vtkDirectSurfaceReporting.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -143,6 +144,20 @@ struct ImageArrays
     }
   }
 
+  /// The arrays as the core's image of `width` x `height` pixels, which it writes in place.
+  tetdsr::ImageView View(int width, int height) const
+  {
+    tetdsr::ImageView view;
+    view.width = width;
+    view.height = height;
+    view.colors = this->Colors->GetPointer(0);
+    view.depth = this->Depth->GetPointer(0);
+    view.normals = this->Normals->GetPointer(0);
+    view.cellIds = this->CellIds->GetPointer(0);
+    view.colorValues = this->ColorValues ? this->ColorValues->GetPointer(0) : nullptr;
+    return view;
+  }
+
   void AddTo(vtkPointData* pointData) const
   {
     pointData->SetScalars(this->Colors);
@@ -168,10 +183,10 @@ struct ImageArrays
 
 /// The processes the input is distributed over. With one process (or no controller) every step
 /// is local; with several, each is a collective operation every process must call.
-class Processes
+class ProcessGroup
 {
 public:
-  explicit Processes(vtkMultiProcessController* controller)
+  explicit ProcessGroup(vtkMultiProcessController* controller)
     : Controller(controller && controller->GetNumberOfProcesses() > 1 ? controller : nullptr)
   {
   }
@@ -238,19 +253,54 @@ public:
   bool CompositeByDepth(
     const ImageArrays& image, int width, const int extent[6], ImageArrays& composited) const
   {
+    const std::vector<double> received = this->ExchangeHits(image, width, extent);
+    const Block own(extent);
+    if (!this->All(composited.Allocate(own.Pixels())))
+    {
+      return false;
+    }
+    composited.FillMisses();
+    // Per pixel, its records nearest first (a stable sort: equal depths stay in process order).
+    std::vector<const double*> records(received.size() / kRecord);
+    for (std::size_t r = 0; r < records.size(); ++r)
+    {
+      records[r] = &received[kRecord * r];
+    }
+    std::stable_sort(records.begin(), records.end(), [](const double* first, const double* second) {
+      return first[0] < second[0] || (first[0] == second[0] && first[1] < second[1]);
+    });
+    for (std::size_t first = 0; first < records.size();)
+    {
+      std::size_t last = first + 1;
+      while (last < records.size() && records[last][0] == records[first][0])
+      {
+        ++last;
+      }
+      WritePixel(&records[first], last - first, composited);
+      first = last;
+    }
+    return true;
+  }
+
+private:
+  /// The doubles of a hit sent to another process: the pixel's index in the receiver's extent,
+  /// depth, normal (3), cell id, colour value, RGBA.
+  static constexpr int kRecord = 11;
+
+  /// Sends each process the hits of this process's whole `image` (width pixels a row) inside
+  /// that process's extent; returns the records of `extent` (this process's) from every process,
+  /// in process order.
+  std::vector<double> ExchangeHits(const ImageArrays& image, int width, const int extent[6]) const
+  {
     const int processes = this->Controller->GetNumberOfProcesses();
     std::vector<int> extents(6 * static_cast<std::size_t>(processes));
     this->Controller->AllGather(extent, extents.data(), 6);
-
-    // Each process sends each other the hits inside its extent, as records of kRecord doubles:
-    // the pixel's index in the receiver's extent, depth, normal (3), cell id, colour value, RGBA.
-    constexpr int kRecord = 11;
     const double* depth = image.Depth->GetPointer(0);
     const double* normals = image.Normals->GetPointer(0);
     const vtkIdType* cellIds = image.CellIds->GetPointer(0);
     const unsigned char* colors = image.Colors->GetPointer(0);
     const double* colorValues = image.ColorValues ? image.ColorValues->GetPointer(0) : nullptr;
-    std::vector<double> received; // this process's extent, from every process in process order
+    std::vector<double> received;
     for (int destination = 0; destination < processes; ++destination)
     {
       const Block block(&extents[6 * static_cast<std::size_t>(destination)]);
@@ -283,75 +333,52 @@ public:
       this->Controller->GatherV(
         records.data(), received.data(), length, lengths.data(), offsets.data(), destination);
     }
-
-    const Block own(extent);
-    if (!this->All(composited.Allocate(own.Pixels())))
-    {
-      return false;
-    }
-    composited.FillMisses();
-    // Per pixel, its records nearest first (a stable sort: equal depths stay in process order).
-    const std::size_t count = received.size() / kRecord;
-    std::vector<std::size_t> order(count);
-    std::iota(order.begin(), order.end(), 0);
-    const auto record = [&](std::size_t r) { return &received[kRecord * r]; };
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      const double *first = record(a), *second = record(b);
-      return first[0] < second[0] || (first[0] == second[0] && first[1] < second[1]);
-    });
-    for (std::size_t first = 0; first < count;)
-    {
-      const double* nearest = record(order[first]);
-      std::size_t last = first + 1;
-      while (last < count && record(order[last])[0] == nearest[0])
-      {
-        ++last;
-      }
-      const vtkIdType p = static_cast<vtkIdType>(nearest[0]);
-      composited.Depth->SetValue(p, nearest[1]);
-      composited.Normals->SetTypedTuple(p, nearest + 2);
-      composited.CellIds->SetValue(p, static_cast<vtkIdType>(nearest[5]));
-      if (composited.ColorValues)
-      {
-        composited.ColorValues->SetValue(p, nearest[6]);
-      }
-      unsigned char* rgba = composited.Colors->GetPointer(4 * p);
-      if (last - first == 1 || nearest[10] == 255.0)
-      {
-        // One surface, or an opaque one in front: its colour as the core wrote it.
-        for (int c = 0; c < 4; ++c)
-        {
-          rgba[c] = static_cast<unsigned char>(nearest[7 + c]);
-        }
-      }
-      else
-      {
-        // Front to back, as the core composites crossings: colour += (1 - opacity) * alpha *
-        // colour_k, opacity += (1 - opacity) * alpha.
-        double premultiplied[3] = { 0.0, 0.0, 0.0 };
-        double opacity = 0.0;
-        for (std::size_t k = first; k < last; ++k)
-        {
-          const double* layer = record(order[k]);
-          const double alpha = layer[10] / 255.0;
-          for (int c = 0; c < 3; ++c)
-          {
-            premultiplied[c] += (1.0 - opacity) * alpha * layer[7 + c] / 255.0;
-          }
-          opacity += (1.0 - opacity) * alpha;
-        }
-        for (int c = 0; c < 3; ++c)
-        {
-          rgba[c] = ToByte(premultiplied[c] / opacity);
-        }
-        rgba[3] = ToByte(opacity);
-      }
-      first = last;
-    }
-    return true;
+    return received;
   }
 
-private:
+  /// Writes one pixel of `composited` from its `count` records, nearest first: the nearest's
+  /// depth, normal, cell and colour value, and the colours of all composited front to back.
+  static void WritePixel(const double* const* layers, std::size_t count, ImageArrays& composited)
+  {
+    const double* nearest = layers[0];
+    const vtkIdType p = static_cast<vtkIdType>(nearest[0]);
+    composited.Depth->SetValue(p, nearest[1]);
+    composited.Normals->SetTypedTuple(p, nearest + 2);
+    composited.CellIds->SetValue(p, static_cast<vtkIdType>(nearest[5]));
+    if (composited.ColorValues)
+    {
+      composited.ColorValues->SetValue(p, nearest[6]);
+    }
+    unsigned char* rgba = composited.Colors->GetPointer(4 * p);
+    if (count == 1 || nearest[10] == 255.0)
+    {
+      // One surface, or an opaque one in front: its colour as the core wrote it.
+      for (int c = 0; c < 4; ++c)
+      {
+        rgba[c] = static_cast<unsigned char>(nearest[7 + c]);
+      }
+      return;
+    }
+    // Front to back, as the core composites crossings: colour += (1 - opacity) * alpha *
+    // colour_k, opacity += (1 - opacity) * alpha.
+    double premultiplied[3] = { 0.0, 0.0, 0.0 };
+    double opacity = 0.0;
+    for (std::size_t k = 0; k < count; ++k)
+    {
+      const double alpha = layers[k][10] / 255.0;
+      for (int c = 0; c < 3; ++c)
+      {
+        premultiplied[c] += (1.0 - opacity) * alpha * layers[k][7 + c] / 255.0;
+      }
+      opacity += (1.0 - opacity) * alpha;
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      rgba[c] = ToByte(premultiplied[c] / opacity);
+    }
+    rgba[3] = ToByte(opacity);
+  }
+
   /// The pixels of an extent of the image (within it), and their indices in the extent.
   struct Block
   {
@@ -397,27 +424,11 @@ private:
 
   vtkMultiProcessController* Controller; ///< null unless there are several processes
 };
-
-/// Reports the adapter's messages through this algorithm's error and warning macros.
-#define REPORT_MESSAGES(messages)                                                                  \
-  do                                                                                               \
-  {                                                                                                \
-    for (const std::string& text : (messages).warnings)                                            \
-    {                                                                                              \
-      vtkWarningMacro(<< text);                                                                    \
-    }                                                                                              \
-    for (const std::string& text : (messages).errors)                                              \
-    {                                                                                              \
-      vtkErrorMacro(<< text);                                                                      \
-    }                                                                                              \
-    (messages) = adapter::Messages();                                                              \
-  } while (false)
 }
 
 //------------------------------------------------------------------------------
 vtkDirectSurfaceRayCaster::vtkDirectSurfaceRayCaster()
-  : ContourValues(vtkContourValues::New())
-  , Prepared(new Cache)
+  : Prepared(new Cache)
 {
   this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(1);
@@ -429,7 +440,6 @@ vtkDirectSurfaceRayCaster::vtkDirectSurfaceRayCaster()
 //------------------------------------------------------------------------------
 vtkDirectSurfaceRayCaster::~vtkDirectSurfaceRayCaster()
 {
-  this->ContourValues->Delete();
   this->SetCamera(nullptr);
   this->SetLookupTable(nullptr);
   this->SetClippingPlanes(nullptr);
@@ -444,7 +454,7 @@ void vtkDirectSurfaceRayCaster::SetIsoValueColor(int i, double red, double green
   {
     this->Modified();
   }
-  REPORT_MESSAGES(messages);
+  adapter::ReportMessages(this, messages);
 }
 
 void vtkDirectSurfaceRayCaster::GetIsoValueColor(int i, double color[3])
@@ -467,7 +477,7 @@ void vtkDirectSurfaceRayCaster::SetIsoValueOpacity(int i, double opacity)
   {
     this->Modified();
   }
-  REPORT_MESSAGES(messages);
+  adapter::ReportMessages(this, messages);
 }
 
 double vtkDirectSurfaceRayCaster::GetIsoValueOpacity(int i)
@@ -493,7 +503,7 @@ void vtkDirectSurfaceRayCaster::RemoveAllIsoValueOpacities()
     {                                                                                              \
       this->Modified();                                                                            \
     }                                                                                              \
-    REPORT_MESSAGES(messages);                                                                     \
+    adapter::ReportMessages(this, messages);                                                       \
   }
 TETDSR_CLAMPED_SETTER(Ambient)
 TETDSR_CLAMPED_SETTER(Diffuse)
@@ -647,7 +657,7 @@ tetdsr::RenderSettings ShadingSettings(vtkDirectSurfaceRayCaster* self,
 /// Puts `image` (this process's) into `output` over the requested extent: the whole image, a
 /// part of it, or, distributed, this process's block of the depth-composited image. False when
 /// compositing fails.
-bool WriteOutput(const Processes& processes, ImageArrays& image, int width, int height,
+bool WriteOutput(const ProcessGroup& processes, ImageArrays& image, int width, int height,
   bool colorMapped, vtkInformation* outInfo, vtkImageData* output)
 {
   int wholeExtent[6] = { 0, width - 1, 0, height - 1, 0, 0 };
@@ -693,7 +703,7 @@ int vtkDirectSurfaceRayCaster::RequestInformation(
   adapter::Messages messages;
   if (!tetdsr::checkImageSize(this->ImageSize[0], this->ImageSize[1], messages))
   {
-    REPORT_MESSAGES(messages);
+    adapter::ReportMessages(this, messages);
     return 0;
   }
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
@@ -724,72 +734,147 @@ vtkDataArray* vtkDirectSurfaceRayCaster::GetPointArray(
   adapter::Messages messages;
   tetdsr::reportMissingArray(
     index == 0 ? tetdsr::InputArray::Field : tetdsr::InputArray::Color, name, messages);
-  REPORT_MESSAGES(messages);
+  adapter::ReportMessages(this, messages);
   return nullptr;
 }
+
+//------------------------------------------------------------------------------
+/// What one execution works with, from step to step of RequestData.
+struct vtkDirectSurfaceRayCaster::Execution
+{
+  Execution(vtkMultiProcessController* controller, vtkUnstructuredGrid* input, const int size[2])
+    : Processes(controller)
+    , Input(input)
+    , HasPiece(input && input->GetNumberOfCells() > 0 && input->GetNumberOfPoints() > 0)
+    , Width(size[0])
+    , Height(size[1])
+  {
+  }
+
+  const ProcessGroup Processes;
+  vtkUnstructuredGrid* const Input;
+  const bool HasPiece; ///< else this process only checks the settings and casts nothing
+  const int Width;     ///< of the image (RequestInformation checked the size)
+  const int Height;
+  adapter::Messages Messages;
+
+  // The field and its component, the iso-values, the colour array and its component, and the
+  // clipping planes.
+  vtkDataArray* Scalars = nullptr;
+  int Component = 0;
+  std::vector<double> Values;
+  vtkDataArray* ColorArray = nullptr;
+  int ColorComponent = -1;
+  std::vector<tetdsr::ClipPlane> ClipPlanes;
+  bool ColorMapped = false; ///< the output has ColorValues: colouring by an array, or capping
+
+  tetdsr::Scene* Scene = nullptr;      ///< the piece's (null when it has nothing to render)
+  const double* ColorValues = nullptr; ///< the colour array, in the scene's point order
+  tetdsr::Camera Camera;
+  tetdsr::RenderSettings Settings;
+  tetdsr::ImageView View; ///< the output arrays of this process's image
+
+  vtkIdType Pixels() const { return static_cast<vtkIdType>(this->Width) * this->Height; }
+};
 
 //------------------------------------------------------------------------------
 int vtkDirectSurfaceRayCaster::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkUnstructuredGrid* input = vtkUnstructuredGrid::GetData(inputVector[0]);
-  vtkImageData* output = vtkImageData::GetData(outputVector);
-  const int width = this->ImageSize[0]; // RequestInformation checked the size
-  const int height = this->ImageSize[1];
-  adapter::Messages messages;
-  // Distributed, every process takes part in each collective step below (Processes::All and
+  // Distributed, every process takes part in each collective step below (ProcessGroup::All and
   // the rest), so that none returns while another waits for it.
-  const Processes processes(this->Controller);
-  const bool hasPiece = input && input->GetNumberOfCells() > 0 && input->GetNumberOfPoints() > 0;
-  if (!processes.Any(hasPiece))
+  Execution run(this->Controller, vtkUnstructuredGrid::GetData(inputVector[0]), this->ImageSize);
+  if (!run.Processes.Any(run.HasPiece))
   {
-    tetdsr::checkMeshNotEmpty(input ? input->GetNumberOfPoints() : 0,
-      input ? input->GetNumberOfCells() : 0, messages); // (no process has a piece)
-    REPORT_MESSAGES(messages);
+    tetdsr::checkMeshNotEmpty(run.Input ? run.Input->GetNumberOfPoints() : 0,
+      run.Input ? run.Input->GetNumberOfCells() : 0, run.Messages); // (no process has a piece)
+    adapter::ReportMessages(this, run.Messages);
+    return 0;
+  }
+  if (!this->ChooseArraysAndSettings(inputVector, run) || !this->PrepareScene(run) ||
+    !this->ChooseCamera(run))
+  {
     return 0;
   }
 
-  // The field, its iso-values, the colour array and the clipping planes (a process with an
-  // empty piece checks only the settings).
+  // The image of this process's piece, written in place by the core.
+  ImageArrays image(run.ColorMapped);
+  if (!run.Processes.All(image.Allocate(run.Pixels())))
+  {
+    tetdsr::reportUnallocatedImage(run.Width, run.Height, run.Messages);
+    adapter::ReportMessages(this, run.Messages);
+    return 0;
+  }
+  run.View = image.View(run.Width, run.Height);
+  this->ChooseShading(run);
+  bool completed = true;
+  if (run.Scene)
+  {
+    completed = this->CastPiece(run);
+  }
+  else
+  {
+    image.FillMisses();
+  }
+  if (!run.Processes.All(completed))
+  {
+    // The executive empties the output and marks it aborted (CheckAbort set AbortOutput here, or
+    // another process aborted).
+    this->SetAbortOutput(true);
+    return 1;
+  }
+  this->MapCellIds(run);
+
+  // The requested extent: the whole image, a part of it, or (distributed) this process's block
+  // of the image all pieces give together.
+  if (!WriteOutput(run.Processes, image, run.Width, run.Height, run.ColorMapped,
+        outputVector->GetInformationObject(0), vtkImageData::GetData(outputVector)))
+  {
+    vtkErrorMacro("Cannot composite the processes' images into the requested extent.");
+    return 0;
+  }
+  return 1;
+}
+
+bool vtkDirectSurfaceRayCaster::ChooseArraysAndSettings(
+  vtkInformationVector** inputVector, Execution& run)
+{
   int association = -1;
-  vtkDataArray* scalars = hasPiece ? this->GetPointArray(0, inputVector, association) : nullptr;
-  int component = 0;
-  std::vector<double> values;
-  bool ok = (!hasPiece ||
-              (scalars &&
-                adapter::CheckPointArray(scalars, association, this->ArrayComponent, false,
-                  "ArrayComponent", component, messages))) &&
-    adapter::ConvertIsoValues(this->ContourValues, values, messages);
-  vtkDataArray* colorArray = nullptr;
-  int colorComponent = -1;
-  if (ok && this->ColorByArray && hasPiece)
+  run.Scalars = run.HasPiece ? this->GetPointArray(0, inputVector, association) : nullptr;
+  bool ok = (!run.HasPiece ||
+              (run.Scalars &&
+                adapter::CheckPointArray(run.Scalars, association, this->ArrayComponent, false,
+                  "ArrayComponent", run.Component, run.Messages))) &&
+    adapter::ConvertIsoValues(this->ContourValues, run.Values, run.Messages);
+  if (ok && this->ColorByArray && run.HasPiece)
   {
     int colorAssociation = -1;
-    colorArray = this->GetPointArray(1, inputVector, colorAssociation);
-    ok = colorArray &&
-      adapter::CheckPointArray(colorArray, colorAssociation, this->ColorArrayComponent, true,
-        "ColorArrayComponent", colorComponent, messages);
+    run.ColorArray = this->GetPointArray(1, inputVector, colorAssociation);
+    ok = run.ColorArray &&
+      adapter::CheckPointArray(run.ColorArray, colorAssociation, this->ColorArrayComponent, true,
+        "ColorArrayComponent", run.ColorComponent, run.Messages);
   }
-  std::vector<tetdsr::ClipPlane> clipPlanes;
   ok = ok &&
-    adapter::ConvertClipPlanes(this->ClippingPlanes, clipPlanes, messages);
-  if (!processes.All(ok))
-  {
-    REPORT_MESSAGES(messages);
-    return 0;
-  }
+    adapter::ConvertClipPlanes(this->ClippingPlanes, run.ClipPlanes, run.Messages);
+  run.ColorMapped = this->ColorByArray || (this->Capping != NO_CAP && !run.ClipPlanes.empty());
+  ok = run.Processes.All(ok);
+  adapter::ReportMessages(this, run.Messages);
+  return ok;
+}
 
-  // Preprocess once per mesh, array and transverse test.
+bool vtkDirectSurfaceRayCaster::PrepareScene(Execution& run)
+{
   tetdsr::TransverseTest transverse;
   transverse.mode = this->TransverseTest == WIDENED_NODAL_RANGE
     ? tetdsr::TransverseTest::Mode::WidenedNodalRange
     : tetdsr::TransverseTest::Mode::BernsteinBound;
   transverse.widening = this->NodalRangeWidening;
   adapter::PreparedMesh& prepared = this->Prepared->Mesh;
-  const bool ready = hasPiece &&
-    prepared.Prepare(input, scalars, component, transverse, this->NumberOfThreads, messages);
+  const bool ready = run.HasPiece &&
+    prepared.Prepare(
+      run.Input, run.Scalars, run.Component, transverse, this->NumberOfThreads, run.Messages);
   const tetdsr::PreprocessSummary summary =
-    hasPiece ? prepared.GetSummary() : tetdsr::PreprocessSummary();
+    run.HasPiece ? prepared.GetSummary() : tetdsr::PreprocessSummary();
   this->NumberOfRenderedCells = ready ? summary.validCells : 0;
   this->NumberOfInvertedCells = summary.invertedCells;
   this->NumberOfCurvedCells = summary.curvedCells;
@@ -800,131 +885,104 @@ int vtkDirectSurfaceRayCaster::RequestData(
   this->NumberOfInvalidIdCells = summary.invalidIdCells;
   this->NumberOfUnsupportedCells = summary.unsupportedCells;
   this->NumberOfMalformedCells = summary.malformedCells;
-  const double* colorValues = colorArray && ready
-    ? prepared.PointArrayValues(colorArray, "colour array", messages)
+  run.ColorValues = run.ColorArray && ready
+    ? prepared.PointArrayValues(run.ColorArray, "colour array", run.Messages)
     : nullptr;
-  if (!processes.All(messages.ok() && (ready || !hasPiece)))
-  {
-    REPORT_MESSAGES(messages);
-    return 0;
-  }
-  REPORT_MESSAGES(messages); // the warnings
-  tetdsr::Scene* scene = ready ? prepared.GetScene() : nullptr;
+  const bool ok = run.Processes.All(run.Messages.ok() && (ready || !run.HasPiece));
+  adapter::ReportMessages(this, run.Messages); // the errors, or the warnings of cells skipped
+  run.Scene = ready ? prepared.GetScene() : nullptr;
+  return ok;
+}
 
-  // Camera: the user's, or one that sees every rendered cell of every piece (points no cell uses
-  // do not count).
-  tetdsr::Camera camera;
+bool vtkDirectSurfaceRayCaster::ChooseCamera(Execution& run)
+{
   if (this->Camera)
   {
-    camera = CoreCamera(this->Camera);
+    run.Camera = CoreCamera(this->Camera);
   }
   else
   {
     double bounds[6];
-    if (!scene || !scene->bounds(bounds))
+    if (!run.Scene || !run.Scene->bounds(bounds))
     {
-      Processes::EmptyBox(bounds);
+      ProcessGroup::EmptyBox(bounds);
     }
-    processes.UniteBoxes(bounds);
-    camera = tetdsr::resetCamera(bounds, static_cast<double>(width) / height);
+    run.Processes.UniteBoxes(bounds);
+    run.Camera = tetdsr::resetCamera(bounds, static_cast<double>(run.Width) / run.Height);
   }
-  if (!processes.All(!scene || tetdsr::checkCamera(camera, *scene, messages)))
-  {
-    REPORT_MESSAGES(messages);
-    return 0;
-  }
+  const bool ok =
+    run.Processes.All(!run.Scene || tetdsr::checkCamera(run.Camera, *run.Scene, run.Messages));
+  adapter::ReportMessages(this, run.Messages);
+  return ok;
+}
 
-  // The image of this process's piece, written in place by the core.
-  const vtkIdType pixels = static_cast<vtkIdType>(width) * height;
-  const bool colorMapped =
-    this->ColorByArray || (this->Capping != NO_CAP && !clipPlanes.empty());
-  ImageArrays image(colorMapped);
-  if (!processes.All(image.Allocate(pixels)))
+void vtkDirectSurfaceRayCaster::ChooseShading(Execution& run)
+{
+  tetdsr::RenderSettings& settings = run.Settings;
+  settings = ShadingSettings(this, this->Prepared->Styles, run.Camera, run.Values.size());
+  if (run.Scene && settings.normals.mode == tetdsr::NormalMode::NodalInterpolation)
   {
-    tetdsr::reportUnallocatedImage(width, height, messages);
-    REPORT_MESSAGES(messages);
-    return 0;
+    run.Scene->computeNodalGradients(); // once per mesh and array: kept with the scene
   }
+  settings.clipPlanes = run.ClipPlanes;
+  if (!run.ColorMapped)
+  {
+    return;
+  }
+  double range[2] = { this->ColorRange[0], this->ColorRange[1] };
+  if (!(range[0] <= range[1]) || !std::isfinite(range[0]) || !std::isfinite(range[1]))
+  {
+    // The colour array's finite range (-1: the magnitude's), else the field's, over every piece.
+    ProcessGroup::EmptyRange(range);
+    if (run.HasPiece)
+    {
+      adapter::FiniteRange(run.ColorArray ? run.ColorArray : run.Scalars,
+        run.ColorArray ? run.ColorComponent : run.Component, range);
+    }
+    run.Processes.UniteRanges(range);
+  }
+  if (run.ColorArray)
+  {
+    settings.colorBy.values = run.ColorValues;
+    settings.colorBy.components = run.ColorArray->GetNumberOfComponents();
+    settings.colorBy.component = run.ColorComponent;
+  }
+  vtkSmartPointer<vtkScalarsToColors> lookupTable = this->LookupTable;
+  if (!lookupTable)
+  {
+    lookupTable = BuiltInColorMap(this->ColorMap);
+  }
+  settings.colorTable = adapter::SampleColorTable(lookupTable, range[0], range[1]);
+}
 
-  tetdsr::ImageView view;
-  view.width = width;
-  view.height = height;
-  view.colors = image.Colors->GetPointer(0);
-  view.depth = image.Depth->GetPointer(0);
-  view.normals = image.Normals->GetPointer(0);
-  view.cellIds = image.CellIds->GetPointer(0);
-  view.colorValues = colorMapped ? image.ColorValues->GetPointer(0) : nullptr;
+bool vtkDirectSurfaceRayCaster::CastPiece(Execution& run)
+{
+  const tetdsr::Renderer renderer(
+    this->Prepared->Mesh.GetSurface(run.Values, this->NumberOfThreads), run.Camera, run.Settings,
+    run.View);
+  const vtkIdType tiles = renderer.numberOfTiles();
+  const tetdsr::NodeId uncertifiedBefore = run.Scene->uncertifiedHits();
+  const vtkIdType tilesDone = adapter::Cast(
+    renderer, run.Settings.normals.mode == tetdsr::NormalMode::DepthBuffer, this->NumberOfThreads,
+    [this]() { return this->CheckAbort(); },
+    [this](double fraction) { this->UpdateProgress(fraction); });
+  this->NumberOfUncertifiedHits =
+    static_cast<vtkIdType>(run.Scene->uncertifiedHits() - uncertifiedBefore);
+  if (tilesDone < tiles)
+  {
+    tetdsr::reportAbortedCast(tilesDone, tiles, run.Messages);
+    adapter::ReportMessages(this, run.Messages);
+    return false;
+  }
+  return true;
+}
 
-  tetdsr::RenderSettings settings =
-    ShadingSettings(this, this->Prepared->Styles, camera, values.size());
-  if (scene && settings.normals.mode == tetdsr::NormalMode::NodalInterpolation)
-  {
-    scene->computeNodalGradients(); // once per mesh and array: kept with the scene
-  }
-  settings.clipPlanes = clipPlanes;
-  if (colorMapped)
-  {
-    double range[2] = { this->ColorRange[0], this->ColorRange[1] };
-    if (!(range[0] <= range[1]) || !std::isfinite(range[0]) || !std::isfinite(range[1]))
-    {
-      // The colour array's finite range (-1: the magnitude's), else the field's, over every piece.
-      Processes::EmptyRange(range);
-      if (hasPiece)
-      {
-        adapter::FiniteRange(colorArray ? colorArray : scalars,
-          colorArray ? colorComponent : component, range);
-      }
-      processes.UniteRanges(range);
-    }
-    if (colorArray)
-    {
-      settings.colorBy.values = colorValues;
-      settings.colorBy.components = colorArray->GetNumberOfComponents();
-      settings.colorBy.component = colorComponent;
-    }
-    vtkSmartPointer<vtkScalarsToColors> lookupTable = this->LookupTable;
-    if (!lookupTable)
-    {
-      lookupTable = BuiltInColorMap(this->ColorMap);
-    }
-    settings.colorTable = adapter::SampleColorTable(lookupTable, range[0], range[1]);
-  }
-  bool aborted = false;
-  if (scene)
-  {
-    const tetdsr::Renderer renderer(
-      prepared.GetSurface(values, this->NumberOfThreads), camera, settings, view);
-    const vtkIdType tiles = renderer.numberOfTiles();
-    const tetdsr::NodeId uncertifiedBefore = scene->uncertifiedHits();
-    const vtkIdType tilesDone = adapter::Cast(renderer,
-      settings.normals.mode == tetdsr::NormalMode::DepthBuffer, this->NumberOfThreads,
-      [this]() { return this->CheckAbort(); },
-      [this](double fraction) { this->UpdateProgress(fraction); });
-    this->NumberOfUncertifiedHits =
-      static_cast<vtkIdType>(scene->uncertifiedHits() - uncertifiedBefore);
-    if (tilesDone < tiles)
-    {
-      tetdsr::reportAbortedCast(tilesDone, tiles, messages);
-      REPORT_MESSAGES(messages);
-      aborted = true;
-    }
-  }
-  else
-  {
-    image.FillMisses();
-  }
-  if (!processes.All(!aborted))
-  {
-    // The executive empties the output and marks it aborted (CheckAbort set AbortOutput here, or
-    // another process aborted).
-    this->SetAbortOutput(true);
-    return 1;
-  }
-
-  // Hits carry input cell ids; distributed, count the cells of the processes before this one
-  // first.
-  const vtkIdType cellOffset = processes.CellsBefore(hasPiece ? input->GetNumberOfCells() : 0);
-  vtkIdType* ids = image.CellIds->GetPointer(0);
+void vtkDirectSurfaceRayCaster::MapCellIds(const Execution& run)
+{
+  const vtkIdType cellOffset =
+    run.Processes.CellsBefore(run.HasPiece ? run.Input->GetNumberOfCells() : 0);
+  vtkIdType* ids = run.View.cellIds;
+  const vtkIdType pixels = run.Pixels();
   for (vtkIdType p = 0; p < pixels; ++p)
   {
     if (ids[p] >= 0)
@@ -932,16 +990,6 @@ int vtkDirectSurfaceRayCaster::RequestData(
       ids[p] += cellOffset;
     }
   }
-
-  // The requested extent: the whole image, a part of it, or (distributed) this process's block
-  // of the image all pieces give together.
-  if (!WriteOutput(processes, image, width, height, colorMapped,
-        outputVector->GetInformationObject(0), output))
-  {
-    vtkErrorMacro("Cannot composite the processes' images into the requested extent.");
-    return 0;
-  }
-  return 1;
 }
 
 //------------------------------------------------------------------------------

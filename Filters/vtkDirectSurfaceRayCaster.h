@@ -25,9 +25,11 @@
  * every translucent surface along the ray (not premultiplied; alpha is the total opacity).
  * Pixel (i, j), point id i + j*width, is the ray through the pixel centre, j = 0 at the bottom.
  *
- * VTK_TETRA cells are rendered as exact (linear) quadratics; other cell types, cells of zero
- * volume or with repeated node ids, and cells with NaN/Inf values or coordinates are skipped
- * with a warning giving their count. Inverted cells are rendered like positive ones.
+ * The closed form above is that of a straight-sided cell; curved cells are rendered exactly too
+ * (see the warning below). VTK_TETRA cells are rendered as exact (linear) quadratics; other cell
+ * types, cells of zero volume or with repeated node ids, and cells with NaN/Inf values or
+ * coordinates are skipped with a warning giving their count. Inverted cells are rendered like
+ * positive ones.
  *
  * Preprocessing (cell validation) is cached against the input's and the scalar array's
  * modification times, and the acceleration structure (the cells that can hold one of the
@@ -43,12 +45,15 @@
  * processes in the order of their nearest crossing. CellId counts the cells of the processes'
  * pieces one after another in process order (the numbering of a .pvtu read whole).
  *
- * @warning Cells are treated as straight-sided: mid-edge node positions are not used; cells
- * whose mid-edge nodes lie off their edges' midpoints are counted and reported in a warning.
- * Distributed, three results are the serial ones only up to where the pieces meet: translucent
- * colours where one process's crossings lie between another's along a ray; DEPTH_BUFFER normals,
- * differenced within each process's image; and the default camera, fitted to the union of the
- * pieces' bounding boxes (each rounded outward to single precision).
+ * @warning Curved cells (a mid-edge node off its edge's midpoint by more than rounding) are
+ * rendered exactly, as the image of the reference tet under their quadratic map, by a subdivision
+ * solver rather than the quadratic formula: slower, and a hit at a tangent or near-tangent root
+ * is accepted without a certificate (NumberOfUncertifiedHits counts them); curved cells that fold
+ * (tangled) are skipped with a warning. Distributed, three results are the serial ones only up to
+ * where the pieces meet: translucent colours where one process's crossings lie between another's
+ * along a ray; DEPTH_BUFFER normals, differenced within each process's image; and the default
+ * camera, fitted to the union of the pieces' bounding boxes (each rounded outward to single
+ * precision).
  *
  * @sa vtkContourFilter vtkCamera
  */
@@ -57,6 +62,7 @@
 
 #include "TetDSRFiltersModule.h" // For export macro
 #include "vtkImageAlgorithm.h"
+#include "vtkNew.h" // For vtkNew
 
 #include <memory> // For std::unique_ptr
 #include <vector> // For std::vector
@@ -373,7 +379,7 @@ protected:
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 
-  vtkContourValues* ContourValues;
+  vtkNew<vtkContourValues> ContourValues;
   vtkCamera* Camera = nullptr;
   int ImageSize[2] = { 512, 512 };
   int ArrayComponent = -1;
@@ -416,6 +422,32 @@ private:
 
   /// Input array `index` (0: the field, 1: the colour array), or null after an error naming it.
   vtkDataArray* GetPointArray(int index, vtkInformationVector** inputVector, int& association);
+
+  ///@{
+  /**
+   * RequestData's steps. Distributed, each is collective: it returns the same on every process
+   * (false after reporting why on the processes that found a problem), so that all stop together.
+   */
+  struct Execution;
+  /// The field, the iso-values, the colour array and the clipping planes (a process with an
+  /// empty piece checks only the settings).
+  bool ChooseArraysAndSettings(vtkInformationVector** inputVector, Execution& run);
+  /// Validates the piece and builds its scene (once per mesh, array and transverse test), and
+  /// counts its cells by what was found; warns of the cells skipped.
+  bool PrepareScene(Execution& run);
+  /// The user's camera, or one that sees every rendered cell of every piece (points no cell
+  /// uses do not count).
+  bool ChooseCamera(Execution& run);
+  /// The core's shading, clipping and colour-mapping settings (the colour range, if automatic,
+  /// over every piece).
+  void ChooseShading(Execution& run);
+  /// Casts the piece into this process's image; false, with a warning, when aborted.
+  bool CastPiece(Execution& run);
+  /// Scene cell indices back to input cell ids (distributed: the pieces' cells counted one after
+  /// another in process order).
+  void MapCellIds(const Execution& run);
+  ///@}
+
   struct Cache;
   std::unique_ptr<Cache> Prepared;
 };

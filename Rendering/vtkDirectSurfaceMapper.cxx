@@ -12,6 +12,7 @@
 #include "vtkLightCollection.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLQuadHelper.h"
 #include "vtkOpenGLRenderUtilities.h"
@@ -34,11 +35,14 @@
 #include "vtkUnstructuredGrid.h"
 
 #include "vtkDirectSurfaceAdapter.h"
-
+#include "vtkDirectSurfaceReporting.h"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
+#include <string>
+#include <utility>
 #include <vector>
 
 vtkStandardNewMacro(vtkDirectSurfaceMapper);
@@ -61,6 +65,83 @@ glm::dmat4 ToGlm(const vtkMatrix4x4* matrix)
   return result;
 }
 
+/// A world point, and a world direction (made unit), in model coordinates: rays are cast there.
+glm::dvec3 ToModelPoint(const glm::dmat4& worldToModel, const double p[3])
+{
+  return glm::dvec3(worldToModel * glm::dvec4(p[0], p[1], p[2], 1.0));
+}
+glm::dvec3 ToModelDirection(const glm::dmat4& worldToModel, const glm::dvec3& d)
+{
+  return tetdsr::unitVector(glm::dvec3(worldToModel * glm::dvec4(d, 0.0)));
+}
+
+/// A switched-on VTK light as the core's, in model coordinates.
+tetdsr::Light CoreLight(vtkLight* light, const glm::dmat4& worldToModel)
+{
+  tetdsr::Light entry;
+  double color[3], position[3], focalPoint[3];
+  light->GetDiffuseColor(color);
+  light->GetTransformedPosition(position);
+  light->GetTransformedFocalPoint(focalPoint);
+  entry.color = light->GetIntensity() * glm::dvec3(color[0], color[1], color[2]);
+  entry.positional = light->GetPositional() != 0;
+  entry.position = ToModelPoint(worldToModel, position);
+  entry.direction = ToModelDirection(worldToModel,
+    glm::dvec3(
+      focalPoint[0] - position[0], focalPoint[1] - position[1], focalPoint[2] - position[2]));
+  return entry;
+}
+
+/// The colour of a block's surface from `mapper`'s scalars on `grid`, as a polygon mapper would
+/// map them (direct colours, or through its lookup table and scalar range); none, with a
+/// warning, for a cell array, which has no value at a hit.
+void ChooseColors(vtkMapper* mapper, vtkUnstructuredGrid* grid, adapter::PreparedMesh& prepared,
+  tetdsr::RenderSettings& settings, adapter::Messages& messages)
+{
+  settings.colorBy = tetdsr::ColorByArray();
+  int cellFlag = 0;
+  vtkDataArray* colors = mapper->GetScalarVisibility()
+    ? vtkAbstractMapper::GetScalars(grid, mapper->GetScalarMode(), mapper->GetArrayAccessMode(),
+        mapper->GetArrayId(), mapper->GetArrayName(), cellFlag)
+    : nullptr;
+  if (colors && cellFlag != 0)
+  {
+    messages.warnings.push_back(std::string("Cell array '") +
+      (colors->GetName() ? colors->GetName() : "") +
+      "' cannot colour the surface: it needs a point array; drawn in the actor's colour.");
+    return;
+  }
+  if (!colors)
+  {
+    return;
+  }
+  vtkScalarsToColors* table = mapper->GetLookupTable();
+  const int colorMode = mapper->GetColorMode();
+  const bool direct = colorMode == VTK_COLOR_MODE_DIRECT_SCALARS ||
+    (colorMode == VTK_COLOR_MODE_DEFAULT && colors->GetDataType() == VTK_UNSIGNED_CHAR);
+  int colorComponent =
+    table->GetVectorMode() == vtkScalarsToColors::COMPONENT ? table->GetVectorComponent() : -1;
+  if (colors->GetNumberOfComponents() == 1)
+  {
+    colorComponent = 0;
+  }
+  const double* colorValues = prepared.PointArrayValues(colors, "colour array", messages);
+  if (colorValues && colorComponent < colors->GetNumberOfComponents())
+  {
+    settings.colorBy.values = colorValues;
+    settings.colorBy.components = colors->GetNumberOfComponents();
+    settings.colorBy.component = colorComponent;
+    settings.colorBy.directColors = direct;
+    if (!direct)
+    {
+      const double* range =
+        mapper->GetUseLookupTableScalarRange() ? table->GetRange() : mapper->GetScalarRange();
+      table->Build();
+      settings.colorTable = adapter::SampleColorTable(table, range[0], range[1]);
+    }
+  }
+}
+
 /// The colour and depth images drawn by a full-screen quad: colour as RGBA8, window depth as
 /// R32F; a depth of 1 (a miss) is discarded.
 const char* const kQuadDeclarations = "uniform sampler2D colorTexture;\n"
@@ -71,6 +152,110 @@ const char* const kQuadImplementation =
   "  gl_FragDepth = depth;\n"
   "  gl_FragData[0] = texture(colorTexture, texCoord);\n";
 }
+
+/// What one Draw works with, from stage to stage: the blocks, the view, the settings of the cast
+/// and its messages.
+struct vtkDirectSurfaceMapper::Frame
+{
+  Frame(vtkOpenGLRenderWindow* window, vtkActor* actor, bool translucent)
+    : Window(window)
+    , Actor(actor)
+    , Translucent(translucent)
+  {
+  }
+
+  vtkOpenGLRenderWindow* const Window;
+  vtkActor* const Actor;
+  const bool Translucent; ///< cast up to the opaque depth, drawn over the finished frame
+  vtkDataObject* Input = nullptr;
+  std::vector<std::pair<unsigned int, vtkUnstructuredGrid*>> Blocks; ///< by flat index
+
+  // The view: the viewport at full resolution (origin x, y, width, height), the cast's size, and
+  // the model's matrices (rays are cast in model coordinates).
+  int Viewport[4] = { 0, 0, 0, 0 };
+  int CastWidth = 0;
+  int CastHeight = 0;
+  bool Identity = true; ///< the actor's matrix is the identity
+  glm::dmat4 ModelToWorld{ 1.0 }, WorldToModel{ 1.0 }, ModelToNdc{ 1.0 }, NdcToModel{ 1.0 };
+  tetdsr::RayGenerator Rays{ glm::dmat4(1.0), 1, 1 }; ///< set with the view
+
+  std::vector<double> LightState; ///< the switched-on lights' parameters, for the signature
+  std::vector<double> Signature;  ///< everything the image depends on
+  std::vector<double> Values;     ///< the iso-values
+  tetdsr::RenderSettings Settings;
+  adapter::Messages Messages;
+
+  std::size_t Pixels() const
+  {
+    return static_cast<std::size_t>(this->CastWidth) * this->CastHeight;
+  }
+  bool SeveralBlocks() const { return this->Blocks.size() > 1; }
+
+  /// The viewport, cast at `sampleDistance` pixels a ray, and the actor seen through the active
+  /// camera's composite projection (as the GL matrices use it, so explicit and tiled projections
+  /// work). False for an empty viewport.
+  bool SetUpView(vtkRenderer* renderer, double sampleDistance)
+  {
+    int width, height, originX, originY;
+    renderer->GetTiledSizeAndOrigin(&width, &height, &originX, &originY);
+    if (width <= 0 || height <= 0)
+    {
+      return false;
+    }
+    this->Viewport[0] = originX;
+    this->Viewport[1] = originY;
+    this->Viewport[2] = width;
+    this->Viewport[3] = height;
+    this->CastWidth = std::max(1, static_cast<int>(std::ceil(width / sampleDistance)));
+    this->CastHeight = std::max(1, static_cast<int>(std::ceil(height / sampleDistance)));
+    vtkCamera* camera = renderer->GetActiveCamera();
+    const glm::dmat4 worldToNdc = ToGlm(
+      camera->GetCompositeProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1.0, 1.0));
+    this->Identity = this->Actor->GetIsIdentity() != 0;
+    this->ModelToWorld = this->Identity ? glm::dmat4(1.0) : ToGlm(this->Actor->GetMatrix());
+    this->WorldToModel = glm::inverse(this->ModelToWorld);
+    this->ModelToNdc = worldToNdc * this->ModelToWorld;
+    this->NdcToModel = glm::inverse(this->ModelToNdc);
+    this->Rays = tetdsr::RayGenerator(this->NdcToModel, this->CastWidth, this->CastHeight);
+    return true;
+  }
+
+  /// The renderer's lights, as vtkOpenGLRenderer hands them to the polygon shaders (none when
+  /// the actor's property is unlit), with the camera position as the eye of the Phong model.
+  void CollectLights(vtkRenderer* renderer)
+  {
+    tetdsr::Lighting& lighting = this->Settings.lighting;
+    double eye[3];
+    renderer->GetActiveCamera()->GetPosition(eye);
+    lighting.hasEye = true;
+    lighting.eye = ToModelPoint(this->WorldToModel, eye);
+    if (!this->Actor->GetProperty()->GetLighting())
+    {
+      return;
+    }
+    vtkLightCollection* lights = renderer->GetLights();
+    vtkCollectionSimpleIterator it;
+    lights->InitTraversal(it);
+    int count = 0;
+    bool headlight = false;
+    while (vtkLight* light = lights->GetNextLight(it))
+    {
+      if (!light->GetSwitch())
+      {
+        continue;
+      }
+      ++count;
+      headlight = light->LightTypeIsHeadlight();
+      const tetdsr::Light entry = CoreLight(light, this->WorldToModel);
+      lighting.lights.push_back(entry);
+      this->LightState.insert(this->LightState.end(),
+        { entry.color.x, entry.color.y, entry.color.z, entry.direction.x, entry.direction.y,
+          entry.direction.z, entry.position.x, entry.position.y, entry.position.z,
+          entry.positional ? 1.0 : 0.0 });
+    }
+    lighting.headlightOnly = count == 1 && headlight;
+  }
+};
 
 /// Per-render state: the prepared meshes (one per block), the last image and its signature, and
 /// the OpenGL resources.
@@ -95,6 +280,7 @@ struct vtkDirectSurfaceMapper::Internals
   // A block's own image, when there are several.
   std::vector<std::uint8_t> BlockColors;
   std::vector<double> BlockDepth;
+  std::vector<tetdsr::NodeId> BlockCellIds;
 
   // Translucent surfaces wait for the renderer's EndEvent.
   vtkWeakPointer<vtkRenderer> ObservedRenderer;
@@ -118,13 +304,125 @@ struct vtkDirectSurfaceMapper::Internals
     return *mesh;
   }
 
-  void Resize(std::size_t pixels)
+  /// Sizes the images for a cast of `pixels` rays; with several blocks the merged image starts
+  /// empty (each block's nearer surfaces replace it) and each block has its own.
+  void Resize(std::size_t pixels, bool severalBlocks)
   {
     this->Colors.resize(4 * pixels);
     this->Depth.resize(pixels);
     this->Normals.resize(3 * pixels);
     this->CellIds.resize(pixels);
     this->WindowDepth.resize(pixels);
+    if (severalBlocks)
+    {
+      std::fill(this->Depth.begin(), this->Depth.end(), std::numeric_limits<double>::infinity());
+      std::fill(this->Colors.begin(), this->Colors.end(), 0);
+      this->BlockColors.resize(4 * pixels);
+      this->BlockDepth.resize(pixels);
+      this->BlockCellIds.resize(pixels);
+    }
+  }
+
+  /// Reads what the opaque geometry left in the depth buffer (it bounds the translucent rays)
+  /// and returns an order-sensitive sum of it, so that a moved prop changes the signature.
+  double ReadOpaqueDepth(const Frame& frame)
+  {
+    const int* viewport = frame.Viewport;
+    this->OpaqueDepth.resize(static_cast<std::size_t>(viewport[2]) * viewport[3]);
+    {
+      vtkOpenGLState::ScopedglEnableDisable savedScissor(frame.Window->GetState(), GL_SCISSOR_TEST);
+      frame.Window->GetZbufferData(viewport[0], viewport[1], viewport[0] + viewport[2] - 1,
+        viewport[1] + viewport[3] - 1, this->OpaqueDepth.data());
+    }
+    double sum = 0.0;
+    for (float z : this->OpaqueDepth)
+    {
+      sum = sum * 1.000001 + z;
+    }
+    return sum;
+  }
+
+  /// Per cast pixel, the ray parameter of the opaque depth at its full-resolution pixel.
+  void ComputeRayLimits(const Frame& frame)
+  {
+    const int width = frame.Viewport[2], height = frame.Viewport[3];
+    const int castWidth = frame.CastWidth, castHeight = frame.CastHeight;
+    this->RayLimits.resize(frame.Pixels());
+    vtkSMPTools::For(0, castHeight, [&](vtkIdType rowBegin, vtkIdType rowEnd) {
+      for (int j = static_cast<int>(rowBegin); j < static_cast<int>(rowEnd); ++j)
+      {
+        const int fullJ = std::min(height - 1, static_cast<int>((j + 0.5) * height / castHeight));
+        for (int i = 0; i < castWidth; ++i)
+        {
+          const int fullI = std::min(width - 1, static_cast<int>((i + 0.5) * width / castWidth));
+          const double z = this->OpaqueDepth[static_cast<std::size_t>(fullJ) * width + fullI];
+          double limit = std::numeric_limits<double>::infinity();
+          if (z < 1.0)
+          {
+            const tetdsr::Ray ray = frame.Rays.pixelRay(i, j);
+            const glm::dvec4 ndc(2.0 * (i + 0.5) / castWidth - 1.0,
+              2.0 * (j + 0.5) / castHeight - 1.0, 2.0 * z - 1.0, 1.0);
+            const glm::dvec4 point = frame.NdcToModel * ndc;
+            limit = glm::dot(glm::dvec3(point) / point.w - ray.origin, ray.direction);
+          }
+          this->RayLimits[static_cast<std::size_t>(j) * castWidth + i] = limit;
+        }
+      }
+    });
+  }
+
+  /// The image a block is cast into: the merged image itself when it is the only block, else
+  /// its own (KeepNearest merges it).
+  tetdsr::ImageView BlockImage(const Frame& frame)
+  {
+    const bool several = frame.SeveralBlocks();
+    tetdsr::ImageView image;
+    image.width = frame.CastWidth;
+    image.height = frame.CastHeight;
+    image.colors = several ? this->BlockColors.data() : this->Colors.data();
+    image.depth = several ? this->BlockDepth.data() : this->Depth.data();
+    image.normals = this->Normals.data();
+    image.cellIds = several ? this->BlockCellIds.data() : this->CellIds.data();
+    image.rayLimits = frame.Translucent ? this->RayLimits.data() : nullptr;
+    return image;
+  }
+
+  /// Keeps, per pixel, the nearest block's surface.
+  void KeepNearest(std::size_t pixels)
+  {
+    for (std::size_t p = 0; p < pixels; ++p)
+    {
+      if (this->BlockDepth[p] < this->Depth[p])
+      {
+        this->Depth[p] = this->BlockDepth[p];
+        this->CellIds[p] = this->BlockCellIds[p];
+        std::copy_n(&this->BlockColors[4 * p], 4, &this->Colors[4 * p]);
+      }
+    }
+  }
+
+  /// Window depth of each hit: 0.5 z/w + 0.5 of its model point through the composite matrix.
+  void ComputeWindowDepth(const Frame& frame)
+  {
+    const int castWidth = frame.CastWidth;
+    vtkSMPTools::For(0, frame.CastHeight, [&](vtkIdType rowBegin, vtkIdType rowEnd) {
+      for (int j = static_cast<int>(rowBegin); j < static_cast<int>(rowEnd); ++j)
+      {
+        for (int i = 0; i < castWidth; ++i)
+        {
+          const std::size_t p = static_cast<std::size_t>(j) * castWidth + i;
+          float depth = 1.0f;
+          if (std::isfinite(this->Depth[p]))
+          {
+            const tetdsr::Ray ray = frame.Rays.pixelRay(i, j);
+            const glm::dvec4 clip =
+              frame.ModelToNdc * glm::dvec4(ray.origin + this->Depth[p] * ray.direction, 1.0);
+            depth = static_cast<float>(std::min(1.0, std::max(0.0, 0.5 * clip.z / clip.w + 0.5)));
+          }
+          this->WindowDepth[p] = depth;
+        }
+      }
+    });
   }
 
   void Upload(vtkOpenGLRenderWindow* window, int width, int height)
@@ -203,8 +501,7 @@ struct vtkDirectSurfaceMapper::Internals
 
 //------------------------------------------------------------------------------
 vtkDirectSurfaceMapper::vtkDirectSurfaceMapper()
-  : ContourValues(vtkContourValues::New())
-  , Internal(new Internals)
+  : Internal(new Internals)
 {
   this->SetInputArrayToProcess(
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
@@ -216,7 +513,6 @@ vtkDirectSurfaceMapper::~vtkDirectSurfaceMapper()
   {
     this->Internal->ObservedRenderer->RemoveObserver(this->Internal->ObserverTag);
   }
-  this->ContourValues->Delete();
 }
 
 //------------------------------------------------------------------------------
@@ -311,10 +607,7 @@ void vtkDirectSurfaceMapper::SetIsoValueColor(int i, double red, double green, d
   {
     this->Modified();
   }
-  for (const std::string& text : messages.errors)
-  {
-    vtkErrorMacro(<< text);
-  }
+  adapter::ReportMessages(this, messages);
 }
 
 void vtkDirectSurfaceMapper::GetIsoValueColor(int i, double color[3])
@@ -338,10 +631,7 @@ void vtkDirectSurfaceMapper::SetIsoValueOpacity(int i, double opacity)
   {
     this->Modified();
   }
-  for (const std::string& text : messages.errors)
-  {
-    vtkErrorMacro(<< text);
-  }
+  adapter::ReportMessages(this, messages);
 }
 
 double vtkDirectSurfaceMapper::GetIsoValueOpacity(int i)
@@ -442,28 +732,66 @@ void vtkDirectSurfaceMapper::Render(vtkRenderer* renderer, vtkActor* actor)
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool translucent)
 {
-  vtkTimerLog* timer = vtkTimerLog::New();
+  vtkNew<vtkTimerLog> timer; // the cast's time sizes the next interactive frame's sample distance
   timer->StartTimer();
-  Internals& in = *this->Internal;
   auto* window = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
   if (!window || renderer->GetSelector())
   {
-    timer->Delete();
     return; // no OpenGL window, or a hardware-selection pass: nothing to draw
   }
   if (!this->Static)
   {
     this->Update();
   }
-  vtkDataObject* input = this->GetInputDataObject(0, 0);
-
-  // The blocks to render.
-  std::vector<std::pair<unsigned int, vtkUnstructuredGrid*>> blocks;
-  if (auto* grid = vtkUnstructuredGrid::SafeDownCast(input))
+  Frame frame(window, actor, translucent);
+  if (!this->CollectBlocks(frame))
   {
-    blocks.emplace_back(0, grid);
+    return;
   }
-  else if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
+  const double distance = this->ChooseSampleDistance(frame);
+  if (!frame.SetUpView(renderer, distance))
+  {
+    return; // an empty viewport
+  }
+  frame.CollectLights(renderer);
+
+  // Re-use the last image when nothing it depends on changed.
+  Internals& in = *this->Internal;
+  this->ComputeSignature(frame);
+  this->LastRenderReusedImage = in.TexturesValid && frame.Signature == in.Signature;
+  if (this->LastRenderReusedImage)
+  {
+    in.Draw(window, translucent, frame.Viewport);
+    timer->StopTimer();
+    this->TimeToDraw = timer->GetElapsedTime();
+    return;
+  }
+
+  if (!this->ConvertSettings(frame) || !this->CastBlocks(frame))
+  {
+    return;
+  }
+  in.ComputeWindowDepth(frame);
+  in.Upload(window, frame.CastWidth, frame.CastHeight);
+  in.Draw(window, translucent, frame.Viewport);
+  in.Signature = std::move(frame.Signature);
+  timer->StopTimer();
+  in.LastCastSeconds = timer->GetElapsedTime();
+  in.SampleDistance = distance;
+  this->TimeToDraw = in.LastCastSeconds;
+  this->LastImageSampleDistance = distance;
+  this->LastCastSize[0] = frame.CastWidth;
+  this->LastCastSize[1] = frame.CastHeight;
+}
+
+bool vtkDirectSurfaceMapper::CollectBlocks(Frame& frame)
+{
+  frame.Input = this->GetInputDataObject(0, 0);
+  if (auto* grid = vtkUnstructuredGrid::SafeDownCast(frame.Input))
+  {
+    frame.Blocks.emplace_back(0, grid);
+  }
+  else if (auto* composite = vtkCompositeDataSet::SafeDownCast(frame.Input))
   {
     vtkSmartPointer<vtkCompositeDataIterator> it;
     it.TakeReference(composite->NewIterator());
@@ -471,29 +799,33 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
     {
       if (auto* block = vtkUnstructuredGrid::SafeDownCast(it->GetCurrentDataObject()))
       {
-        blocks.emplace_back(it->GetCurrentFlatIndex(), block);
+        frame.Blocks.emplace_back(it->GetCurrentFlatIndex(), block);
       }
     }
   }
   // Scenes of blocks the input no longer has are dropped, with the arrays they keep alive.
-  for (auto it = in.Meshes.begin(); it != in.Meshes.end();)
+  auto& meshes = this->Internal->Meshes;
+  for (auto it = meshes.begin(); it != meshes.end();)
   {
-    const bool kept = std::any_of(blocks.begin(), blocks.end(),
-      [&](const std::pair<unsigned int, vtkUnstructuredGrid*>& block) { return block.first == it->first; });
-    it = kept ? std::next(it) : in.Meshes.erase(it);
+    const bool kept = std::any_of(frame.Blocks.begin(), frame.Blocks.end(),
+      [&](const auto& block) { return block.first == it->first; });
+    it = kept ? std::next(it) : meshes.erase(it);
   }
-  if (blocks.empty())
+  if (frame.Blocks.empty())
   {
     vtkErrorMacro("The input is neither a vtkUnstructuredGrid nor a composite dataset of them.");
-    timer->Delete();
-    return;
+    return false;
   }
+  return true;
+}
 
-  // Level of detail: a reduced image while the camera moves, sized to the allocated time.
+double vtkDirectSurfaceMapper::ChooseSampleDistance(const Frame& frame)
+{
+  Internals& in = *this->Internal;
   const double now = vtkTimerLog::GetUniversalTime();
-  vtkRenderWindowInteractor* interactor = window->GetInteractor();
+  vtkRenderWindowInteractor* interactor = frame.Window->GetInteractor();
   const double stillRate = interactor ? interactor->GetStillUpdateRate() : 0.0001;
-  const bool interacting = window->GetDesiredUpdateRate() > stillRate;
+  const bool interacting = frame.Window->GetDesiredUpdateRate() > stillRate;
   double distance = 1.0;
   if (interacting && !this->AutoAdjustSampleDistances)
   {
@@ -504,11 +836,10 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
     // The frame must fit the actor's allocated time; what the rest of the last frame took
     // (other props, clearing, the window's swap: the time between two renders minus the cast)
     // is not the cast's to spend. A quarter of the allocation is always left to it.
-    const double allocated = actor->GetAllocatedRenderTime();
+    const double allocated = frame.Actor->GetAllocatedRenderTime();
     const double period = now - in.LastRenderStart;
-    const double others = in.LastWasInteractive && period < 1.0
-      ? std::max(0.0, period - in.LastCastSeconds)
-      : 0.0;
+    const double others =
+      in.LastWasInteractive && period < 1.0 ? std::max(0.0, period - in.LastCastSeconds) : 0.0;
     const double budget = std::max(allocated - others, 0.25 * allocated);
     distance = in.SampleDistance;
     if (budget > 0.0 && in.LastCastSeconds > 0.0)
@@ -520,329 +851,128 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   }
   in.LastRenderStart = now;
   in.LastWasInteractive = interacting;
-  int width, height, originX, originY;
-  renderer->GetTiledSizeAndOrigin(&width, &height, &originX, &originY);
-  if (width <= 0 || height <= 0)
-  {
-    timer->Delete();
-    return;
-  }
-  const int castWidth = std::max(1, static_cast<int>(std::ceil(width / distance)));
-  const int castHeight = std::max(1, static_cast<int>(std::ceil(height / distance)));
+  return distance;
+}
 
-  // Model to normalised device coordinates: the camera's composite projection (as the GL
-  // matrices use it) times the actor's matrix. Rays are cast in model coordinates.
-  vtkCamera* camera = renderer->GetActiveCamera();
-  const glm::dmat4 worldToNdc = ToGlm(
-    camera->GetCompositeProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1.0, 1.0));
-  const bool identity = actor->GetIsIdentity() != 0;
-  const glm::dmat4 modelToWorld = identity ? glm::dmat4(1.0) : ToGlm(actor->GetMatrix());
-  const glm::dmat4 worldToModel = glm::inverse(modelToWorld);
-  const glm::dmat4 modelToNdc = worldToNdc * modelToWorld;
-  const glm::dmat4 ndcToModel = glm::inverse(modelToNdc);
-  auto toModelPoint = [&](const double p[3]) {
-    return glm::dvec3(worldToModel * glm::dvec4(p[0], p[1], p[2], 1.0));
-  };
-  auto toModelDirection = [&](const glm::dvec3& d) {
-    return tetdsr::unitVector(glm::dvec3(worldToModel * glm::dvec4(d, 0.0)));
-  };
-
-  // Lights, as vtkOpenGLRenderer hands them to the polygon shaders.
-  vtkProperty* property = actor->GetProperty();
-  tetdsr::Lighting lighting;
-  double eye[3];
-  camera->GetPosition(eye);
-  lighting.hasEye = true;
-  lighting.eye = toModelPoint(eye);
-  std::vector<double> lightState;
-  if (property->GetLighting())
-  {
-    vtkLightCollection* lights = renderer->GetLights();
-    vtkCollectionSimpleIterator it;
-    lights->InitTraversal(it);
-    int count = 0;
-    bool headlight = false;
-    while (vtkLight* light = lights->GetNextLight(it))
-    {
-      if (!light->GetSwitch())
-      {
-        continue;
-      }
-      ++count;
-      headlight = light->LightTypeIsHeadlight();
-      tetdsr::Light entry;
-      double color[3], position[3], focalPoint[3];
-      light->GetDiffuseColor(color);
-      light->GetTransformedPosition(position);
-      light->GetTransformedFocalPoint(focalPoint);
-      entry.color = light->GetIntensity() * glm::dvec3(color[0], color[1], color[2]);
-      entry.positional = light->GetPositional() != 0;
-      entry.position = toModelPoint(position);
-      entry.direction = toModelDirection(glm::dvec3(focalPoint[0] - position[0],
-        focalPoint[1] - position[1], focalPoint[2] - position[2]));
-      lighting.lights.push_back(entry);
-      lightState.insert(lightState.end(),
-        { entry.color.x, entry.color.y, entry.color.z, entry.direction.x, entry.direction.y,
-          entry.direction.z, entry.position.x, entry.position.y, entry.position.z,
-          entry.positional ? 1.0 : 0.0 });
-    }
-    lighting.headlightOnly = count == 1 && headlight;
-  }
-
-  // Re-use the last image when nothing it depends on changed.
-  std::vector<double> signature(&modelToNdc[0][0], &modelToNdc[0][0] + 16);
+void vtkDirectSurfaceMapper::ComputeSignature(Frame& frame)
+{
+  std::vector<double>& signature = frame.Signature;
+  const glm::dmat4& modelToNdc = frame.ModelToNdc;
+  signature.assign(&modelToNdc[0][0], &modelToNdc[0][0] + 16);
   signature.insert(signature.end(),
-    { static_cast<double>(castWidth), static_cast<double>(castHeight),
-      static_cast<double>(this->GetMTime()), static_cast<double>(property->GetMTime()),
-      static_cast<double>(input->GetMTime()), lighting.headlightOnly ? 1.0 : 0.0 });
-  signature.insert(signature.end(), lightState.begin(), lightState.end());
-  for (const auto& block : blocks)
+    { static_cast<double>(frame.CastWidth), static_cast<double>(frame.CastHeight),
+      static_cast<double>(this->GetMTime()),
+      static_cast<double>(frame.Actor->GetProperty()->GetMTime()),
+      static_cast<double>(frame.Input->GetMTime()),
+      frame.Settings.lighting.headlightOnly ? 1.0 : 0.0 });
+  signature.insert(signature.end(), frame.LightState.begin(), frame.LightState.end());
+  for (const auto& block : frame.Blocks)
   {
     signature.push_back(static_cast<double>(adapter::MeshModifiedTime(block.second)));
   }
-  const int viewport[4] = { originX, originY, width, height };
-  if (translucent)
+  if (frame.Translucent)
   {
-    // What the opaque geometry left in the depth buffer bounds the rays (and the re-use).
-    in.OpaqueDepth.resize(static_cast<std::size_t>(width) * height);
-    {
-      vtkOpenGLState::ScopedglEnableDisable savedScissor(window->GetState(), GL_SCISSOR_TEST);
-      window->GetZbufferData(
-        originX, originY, originX + width - 1, originY + height - 1, in.OpaqueDepth.data());
-    }
-    double sum = 0.0;
-    for (float z : in.OpaqueDepth)
-    {
-      sum = sum * 1.000001 + z; // order-sensitive: a moved prop changes it
-    }
-    signature.push_back(sum);
+    signature.push_back(this->Internal->ReadOpaqueDepth(frame));
   }
-  this->LastRenderReusedImage = in.TexturesValid && signature == in.Signature;
-  if (this->LastRenderReusedImage)
-  {
-    in.Draw(window, translucent, viewport);
-    timer->StopTimer();
-    this->TimeToDraw = timer->GetElapsedTime();
-    timer->Delete();
-    return;
-  }
+}
 
-  // Settings common to every block.
-  adapter::Messages messages;
-  std::vector<double> values;
+bool vtkDirectSurfaceMapper::ConvertSettings(Frame& frame)
+{
   std::vector<tetdsr::ClipPlane> clipPlanes;
-  if (!adapter::ConvertIsoValues(this->ContourValues, values, messages) ||
-    !adapter::ConvertClipPlanes(this->ClippingPlanes, clipPlanes, messages))
+  if (!adapter::ConvertIsoValues(this->ContourValues, frame.Values, frame.Messages) ||
+    !adapter::ConvertClipPlanes(this->ClippingPlanes, clipPlanes, frame.Messages))
   {
-    for (const std::string& text : messages.errors)
-    {
-      vtkErrorMacro(<< text);
-    }
-    timer->Delete();
-    return;
+    adapter::ReportMessages(this, frame.Messages);
+    return false;
   }
-  if (!identity)
+  if (!frame.Identity)
   {
     // World planes n . (x - o) >= 0 become n' . (x_m - o') >= 0 with o' = M^-1 o, n' = M^T n.
     for (tetdsr::ClipPlane& plane : clipPlanes)
     {
-      plane.origin = glm::dvec3(worldToModel * glm::dvec4(plane.origin, 1.0));
-      plane.normal = glm::transpose(glm::dmat3(modelToWorld)) * plane.normal;
+      plane.origin = glm::dvec3(frame.WorldToModel * glm::dvec4(plane.origin, 1.0));
+      plane.normal = glm::transpose(glm::dmat3(frame.ModelToWorld)) * plane.normal;
     }
   }
-  tetdsr::RenderSettings settings;
+  tetdsr::RenderSettings& settings = frame.Settings;
+  vtkProperty* property = frame.Actor->GetProperty();
   double diffuseColor[3], specularColor[3];
   property->GetDiffuseColor(diffuseColor);
   property->GetSpecularColor(specularColor);
   settings.material.color = glm::dvec3(diffuseColor[0], diffuseColor[1], diffuseColor[2]);
-  settings.material.specularColor = glm::dvec3(specularColor[0], specularColor[1], specularColor[2]);
+  settings.material.specularColor =
+    glm::dvec3(specularColor[0], specularColor[1], specularColor[2]);
   settings.material.ambient = property->GetAmbient();
   settings.material.diffuse = property->GetDiffuse();
   settings.material.specular = property->GetSpecular();
   settings.material.specularPower = property->GetSpecularPower();
-  settings.lighting = lighting;
-  settings.clipPlanes = clipPlanes;
-  settings.isoStyles = in.Styles.Styles(values.size(), diffuseColor, property->GetOpacity());
-  const tetdsr::RayGenerator rays(ndcToModel, castWidth, castHeight);
+  settings.clipPlanes = std::move(clipPlanes);
+  settings.isoStyles =
+    this->Internal->Styles.Styles(frame.Values.size(), diffuseColor, property->GetOpacity());
+  return true;
+}
 
-  const std::size_t pixels = static_cast<std::size_t>(castWidth) * castHeight;
-  in.Resize(pixels);
-  if (translucent)
+bool vtkDirectSurfaceMapper::CastBlocks(Frame& frame)
+{
+  Internals& in = *this->Internal;
+  in.Resize(frame.Pixels(), frame.SeveralBlocks());
+  if (frame.Translucent)
   {
-    // Per cast pixel, the ray parameter of the opaque depth at its full-resolution pixel.
-    in.RayLimits.resize(pixels);
-    vtkSMPTools::For(0, castHeight, [&](vtkIdType rowBegin, vtkIdType rowEnd) {
-      for (int j = static_cast<int>(rowBegin); j < static_cast<int>(rowEnd); ++j)
-      {
-        const int fullJ = std::min(height - 1, static_cast<int>((j + 0.5) * height / castHeight));
-        for (int i = 0; i < castWidth; ++i)
-        {
-          const int fullI = std::min(width - 1, static_cast<int>((i + 0.5) * width / castWidth));
-          const double z = in.OpaqueDepth[static_cast<std::size_t>(fullJ) * width + fullI];
-          double limit = std::numeric_limits<double>::infinity();
-          if (z < 1.0)
-          {
-            const tetdsr::Ray ray = rays.pixelRay(i, j);
-            const glm::dvec4 ndc(2.0 * (i + 0.5) / castWidth - 1.0,
-              2.0 * (j + 0.5) / castHeight - 1.0, 2.0 * z - 1.0, 1.0);
-            const glm::dvec4 point = ndcToModel * ndc;
-            limit = glm::dot(glm::dvec3(point) / point.w - ray.origin, ray.direction);
-          }
-          in.RayLimits[static_cast<std::size_t>(j) * castWidth + i] = limit;
-        }
-      }
-    });
+    in.ComputeRayLimits(frame);
   }
-  const bool several = blocks.size() > 1;
-  if (several)
-  {
-    std::fill(in.Depth.begin(), in.Depth.end(), std::numeric_limits<double>::infinity());
-    std::fill(in.Colors.begin(), in.Colors.end(), 0);
-    in.BlockColors.resize(4 * pixels);
-    in.BlockDepth.resize(pixels);
-  }
-  std::vector<tetdsr::NodeId> blockCellIds(several ? pixels : 0);
   this->NumberOfRenderedCells = 0;
   bool aborted = false;
-  for (const auto& block : blocks)
+  for (const auto& block : frame.Blocks)
   {
-    vtkUnstructuredGrid* grid = block.second;
-    int association = -1;
-    vtkDataArray* field = this->GetInputArrayToProcess(0, grid, association);
-    int component = 0;
-    if (!field)
-    {
-      messages.errors.push_back("No scalar field: choose a point array with "
-                                "SetInputArrayToProcess(0, 0, 0, FIELD_ASSOCIATION_POINTS, name).");
-    }
-    adapter::PreparedMesh& prepared = in.MeshOf(block.first);
-    if (!field ||
-      !adapter::CheckPointArray(field, association, -1, false, "the field's component", component,
-        messages) ||
-      !prepared.Prepare(grid, field, component, tetdsr::TransverseTest(), this->NumberOfThreads,
-        messages))
-    {
-      continue;
-    }
-    this->NumberOfRenderedCells += prepared.GetSummary().validCells;
-
-    // Colour: the mapper's scalars, as a polygon mapper would map them.
-    settings.colorBy = tetdsr::ColorByArray();
-    int cellFlag = 0;
-    vtkDataArray* colors = this->ScalarVisibility
-      ? vtkAbstractMapper::GetScalars(grid, this->ScalarMode, this->ArrayAccessMode, this->ArrayId,
-          this->ArrayName, cellFlag)
-      : nullptr;
-    if (colors && cellFlag != 0)
-    {
-      messages.warnings.push_back(std::string("Cell array '") +
-        (colors->GetName() ? colors->GetName() : "") +
-        "' cannot colour the surface: it needs a point array; drawn in the actor's colour.");
-      colors = nullptr;
-    }
-    if (colors)
-    {
-      vtkScalarsToColors* table = this->GetLookupTable();
-      const bool direct = this->ColorMode == VTK_COLOR_MODE_DIRECT_SCALARS ||
-        (this->ColorMode == VTK_COLOR_MODE_DEFAULT && colors->GetDataType() == VTK_UNSIGNED_CHAR);
-      int colorComponent = table->GetVectorMode() == vtkScalarsToColors::COMPONENT
-        ? table->GetVectorComponent()
-        : -1;
-      if (colors->GetNumberOfComponents() == 1)
-      {
-        colorComponent = 0;
-      }
-      const double* colorValues = prepared.PointArrayValues(colors, "colour array", messages);
-      if (colorValues && colorComponent < colors->GetNumberOfComponents())
-      {
-        settings.colorBy.values = colorValues;
-        settings.colorBy.components = colors->GetNumberOfComponents();
-        settings.colorBy.component = colorComponent;
-        settings.colorBy.directColors = direct;
-        if (!direct)
-        {
-          const double* range =
-            this->UseLookupTableScalarRange ? table->GetRange() : this->ScalarRange;
-          table->Build();
-          settings.colorTable = adapter::SampleColorTable(table, range[0], range[1]);
-        }
-      }
-    }
-
-    tetdsr::ImageView image;
-    image.width = castWidth;
-    image.height = castHeight;
-    image.colors = several ? in.BlockColors.data() : in.Colors.data();
-    image.depth = several ? in.BlockDepth.data() : in.Depth.data();
-    image.normals = in.Normals.data();
-    image.cellIds = several ? blockCellIds.data() : in.CellIds.data();
-    image.rayLimits = translucent ? in.RayLimits.data() : nullptr;
-    const tetdsr::Renderer caster(
-      prepared.GetSurface(values, this->NumberOfThreads), rays, settings, image);
-    const tetdsr::NodeId done = adapter::Cast(caster, false, this->NumberOfThreads,
-      [window]() { return window->CheckAbortStatus() != 0; }, [](double) {});
-    if (done < caster.numberOfTiles())
+    if (!this->CastBlock(frame, block.first, block.second))
     {
       aborted = true;
       break;
     }
-    if (several)
-    {
-      // Keep, per pixel, the nearest block's surface.
-      for (std::size_t p = 0; p < pixels; ++p)
-      {
-        if (in.BlockDepth[p] < in.Depth[p])
-        {
-          in.Depth[p] = in.BlockDepth[p];
-          in.CellIds[p] = blockCellIds[p];
-          std::copy_n(&in.BlockColors[4 * p], 4, &in.Colors[4 * p]);
-        }
-      }
-    }
   }
-  for (const std::string& text : messages.warnings)
-  {
-    vtkWarningMacro(<< text);
-  }
-  for (const std::string& text : messages.errors)
-  {
-    vtkErrorMacro(<< text);
-  }
-  if (aborted || this->NumberOfRenderedCells == 0)
-  {
-    timer->Delete();
-    return;
-  }
+  adapter::ReportMessages(this, frame.Messages);
+  return !aborted && this->NumberOfRenderedCells > 0;
+}
 
-  // Window depth of each hit: 0.5 z/w + 0.5 of its model point through the composite matrix.
-  vtkSMPTools::For(0, castHeight, [&](vtkIdType rowBegin, vtkIdType rowEnd) {
-    for (int j = static_cast<int>(rowBegin); j < static_cast<int>(rowEnd); ++j)
-    {
-      for (int i = 0; i < castWidth; ++i)
-      {
-        const std::size_t p = static_cast<std::size_t>(j) * castWidth + i;
-        float depth = 1.0f;
-        if (std::isfinite(in.Depth[p]))
-        {
-          const tetdsr::Ray ray = rays.pixelRay(i, j);
-          const glm::dvec4 clip = modelToNdc * glm::dvec4(ray.origin + in.Depth[p] * ray.direction, 1.0);
-          depth = static_cast<float>(std::min(1.0, std::max(0.0, 0.5 * clip.z / clip.w + 0.5)));
-        }
-        in.WindowDepth[p] = depth;
-      }
-    }
-  });
-  in.Upload(window, castWidth, castHeight);
-  in.Draw(window, translucent, viewport);
-  in.Signature = signature;
-  timer->StopTimer();
-  in.LastCastSeconds = timer->GetElapsedTime();
-  in.SampleDistance = distance;
-  this->TimeToDraw = in.LastCastSeconds;
-  this->LastImageSampleDistance = distance;
-  this->LastCastSize[0] = castWidth;
-  this->LastCastSize[1] = castHeight;
-  timer->Delete();
+bool vtkDirectSurfaceMapper::CastBlock(Frame& frame, unsigned int index, vtkUnstructuredGrid* grid)
+{
+  Internals& in = *this->Internal;
+  int association = -1;
+  vtkDataArray* field = this->GetInputArrayToProcess(0, grid, association);
+  int component = 0;
+  if (!field)
+  {
+    frame.Messages.errors.push_back(
+      "No scalar field: choose a point array with "
+      "SetInputArrayToProcess(0, 0, 0, FIELD_ASSOCIATION_POINTS, name).");
+  }
+  adapter::PreparedMesh& prepared = in.MeshOf(index);
+  if (!field ||
+    !adapter::CheckPointArray(
+      field, association, -1, false, "the field's component", component, frame.Messages) ||
+    !prepared.Prepare(
+      grid, field, component, tetdsr::TransverseTest(), this->NumberOfThreads, frame.Messages))
+  {
+    return true; // skipped: the messages say why
+  }
+  this->NumberOfRenderedCells += prepared.GetSummary().validCells;
+  ChooseColors(this, grid, prepared, frame.Settings, frame.Messages);
+
+  const tetdsr::Renderer caster(prepared.GetSurface(frame.Values, this->NumberOfThreads),
+    frame.Rays, frame.Settings, in.BlockImage(frame));
+  vtkOpenGLRenderWindow* window = frame.Window;
+  const tetdsr::NodeId done = adapter::Cast(
+    caster, false, this->NumberOfThreads, [window]() { return window->CheckAbortStatus() != 0; },
+    [](double) {});
+  if (done < caster.numberOfTiles())
+  {
+    return false;
+  }
+  if (frame.SeveralBlocks())
+  {
+    in.KeepNearest(frame.Pixels());
+  }
+  return true;
 }
 
 //------------------------------------------------------------------------------

@@ -45,10 +45,12 @@
 
 #include "TetDSRRenderingModule.h" // for export macro
 #include "vtkMapper.h"
+#include "vtkNew.h" // for vtkNew
 
 #include <memory> // for std::unique_ptr
 
 class vtkContourValues;
+class vtkUnstructuredGrid;
 
 class TETDSRRENDERING_EXPORT vtkDirectSurfaceMapper : public vtkMapper
 {
@@ -161,7 +163,7 @@ protected:
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
 
-  vtkContourValues* ContourValues;
+  vtkNew<vtkContourValues> ContourValues;
   bool AutoAdjustSampleDistances = true;
   double MaximumImageSampleDistance = 8.0;
   double InteractiveImageSampleDistance = 2.0;
@@ -176,8 +178,27 @@ private:
   vtkDirectSurfaceMapper(const vtkDirectSurfaceMapper&) = delete;
   void operator=(const vtkDirectSurfaceMapper&) = delete;
 
+  struct Frame;
   /// Casts and draws: opaque surfaces with depth, or translucent ones blended over the frame.
   void Draw(vtkRenderer* renderer, vtkActor* actor, bool translucent);
+  /// The input's unstructured grids, by flat index; forgets the prepared meshes of blocks it no
+  /// longer has. False, with an error, when it has none.
+  bool CollectBlocks(Frame& frame);
+  /// Level of detail: 1 for a still render, else a reduced resolution (pixels a ray along each
+  /// axis) sized to the actor's allocated render time.
+  double ChooseSampleDistance(const Frame& frame);
+  /// Everything the image depends on (matrices, cast size, modification times, lights, and the
+  /// opaque depth under translucent surfaces): an unchanged signature re-uses the last image.
+  void ComputeSignature(Frame& frame);
+  /// The iso-values, the clipping planes in model coordinates and the actor's material; false,
+  /// with the errors, when they cannot be cast.
+  bool ConvertSettings(Frame& frame);
+  /// Casts every block into one image, reporting what they skipped; false when there is nothing
+  /// to draw (aborted, or no cell rendered).
+  bool CastBlocks(Frame& frame);
+  /// Casts one block (the nearest surface of several blocks wins); false when aborted. A block
+  /// that cannot be rendered is skipped, with messages saying why.
+  bool CastBlock(Frame& frame, unsigned int index, vtkUnstructuredGrid* grid);
   /// The renderer's EndEvent: draws the translucent surfaces a render asked for.
   void DrawDeferred(vtkObject* renderer, unsigned long event, void* data);
   bool IsTranslucent(vtkActor* actor);
