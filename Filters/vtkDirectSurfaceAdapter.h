@@ -1,10 +1,10 @@
 // The one layer between VTK and the VTK-free core, shared by every VTK face of TetDSR (the
-// filter vtkDirectSurfaceRayCaster and the mapper vtkDirectSurfaceMapper): it checks VTK data
-// against the sizes it claims, converts it to the core's inputs once, keeps the prepared scene
-// while nothing it was built from changes, turns VTK settings (iso-values, lookup tables,
-// clipping planes) into the core's, and casts an image on VTK's threads. It never prints:
-// problems come back as messages, which each face reports through its own vtkErrorMacro /
-// vtkWarningMacro.
+// filter vtkDirectSurfaceRayCaster and the mapper vtkDirectSurfaceMapper): it hands VTK's arrays
+// to the core's mesh contract (tetdsr/MeshInput.h, which checks and converts them), keeps the
+// prepared scene while nothing it was built from changes, turns VTK settings (iso-values, lookup
+// tables, clipping planes) into the core's (tetdsr/Settings.h, which checks them), and casts an
+// image on VTK's threads. It decides nothing and writes no sentence: the core's messages are
+// reported by vtkDirectSurfaceReporting.h.
 //
 // Not wrapped for Python: a C++ helper of the TetDSR modules.
 #ifndef vtkDirectSurfaceAdapter_h
