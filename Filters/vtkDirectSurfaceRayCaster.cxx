@@ -856,7 +856,8 @@ bool vtkDirectSurfaceRayCaster::ChooseArraysAndSettings(
   }
   ok = ok &&
     adapter::ConvertClipPlanes(this->ClippingPlanes, run.ClipPlanes, run.Messages);
-  run.ColorMapped = this->ColorByArray || (this->Capping != NO_CAP && !run.ClipPlanes.empty());
+  run.ColorMapped =
+    tetdsr::isColorMapped(this->ColorByArray, this->Capping != NO_CAP, run.ClipPlanes.size());
   ok = run.Processes.All(ok);
   adapter::ReportMessages(this, run.Messages);
   return ok;
@@ -930,7 +931,7 @@ void vtkDirectSurfaceRayCaster::ChooseShading(Execution& run)
     return;
   }
   double range[2] = { this->ColorRange[0], this->ColorRange[1] };
-  if (!(range[0] <= range[1]) || !std::isfinite(range[0]) || !std::isfinite(range[1]))
+  if (!tetdsr::isUsableColorRange(range[0], range[1]))
   {
     // The colour array's finite range (-1: the magnitude's), else the field's, over every piece.
     ProcessGroup::EmptyRange(range);

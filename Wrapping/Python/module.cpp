@@ -392,17 +392,12 @@ void Member(nb::class_<PySettings>& settings, const char* name, T tetdsr::Render
     name, [member](PySettings& s) -> T& { return s.Core.*member; },
     [member](PySettings& s, const T& value) { s.Core.*member = value; });
 }
-} // namespace
 
-NB_MODULE(_core, m)
+// The module, part by part.
+
+/// The core's messages.
+void BindMessages(nb::module_& m)
 {
-  m.doc() = "The VTK-free TetDSR core: meshes of 10- and 4-node tetrahedra, the settings every "
-            "face shares with their checks and messages, and ray-cast images.";
-  // ParaView finalizes Python while its proxies still hold Python algorithms (and so meshes):
-  // nanobind would list those as leaks at every pvpython exit.
-  nb::set_leak_warnings(false);
-
-  // -- messages
   nb::class_<tetdsr::Messages>(m, "Messages",
     "What the core tells a user: errors (nothing rendered) and warnings (something skipped).")
     .def(nb::init<>())
@@ -410,8 +405,11 @@ NB_MODULE(_core, m)
     .def_ro("warnings", &tetdsr::Messages::warnings)
     .def_prop_ro("ok", &tetdsr::Messages::ok)
     .def("clear", [](tetdsr::Messages& messages) { messages = tetdsr::Messages(); });
+}
 
-  // -- enumerations
+/// The enumerations of the settings.
+void BindEnumerations(nb::module_& m)
+{
   nb::enum_<tetdsr::NormalMode>(m, "NormalMode")
     .value("EXACT_GRADIENT", tetdsr::NormalMode::ExactGradient)
     .value("CENTRAL_DIFFERENCES", tetdsr::NormalMode::CentralDifferences)
@@ -431,8 +429,11 @@ NB_MODULE(_core, m)
   nb::enum_<tetdsr::InputArray>(m, "InputArray")
     .value("FIELD", tetdsr::InputArray::Field)
     .value("COLOR", tetdsr::InputArray::Color);
+}
 
-  // -- the settings structs, with the core's defaults
+/// The settings structs, with the core's defaults.
+void BindSettings(nb::module_& m)
+{
   nb::class_<tetdsr::Camera>(m, "Camera", "vtkCamera's frame and projection.")
     .def(nb::init<>())
     .def_rw("position", &tetdsr::Camera::position)
@@ -511,8 +512,11 @@ NB_MODULE(_core, m)
   Member(settings, "clip_planes", &tetdsr::RenderSettings::clipPlanes);
   Member(settings, "cap", &tetdsr::RenderSettings::cap);
   settings.def_rw("color_by", &PySettings::ColorBy, nb::arg().none(), "a ColorByArray, or None");
+}
 
-  // -- constants every face shares
+/// Constants every face shares.
+void BindConstants(nb::module_& m)
+{
   m.attr("BYTES_PER_PIXEL") = tetdsr::kBytesPerPixel;
   m.attr("COLOR_TABLE_SIZE") = tetdsr::kColorTableSize;
   m.attr("PROGRESS_STEPS") = tetdsr::kProgressSteps;
@@ -521,8 +525,11 @@ NB_MODULE(_core, m)
   m.attr("MAX_STYLE_INDEX") = tetdsr::IsoValueStyles::kMaxIndex;
   m.attr("TILE_SIZE") = tetdsr::Renderer::kTileSize;
   m.attr("MAX_CELLS") = tetdsr::Scene::kMaxCells;
+}
 
-  // -- the checks, writing the core's messages
+/// The checks, writing the core's messages.
+void BindChecks(nb::module_& m)
+{
   m.def("check_mesh_not_empty", &tetdsr::checkMeshNotEmpty, "number_of_points"_a,
     "number_of_cells"_a, "messages"_a);
   m.def("check_iso_values", &tetdsr::checkIsoValues, "values"_a, "messages"_a);
@@ -621,6 +628,10 @@ NB_MODULE(_core, m)
     .def_ro("space", &tetdsr::ColorMap::space)
     .def_ro("points", &tetdsr::ColorMap::points)
     .def_ro("nan_color", &tetdsr::ColorMap::nanColor);
+  m.def("is_color_mapped", &tetdsr::isColorMapped, "color_by_array"_a, "capping"_a,
+    "clip_planes"_a, "Whether the image has colour values: colouring by an array, or caps.");
+  m.def("is_usable_color_range", &tetdsr::isUsableColorRange, "lo"_a, "hi"_a,
+    "Whether a colour range the user set is used as it is (else the data's finite range).");
   m.def("built_in_color_map", &tetdsr::builtInColorMap, "which"_a, nb::rv_policy::reference,
     "0 cool to warm (also any unknown number), 1 rainbow, 2 grayscale, 3 black body.");
   m.def("sample_color_table", &tetdsr::sampleColorTable, "color_of"_a, "table_lo"_a, "table_hi"_a,
@@ -635,8 +646,11 @@ NB_MODULE(_core, m)
     },
     "bounds"_a, "aspect"_a,
     "The camera vtkRenderer::ResetCamera would place to see the box (looking down -z).");
+}
 
-  // -- the mesh
+/// The mesh.
+void BindMesh(nb::module_& m)
+{
   nb::class_<PyPreparedMesh>(m, "PreparedMesh",
     "A mesh as VTK holds it, checked and validated cell by cell into the core's scene; keeps the "
     "arrays it views alive until the next prepare.")
@@ -688,8 +702,11 @@ NB_MODULE(_core, m)
       "A point array's values as an (n, k) float64 array: viewed when float64, else converted and "
       "kept until another array or stamp is asked for (valid until then). None, with an error "
       "naming `role`, when it has fewer tuples than the mesh has points.");
+}
 
-  // -- images
+/// Images.
+void BindImages(nb::module_& m)
+{
   nb::class_<PyRenderer>(m, "Renderer",
     "One image of a PreparedMesh: rays from a camera, written into the given arrays, whose "
     "shapes give the size: depth (height, width), colors (height, width, 4) uint8, normals "
@@ -734,4 +751,22 @@ NB_MODULE(_core, m)
       "Casts every tile in PROGRESS_STEPS steps on `threads` threads (0: all cores) without the "
       "GIL, asking abort() before each step and telling progress(fraction) after it; then the "
       "depth-buffer normals' pass (NormalMode.DEPTH_BUFFER). Returns the tiles cast.");
+}
+
+} // namespace
+
+NB_MODULE(_core, m)
+{
+  m.doc() = "The VTK-free TetDSR core: meshes of 10- and 4-node tetrahedra, the settings every "
+            "face shares with their checks and messages, and ray-cast images.";
+  // ParaView finalizes Python while its proxies still hold Python algorithms (and so meshes):
+  // nanobind would list those as leaks at every pvpython exit.
+  nb::set_leak_warnings(false);
+  BindMessages(m);
+  BindEnumerations(m);
+  BindSettings(m);
+  BindConstants(m);
+  BindChecks(m);
+  BindMesh(m);
+  BindImages(m);
 }

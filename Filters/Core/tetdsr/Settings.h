@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include <cfloat>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <string>
@@ -188,6 +189,20 @@ enum class BuiltInColorMap
 
 /// One of the built-in maps; any other number gives CoolToWarm.
 const ColorMap& builtInColorMap(int which);
+
+/// Whether an image is colour-mapped (it has colour values): colouring by an array, or caps of
+/// the field on clipping planes.
+inline bool isColorMapped(bool colorByArray, bool capping, std::size_t clipPlanes)
+{
+  return colorByArray || (capping && clipPlanes > 0);
+}
+
+/// Whether a colour range the user set is used as it is; else (lo > hi, or not finite: VTK's
+/// "unset") the data's finite range is.
+inline bool isUsableColorRange(double lo, double hi)
+{
+  return lo <= hi && std::isfinite(lo) && std::isfinite(hi);
+}
 
 /// A colour table for `lo`..`hi` sampled from a lookup table (colorOf(value), which spans
 /// tableLo..tableHi) at kColorTableSize evenly spaced values; NaN's colour is colorOf(NaN).

@@ -11,7 +11,6 @@ tile on all cores, writing straight into the output's VTK arrays.
 
 Not here (the C++ build has them): distributed rendering over a vtkMultiProcessController.
 """
-import math
 import weakref
 
 import numpy as np
@@ -643,7 +642,8 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
             return self._report(messages)
 
         # The output arrays, which the core writes in place (numpy views of VTK's memory).
-        color_mapped = s["ColorByArray"] or (s["Capping"] != self.NO_CAP and len(clip_planes) > 0)
+        color_mapped = _core.is_color_mapped(s["ColorByArray"], s["Capping"] != self.NO_CAP,
+                                             len(clip_planes))
         arrays = {}
         try:
             for name, array_type, components in (
@@ -669,7 +669,7 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         settings = self._render_settings(camera, len(values), clip_planes)
         if color_mapped:
             lo, hi = s["ColorRange"]
-            if not (lo <= hi and math.isfinite(lo) and math.isfinite(hi)):
+            if not _core.is_usable_color_range(lo, hi):
                 # The colour array's finite range (-1: the magnitude's), else the field's.
                 lo, hi = (_core.finite_range(_as_numpy(color_array), color_component)
                           if color_array is not None
