@@ -5,7 +5,8 @@
 //   validate    geometry checks of a cell whose ids and values Scene has read (CellStatus bits)
 //   valueBound  the transverse test's range of the field over the cell (which iso-values it holds)
 //   extent      a box around every point of the cell
-//   record      what a ray test needs, computed once per transverse cell (CellRecord)
+//   record      what a ray test needs, computed once per transverse cell (CellRecord), from its
+//               first kRecordNodes nodes
 //   intersect   the first crossing of an iso-value along a ray, within [tMin, tLimit]
 //   contains    whether a point lies in the cell, and its barycentric coordinates there
 //   coordinates a point's barycentric coordinates, outside the cell too (the map's extension)

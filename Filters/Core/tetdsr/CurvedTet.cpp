@@ -192,7 +192,7 @@ bool linearise(const BernsteinForm* equations, const double L[4], Linearisation&
 {
   for (int k = 0; k < n; ++k)
   {
-    at.F[k] = equations[k].bilinear(L, L, n);
+    at.F[k] = equations[k].bilinear<n>(L, L);
     formGradient<n>(equations[k], L, at.J[k]);
   }
   return invert<n>(at.J, at.inverse);
@@ -398,7 +398,8 @@ void pushNearerLast(Piece* stack, int& top, const Piece children[2], const Berns
     double centre[2][4];
     centreOf<n>(children[0], centre[0]);
     centreOf<n>(children[1], centre[1]);
-    nearer = objective->bilinear(centre[1], centre[1], n) < objective->bilinear(centre[0], centre[0], n);
+    nearer = objective->bilinear<n>(centre[1], centre[1]) <
+      objective->bilinear<n>(centre[0], centre[0]);
   }
   stack[top++] = children[1 - nearer];
   stack[top++] = children[nearer];
@@ -765,7 +766,7 @@ private:
   /// Keeps L (a root of the current level inside the simplex) if it is the nearest so far.
   bool keep(const double L[4], bool certified)
   {
-    const double value = Objective_ ? Objective_->bilinear(L, L, n) : 0.0;
+    const double value = Objective_ ? Objective_->bilinear<n>(L, L) : 0.0;
     if (Objective_ && !(value >= Lo_ && value <= Best_))
     {
       return false;

@@ -59,6 +59,9 @@ struct CurvedTetCell
     return QuadraticTetCell::interpolate(values, L);
   }
 
+  /// The nodes its record is made from: none (the ray test reads them from the mesh).
+  static constexpr int kRecordNodes = 0;
+
   /// record: only the kind (the cell is solved from the mesh: its nodes and values are read
   /// for each ray test); `cell` keeps its id and value range.
   static void record(const glm::dvec3[kCellNodes], const double[kCellNodes], CellRecord& cell)

@@ -118,7 +118,9 @@ struct BernsteinForm
   }
 
   /// u^T B v over indices 0..n: the blossom (polar form) of q, which is q(L) at u = v = L.
-  double bilinear(const double u[4], const double v[4], int n = 3) const
+  /// A template on n, so the innermost ray test's loops (n = 3) unroll.
+  template <int n = 3>
+  double bilinear(const double u[4], const double v[4]) const
   {
     double sum = 0.0;
     for (int i = 0; i <= n; ++i)

@@ -30,6 +30,8 @@ struct QuadraticTetCell
   /// (isoparametric). Treating a cell straight moves its surface by about the offset: below
   /// this, by less than 1e-13 of the cell for double coordinates.
   static constexpr double kCurvedRoundings = 64.0;
+  /// The nodes its record is made from: the vertices (the map is affine).
+  static constexpr int kRecordNodes = 4;
 
   /// validate: size, volume and orientation of the cell's 10 finite nodes, and whether a
   /// mid-edge node is off its edge (kCurved: the cell is then CurvedTetCell's). `pointRounding`

@@ -410,17 +410,17 @@ std::uint16_t Scene::validate(
   return flags;
 }
 
-void Scene::loadNodes(NodeId cellId, glm::dvec3 nodes[kCellNodes]) const
+void Scene::loadNodes(NodeId cellId, glm::dvec3 nodes[kCellNodes], int needed) const
 {
   const NodeId* ids = nodeIds(cellId);
   const bool linear = Mesh_.cellTypes[cellId] == kVtkTetra;
-  const int count = linear ? LinearTetCell::kNodes : kCellNodes;
+  const int count = std::min(needed, linear ? LinearTetCell::kNodes : kCellNodes);
   for (int n = 0; n < count; ++n)
   {
     const double* p = Mesh_.points + 3 * ids[n];
     nodes[n] = glm::dvec3(p[0], p[1], p[2]);
   }
-  if (linear)
+  if (linear && needed > LinearTetCell::kNodes)
   {
     LinearTetCell::complete(nodes);
   }
@@ -486,13 +486,13 @@ void Scene::prepareCell(NodeId cellId, CellRecord& cell) const
 {
   cell.cellId = static_cast<std::uint32_t>(cellId);
   cell.kind = CellRecord::Kind::Empty;
-  glm::dvec3 nodes[kCellNodes];
   double values[kCellNodes];
-  loadNodes(cellId, nodes);
   loadValues(cellId, values, Mesh_.values);
-  // The range the transverse test gives (which iso-values the cell can hold).
   forKind(kindOf(cellId), [&](auto kind) {
     using Kind = decltype(kind);
+    glm::dvec3 nodes[kCellNodes];
+    loadNodes(cellId, nodes, Kind::kRecordNodes); // only what the record is made from
+    // The range the transverse test gives (which iso-values the cell can hold).
     Kind::valueBound(values, Transverse_, cell.valueLo, cell.valueHi);
     Kind::record(nodes, values, cell);
   });

@@ -230,8 +230,8 @@ private:
 
   /// A cell's point ids (nodeCount of its type: the caller checked them).
   const NodeId* nodeIds(NodeId cellId) const { return Mesh_.connectivity + Mesh_.offsets[cellId]; }
-  /// A cell's 10 node positions (a linear tet completed: LinearTetCell).
-  void loadNodes(NodeId cellId, glm::dvec3 nodes[kCellNodes]) const;
+  /// A cell's first `needed` of its 10 node positions (a linear tet completed: LinearTetCell).
+  void loadNodes(NodeId cellId, glm::dvec3 nodes[kCellNodes], int needed = kCellNodes) const;
   /// A point array's values at a cell's 10 nodes (a linear tet's completed).
   void loadValues(NodeId cellId, double values[kCellNodes], const double* pointValues,
     int components = 1, int component = 0) const;
