@@ -1,7 +1,7 @@
 """The pip route with PyVista: the exact isosurface speed = 0.25 of the expansion flow, coloured by
 pressure, with PyVista's outline of the mesh, in an interactive window or saved.
 
-    pip install ".[pyvista]"          # from a clone; see the README's "pip" section
+    pip install ".[pyvista]"          # from a clone; see docs/pip-and-pyvista.md
     python Examples/pyvista_isosurface.py [Data/expansion_flow.vtu] [--save picture.png]
 """
 import argparse

@@ -1,5 +1,5 @@
 // The stability cases of Testing/Core/StabilityCases.h through the VTK filter and through
-// vtkContourFilter, against the same analytic truth. Prints the table the README shows and
+// vtkContourFilter, against the same analytic truth. Prints the table docs/accuracy.md shows and
 // asserts TetDSR's targets (no miss, no false hit, depth <= 1e-9 of the diagonal, normals
 // within 1e-6 rad); vtkContourFilter's figures are reported, not asserted.
 #include "LatticeGrid.h"

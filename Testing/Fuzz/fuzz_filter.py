@@ -677,14 +677,14 @@ def set_more_options(case, caster):
 
 
 def ray_budget(case, size):
-    """The image size, capped where every ray tests 65,536+ coincident cells (the cost the README
+    """The image size, capped where every ray tests 65,536+ coincident cells (the cost docs/reliability-and-limits.md
     states): a few rays exercise the hierarchy's counts as well as many, within the hang timeout
     under ASan."""
     if "duplicate_cells" in case.active and min(size) > 0:
         size = (min(size[0], 8), min(size[1], 8))
         if "curved" in case.active:
             # A curved copy costs a subdivision solve per ray, not a closed form: 1 to 6 s per
-            # ray for 65,536 copies in the release build (README, Limits), about 5 times that
+            # ray for 65,536 copies in the release build (docs/reliability-and-limits.md), about 5 times that
             # under ASan: one ray.
             size = (min(size[0], 1), min(size[1], 1))
     return size

@@ -1,4 +1,4 @@
-"""The scene of the README's ParaView screenshot (Examples/images/paraview_direct_surface.png): the
+"""The scene of the ParaView screenshot in the README and docs/paraview.md (Examples/images/paraview_direct_surface.png): the
 expansion flow's isosurface speed = 0.25 as "Direct Surface", coloured by pressure, among a slice
 coloured by speed and the domain's outline. Run it in the GUI from the repository's root, then
 take the window:
