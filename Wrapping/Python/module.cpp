@@ -217,10 +217,11 @@ tetdsr::ArrayView ViewOf(const AnyArray& array, const std::string& name, const c
   return view;
 }
 
-/// The core's PreparedMesh, the numpy arrays its scene views and copies of the ones whose
-/// values it trusts after validation (cell types, offsets, connectivity: an in-place numpy edit
-/// of an id must not make it read out of bounds). `Generation` counts prepares, so that a
-/// Renderer of an earlier scene refuses to cast instead of reading freed memory.
+/// The core's PreparedMesh and copies of the arrays its scene views: the core trusts what it
+/// validated (ids in range, finite coordinates and values), so an in-place numpy edit of the
+/// caller's arrays afterwards (an id set to 10^12, a point to NaN) must not reach it: a kept
+/// scene renders what was prepared until the next prepare. `Generation` counts prepares, so that
+/// a Renderer of an earlier scene refuses to cast instead of reading freed memory.
 ///
 /// Threads (Python threads run the calls below with the GIL released): `SceneLock` is held
 /// exclusively by prepare and shared by everything that reads the scene (a cast holds it
@@ -230,7 +231,6 @@ tetdsr::ArrayView ViewOf(const AnyArray& array, const std::string& name, const c
 struct PyPreparedMesh
 {
   tetdsr::PreparedMesh Core;
-  std::vector<AnyArray> Viewed;
   std::vector<std::vector<unsigned char>> Copied;
   std::uint64_t Generation = 0;
   std::shared_ptr<const tetdsr::SurfaceIndex> Surface; // of the last iso-values asked for
@@ -261,6 +261,10 @@ Lock LockWithoutGil(Mutex& mutex)
 using SharedLock = std::shared_lock<std::shared_mutex>;
 using ExclusiveLock = std::unique_lock<std::shared_mutex>;
 
+/// Casts running in this thread (whose abort / progress callbacks run Python): a prepare from
+/// one of them would wait forever for the cast's own lock.
+thread_local int tCasts = 0;
+
 /// The view of a copy of `array`'s bytes, kept in `store`.
 tetdsr::ArrayView CopyOf(const AnyArray& array, const char* what, std::vector<unsigned char>& store)
 {
@@ -278,19 +282,24 @@ bool Prepare(PyPreparedMesh& self, AnyArray points, AnyArray cellTypes, AnyArray
   AnyArray connectivity, AnyArray field, const std::string& fieldName, int component,
   const tetdsr::TransverseTest& transverse, int threads, tetdsr::Messages& messages)
 {
+  if (tCasts > 0)
+  {
+    throw nb::value_error("prepare was called from a cast's abort or progress callback: prepare "
+                          "once the cast has returned");
+  }
   ExclusiveLock lock = LockWithoutGil<ExclusiveLock>(self.SceneLock);
   ++self.Generation; // every Renderer made before refuses to cast from now on
   self.Surface.reset();
   self.SurfaceValues.clear();
-  std::vector<std::vector<unsigned char>> copies(3);
+  std::vector<std::vector<unsigned char>> copies(5);
   tetdsr::MeshArrays arrays;
-  arrays.points = ViewOf(points, "", "points");
-  arrays.cellTypes = CopyOf(cellTypes, "cell_types", copies[0]);
-  arrays.offsets = CopyOf(offsets, "offsets", copies[1]);
-  arrays.connectivity = CopyOf(connectivity, "connectivity", copies[2]);
-  arrays.field = ViewOf(field, fieldName, "field");
+  arrays.points = CopyOf(points, "points", copies[0]);
+  arrays.cellTypes = CopyOf(cellTypes, "cell_types", copies[1]);
+  arrays.offsets = CopyOf(offsets, "offsets", copies[2]);
+  arrays.connectivity = CopyOf(connectivity, "connectivity", copies[3]);
+  arrays.field = CopyOf(field, "field", copies[4]);
+  arrays.field.name = fieldName;
   arrays.fieldComponent = component;
-  self.Viewed = { points, field };
   self.Copied = std::move(copies);
   nb::gil_scoped_release release;
   return self.Core.prepare(arrays, transverse, CellsFor(threads), messages);
@@ -741,8 +750,8 @@ void BindChecks(nb::module_& m)
 void BindMesh(nb::module_& m)
 {
   nb::class_<PyPreparedMesh>(m, "PreparedMesh",
-    "A mesh as VTK holds it, checked and validated cell by cell into the core's scene; keeps the "
-    "arrays it views alive until the next prepare.")
+    "A mesh as VTK holds it, copied, checked and validated cell by cell into the core's scene "
+    "(edits of the arrays given do not reach it: prepare again).")
     .def(nb::init<>())
     .def("prepare", &Prepare, "points"_a, "cell_types"_a, "offsets"_a, "connectivity"_a,
       "field"_a, "field_name"_a = "", "component"_a = 0,
@@ -859,8 +868,14 @@ void BindImages(nb::module_& m)
         std::unique_lock<std::mutex> casting(*r.Casting, std::try_to_lock);
         if (!casting.owns_lock())
         {
-          throw nb::value_error("this Renderer is casting in another thread: make one per thread");
+          throw nb::value_error("this Renderer is casting already (in another thread, or this "
+                                "is its own callback): make one Renderer per thread");
         }
+        struct CastCount
+        {
+          CastCount() { ++tCasts; }
+          ~CastCount() { --tCasts; }
+        } counted;
         // Python is called between steps only, with the GIL; tiles are cast without it.
         auto askAbort = [&]() {
           nb::gil_scoped_acquire acquire;
