@@ -273,3 +273,183 @@ def test_pyvista_two_isosurfaces_occlude_each_other():
         assert red_left > 500, f"expected the red sphere once the white one is removed, got {red_left} red pixels"
     """)
     print(out)
+
+
+# -- calls out of order and values the API once accepted silently (in this process: none of
+#    these ever crashed)
+
+def _tet_mesh_arrays(id_dtype=np.int64):
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
+    edges = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
+    points = np.vstack([v, [(v[a] + v[b]) / 2 for a, b in edges]])
+    return dict(points=points, cell_types=np.array([24], np.uint8),
+                offsets=np.array([0, 10]).astype(id_dtype), connectivity=np.arange(10).astype(id_dtype),
+                field=points[:, 0].copy())
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32, np.uint64, np.int16])
+def test_core_non_integer_or_narrow_cell_ids_refused(dtype):
+    """Cell ids of float64 (or another type than int32 / int64) are refused with the core's
+    sentence, never truncated."""
+    from tetdsr import _core
+    messages = _core.Messages()
+    ready = _core.PreparedMesh().prepare(**_tet_mesh_arrays(dtype), messages=messages)
+    expected = ("The input's cell offsets and connectivity must be arrays of 32- or 64-bit "
+                "integers with one component.")
+    assert not ready and messages.errors == [expected], f"expected [{expected!r}], got {messages.errors}"
+
+
+def _caster_with_messages(data):
+    import scenes
+    from shared_helpers import Messages
+    from tetdsr import vtkDirectSurfaceRayCaster
+    caster, keep, _ = scenes.sphere_in_cell(vtkDirectSurfaceRayCaster, data)
+    return caster, keep, Messages(caster)
+
+
+def test_filter_setters_refuse_wrong_types_and_nan(data):
+    from vtkmodules.vtkCommonDataModel import vtkPlane
+    from vtkmodules.vtkRenderingCore import vtkCamera
+    caster, keep, messages = _caster_with_messages(data)
+    before = caster.GetSurfaceColor(), caster.GetColorRange(), caster.GetLightPosition()
+    for setter, args, expected in (
+            ("SetCamera", (vtkPlane(),), "SetCamera takes a vtkCamera or None, got vtkPlane"),
+            ("SetLookupTable", (vtkPlane(),), "SetLookupTable takes a vtkScalarsToColors or None, got vtkPlane"),
+            ("SetClippingPlanes", (vtkPlane(),), "SetClippingPlanes takes a vtkPlaneCollection or None, got vtkPlane"),
+            ("AddClippingPlane", ("plane",), "AddClippingPlane takes a vtkPlane, got str"),
+            ("SetNormalMode", (2.7,), "SetNormalMode takes an integer, got 2.7"),
+            ("SetImageSize", (64.5, 48), "SetImageSize takes an integer, got 64.5"),
+            ("SetNumberOfThreads", ("4",), "SetNumberOfThreads takes an integer, got '4'"),
+            ("SetAmbient", ("0.3",), "SetAmbient takes numbers, got ('0.3',)"),
+            ("SetSurfaceColor", (1, "red", 0), "SetSurfaceColor takes numbers, got (1, 'red', 0)")):
+        with pytest.raises(TypeError) as raised:
+            getattr(caster, setter)(*args)
+        assert str(raised.value) == expected, f"expected {expected!r}, got {str(raised.value)!r}"
+    caster.SetSurfaceColor(float("nan"), 0, 0)
+    caster.SetColorRange(0.0, float("inf"))
+    caster.SetLightPosition(1, float("nan"), 0)
+    caster.SetAmbient(float("nan"))
+    assert messages.errors == [
+        "SurfaceColor must be finite numbers, got (nan, 0.0, 0.0): SurfaceColor is unchanged.",
+        "ColorRange must be finite numbers, got (0.0, inf): ColorRange is unchanged.",
+        "LightPosition must be finite numbers, got (1.0, nan, 0.0): LightPosition is unchanged.",
+        "Ambient must be a number, got NaN."], messages.errors
+    after = caster.GetSurfaceColor(), caster.GetColorRange(), caster.GetLightPosition()
+    assert after == before, f"expected the settings kept {before}, got {after}"
+    caster.SetNormalMode(7)
+    caster.SetNumberOfThreads(-2)
+    assert caster.GetNormalMode() == 3 and caster.GetNumberOfThreads() == 0
+    assert messages.warnings == ["NormalMode 7 is outside [0, 3]: 3 is used.",
+                                 "NumberOfThreads -2 is outside [0, 2147483647]: 0 is used."], messages.warnings
+    caster.SetNormalMode(np.int64(1))  # numpy integers are integers
+    assert caster.GetNormalMode() == 1
+
+
+def test_filter_says_why_nothing_is_drawn():
+    """An empty grid, an all-NaN field and an empty multiblock: an error each (the empty
+    multiblock executed nothing and said nothing)."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkUnstructuredGrid
+    import scenes
+    from shared_helpers import Messages
+    from tetdsr import vtkDirectSurfaceRayCaster
+    points, cells = scenes.lattice(1)
+    nan_grid = scenes.grid(points, cells, {"f": np.full(len(points), np.nan)})
+    empty_blocks = vtkMultiBlockDataSet()
+    empty_blocks.SetNumberOfBlocks(2)
+    empty_blocks.SetBlock(0, vtkUnstructuredGrid())
+    for data, expected in ((vtkUnstructuredGrid(), "The input mesh is empty"),
+                           (nan_grid, "all 6 input cells were skipped"),
+                           (vtkMultiBlockDataSet(), "The input mesh is empty"),
+                           (empty_blocks, "The input mesh is empty")):
+        caster = vtkDirectSurfaceRayCaster()
+        messages = Messages(caster)
+        caster.SetInputDataObject(0, data)
+        caster.SetValue(0, 0.5)
+        caster.SetImageSize(20, 20)
+        caster.Update()
+        assert any(expected in e for e in messages.errors), (
+            f"{type(data).__name__}: expected an error with {expected!r}, got {messages.errors}")
+
+
+def test_filter_image_that_cannot_be_allocated_is_an_error(data):
+    """The output's memory comes from numpy: a size beyond what the process may allocate is the
+    core's error (pip VTK's SetNumberOfTuples threw std::bad_alloc through its wrapper)."""
+    code, out, err = run_child("""
+        import resource, scenes
+        from shared_helpers import Messages
+        from tetdsr import vtkDirectSurfaceRayCaster
+        caster, keep, _ = scenes.sphere_in_cell(vtkDirectSurfaceRayCaster, %r)
+        messages = Messages(caster)
+        # Its output arrays need 1.5 GiB (44 bytes a pixel): more than allowed below, less than
+        # the machine has (the core's check_image_size lets it through).
+        caster.SetImageSize(6000, 6000)
+        vm = int(open("/proc/self/statm").read().split()[0]) * resource.getpagesize()
+        resource.setrlimit(resource.RLIMIT_AS, (vm + 2 ** 30, resource.RLIM_INFINITY))
+        caster.Update()
+        print(messages.errors)
+        assert messages.errors == ["Cannot allocate the 6000 x 6000 output image."], messages.errors
+    """ % data, prelude="sys.path.insert(0, %r)\n" % HERE)
+    assert code == 0, f"expected exit 0, got {code}\n{out}\n{err[-2000:]}"
+
+
+def test_pyvista_arguments_refused_with_a_message(data):
+    pv = pytest.importorskip("pyvista")
+    from tetdsr.pyvista import add_isosurface
+    grid = pv.read(os.path.join(data, "sphere_in_cell.vtu"))
+    plotter = pv.Plotter(off_screen=True, window_size=(40, 30))
+    for options, error, expected in (
+            (dict(interactive_scale=float("nan")), ValueError,
+             "add_isosurface: interactive_scale must be a finite number in (0, 1], got nan"),
+            (dict(interactive_scale=0), ValueError,
+             "add_isosurface: interactive_scale must be a finite number in (0, 1], got 0"),
+            (dict(ambient=float("inf")), ValueError,
+             "add_isosurface: ambient must be a finite number in [0, 1], got inf"),
+            (dict(specular_power="high"), TypeError,
+             "add_isosurface: specular_power must be a number, got 'high'"),
+            (dict(normal_mode="phong"), ValueError,
+             "add_isosurface: normal_mode must be one of 'exact', 'central', 'nodal', 'depth', got 'phong'"),
+            (dict(threads=-1), ValueError,
+             "add_isosurface: threads must be an integer >= 0 (0: all cores), got -1"),
+            (dict(value=float("nan")), ValueError,
+             "add_isosurface: value must be a finite number, got nan"),
+            (dict(value=[]), ValueError,
+             "add_isosurface: value is an empty list: give one iso-value or more"),
+            (dict(grid=pv.UnstructuredGrid()), ValueError,
+             "add_isosurface: the grid is empty (0 points, 0 cells)"),
+            (dict(grid=pv.MultiBlock()), TypeError,
+             "add_isosurface: grid is a multiblock dataset (empty): pass one pyvista.UnstructuredGrid "
+             "(e.g. multiblock.combine())")):
+        arguments = dict(grid=grid, value=0.0) | options
+        with pytest.raises(error) as raised:
+            add_isosurface(plotter, arguments.pop("grid"), arguments.pop("value"), "sphere", **arguments)
+        assert str(raised.value) == expected, f"expected {expected!r}, got {str(raised.value)!r}"
+    assert plotter.renderer.GetLayer() == 0, "expected nothing added to the plotter"
+    plotter.close()
+
+
+def test_core_renderer_callbacks_cannot_deadlock_the_mesh():
+    """A prepare from a cast's own progress callback (which runs with the cast's lock held) and
+    a second cast of the same Renderer from it are refused, not a deadlock."""
+    code, out, err = run_child("""
+        mesh, ready, messages = prepare(TET_POINTS, np.arange(10).reshape(1, 10), TET_POINTS[:, 0].copy())
+        renderer = _core.Renderer(mesh, [0.25], camera((2.0, 1.5, 3.0)), _core.RenderSettings(), **image(64, 64))
+        refusals = []
+
+        def progress(fraction):
+            for call in (lambda: mesh.prepare(TET_POINTS, np.array([24], np.uint8), np.array([0, 10]),
+                                              np.arange(10), TET_POINTS[:, 0].copy(), messages=_core.Messages()),
+                         lambda: renderer.cast()):
+                try:
+                    call()
+                except ValueError as error:
+                    refusals.append(str(error))
+
+        assert renderer.cast(progress=progress) == renderer.number_of_tiles
+        print(sorted(set(refusals)))
+        assert sorted(set(refusals)) == [
+            "prepare was called from a cast's abort or progress callback: prepare once the cast has returned",
+            "this Renderer is casting already (in another thread, or this is its own callback): make one "
+            "Renderer per thread"], refusals
+    """, timeout=60)
+    assert code == 0, f"expected exit 0, got {code}\n{out}\n{err[-2000:]}"

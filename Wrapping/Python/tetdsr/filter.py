@@ -20,8 +20,9 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray,
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonCore import (VTK_UNSIGNED_CHAR, vtkCommand, vtkDataArray, vtkOutputWindow,
                                       vtkScalarsToColors)
-from vtkmodules.vtkCommonDataModel import (vtkDataObject, vtkDataSetAttributes, vtkImageData,
-                                           vtkPlane, vtkPlaneCollection, vtkUnstructuredGrid)
+from vtkmodules.vtkCommonDataModel import (vtkCompositeDataSet, vtkDataObject,
+                                           vtkDataSetAttributes, vtkImageData, vtkPlane,
+                                           vtkPlaneCollection, vtkUnstructuredGrid)
 from vtkmodules.vtkCommonExecutionModel import vtkAlgorithm, vtkStreamingDemandDrivenPipeline
 from vtkmodules.vtkCommonMisc import vtkContourValues
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction
@@ -116,12 +117,13 @@ def _reals(setter, values):
     raise TypeError(f"{setter} takes numbers, got {values!r}")
 
 
-def _vtk_object(setter, value, cls):
-    """`value` if it is a `cls` (or None); a TypeError naming the setter at once otherwise (not a
-    traceback from deep inside the next Update)."""
-    if value is None or isinstance(value, cls):
+def _vtk_object(setter, value, cls, none=True):
+    """`value` if it is a `cls` (or None, if `none`); a TypeError naming the setter at once
+    otherwise (not a traceback from deep inside the next Update)."""
+    if (none and value is None) or isinstance(value, cls):
         return value
-    raise TypeError(f"{setter} takes a {cls.__name__} or None, got {type(value).__name__}")
+    raise TypeError(f"{setter} takes a {cls.__name__}{' or None' if none else ''}, "
+                    f"got {type(value).__name__}")
 
 
 def _same_stamp(a, b):
@@ -475,9 +477,7 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
 
     # -- clipping and caps
     def AddClippingPlane(self, plane):
-        if plane is None:
-            raise TypeError("AddClippingPlane takes a vtkPlane, got None")
-        _vtk_object("AddClippingPlane", plane, vtkPlane)
+        _vtk_object("AddClippingPlane", plane, vtkPlane, none=False)
         if self._clipping_planes is None:
             self.SetClippingPlanes(vtkPlaneCollection())
         self._clipping_planes.AddItem(plane)  # (observed: re-executes)
@@ -563,6 +563,13 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
     # -- the pipeline
     def RequestInformation(self, request, inInfo, outInfo):
         messages = _core.Messages()
+        # A multiblock input is executed block by block: one without cells would execute
+        # nothing and say nothing.
+        data = (inInfo[0].GetInformationObject(0).Get(vtkDataObject.DATA_OBJECT())
+                if inInfo[0].GetNumberOfInformationObjects() else None)
+        if isinstance(data, vtkCompositeDataSet) and not _core.check_mesh_not_empty(
+                data.GetNumberOfPoints(), data.GetNumberOfCells(), messages):
+            return self._report(messages)
         width, height = self._settings["ImageSize"]
         if not _core.check_image_size(width, height, messages):
             return self._report(messages)

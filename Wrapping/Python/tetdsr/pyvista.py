@@ -44,8 +44,8 @@ def _number(name, value, lo=-math.inf, hi=math.inf, low_open=False):
         raise TypeError(f"add_isosurface: {name} must be a number, got {value!r}")
     number = float(value)
     if not math.isfinite(number) or number < lo or number > hi or (low_open and number == lo):
-        bounds = f"{'(' if low_open else '['}{lo:g}, {hi:g}]"
-        raise ValueError(f"add_isosurface: {name} must be a finite number in {bounds}, got {value!r}")
+        bounds = f" in {'(' if low_open else '['}{lo:g}, {hi:g}]" if math.isfinite(hi - lo) else ""
+        raise ValueError(f"add_isosurface: {name} must be a finite number{bounds}, got {value!r}")
     return number
 
 
