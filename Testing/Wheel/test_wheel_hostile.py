@@ -343,6 +343,17 @@ def test_filter_setters_refuse_wrong_types_and_nan(data):
                                  "NumberOfThreads -2 is outside [0, 2147483647]: 0 is used."], messages.warnings
     caster.SetNormalMode(np.int64(1))  # numpy integers are integers
     assert caster.GetNormalMode() == 1
+    # Iso-values: within the core's per-iso-value index range (vtkContourValues would allocate
+    # them all).
+    messages.errors.clear()
+    caster.SetValue(10 ** 9, 0.5)
+    caster.SetNumberOfContours(-1)
+    caster.GenerateValues(2 ** 31 - 1, 0.0, 1.0)
+    limit = 2 ** 20
+    assert messages.errors == [f"SetValue: index 1000000000 is outside [0, {limit}).",
+                               f"SetNumberOfContours: number -1 is outside [0, {limit}].",
+                               f"GenerateValues: count 2147483647 is outside [0, {limit}]."], messages.errors
+    assert caster.GetNumberOfContours() == 1, caster.GetNumberOfContours()
 
 
 def test_filter_says_why_nothing_is_drawn():

@@ -288,8 +288,21 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         return self.GetOutputDataObject(0)
 
     # -- iso-values, as vtkContourFilter
+    def _iso_value_count(self, setter, what, n, last):
+        """Whether `n` (an index when `last`, else a count) keeps the iso-values within the
+        core's per-iso-value index range; an error otherwise (vtkContourValues would try to
+        allocate them all: 10^9 values are 8 GB)."""
+        n = _integer(setter, n)
+        limit = _core.MAX_STYLE_INDEX
+        if 0 <= n < limit + (0 if last else 1):
+            return True
+        self._emit(vtkCommand.ErrorEvent, "ERROR",
+                   f"{setter}: {what} {n} is outside [0, {limit}{')' if last else ']'}.")
+        return False
+
     def SetValue(self, i, value):
-        self._contour_values.SetValue(i, value)
+        if self._iso_value_count("SetValue", "index", i, True):
+            self._contour_values.SetValue(i, value)
 
     def GetValue(self, i):
         return self._contour_values.GetValue(i)
@@ -298,7 +311,8 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         return tuple(self._contour_values.GetValue(i) for i in range(self.GetNumberOfContours()))
 
     def SetNumberOfContours(self, number):
-        self._contour_values.SetNumberOfContours(number)
+        if self._iso_value_count("SetNumberOfContours", "number", number, False):
+            self._contour_values.SetNumberOfContours(number)
 
     def GetNumberOfContours(self):
         return self._contour_values.GetNumberOfContours()
@@ -306,7 +320,8 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
     def GenerateValues(self, count, start, end=None):
         if end is None:
             start, end = start
-        self._contour_values.GenerateValues(count, start, end)
+        if self._iso_value_count("GenerateValues", "count", count, False):
+            self._contour_values.GenerateValues(count, start, end)
 
     # -- camera and image
     def SetCamera(self, camera):
