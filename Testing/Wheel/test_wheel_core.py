@@ -1,6 +1,6 @@
 """tetdsr._core on its own (no VTK object involved): the core's checks give the core's
 sentences, PreparedMesh reads the dtypes VTK hands over, and Renderer checks every array it is
-given (shapes, dtypes, in place) and refuses to cast once its mesh has moved on."""
+given (shapes, dtypes, in place) and refuses to cast once its mesh is prepared again."""
 import os
 import sys
 

@@ -1,9 +1,10 @@
 // tetdsr._core: the VTK-free core (Filters/Core) for Python. The wheel's whole C++ binding is
 // this file: the core's settings structs bound once as classes, its checks as functions writing
-// the core's Messages, its PreparedMesh fed with numpy arrays of the dtypes VTK hands over, and a
-// Renderer that checks every size against the arrays, keeps the arrays the core views alive and
-// casts on std::threads without the GIL. The Python filter (tetdsr/filter.py) only gets arrays
-// out of VTK objects and passes the messages on.
+// the core's Messages, its PreparedMesh fed with copies of numpy arrays of the dtypes VTK hands
+// over (shared by Python threads under a lock), and a Renderer that checks every size against the
+// arrays, keeps the surface it casts into and the arrays it writes alive, and casts on
+// std::threads without the GIL. The Python filter (tetdsr/filter.py) only gets arrays out of VTK
+// objects and passes the messages on.
 #include "tetdsr/Camera.h"
 #include "tetdsr/MeshInput.h"
 #include "tetdsr/Messages.h"
