@@ -308,7 +308,8 @@ def concurrent_renderers(core, case, points, cells, field, broken):
 # ---------------------------------------------------------------------------------------------
 # The filter
 
-HOSTILE_VALUES = [float("nan"), float("inf"), -1e300, 2.7, -3, 0, 10 ** 12, 2 ** 64, "x", None,
+HOSTILE_VALUES = [float("nan"), float("inf"), -1e300, 2.7, -3, 0, 10 ** 9, 2 ** 31 - 1, 10 ** 12,
+                  2 ** 64, "x", None,
                   (1, 2), True, np.float32(0.5), np.int64(2)]
 SETTERS = {  # setter: how many arguments
     "SetValue": 2, "SetNumberOfContours": 1, "GenerateValues": 3, "SetImageSize": 2,
@@ -414,7 +415,12 @@ def check_filter(caster, errors, broken, where, vtk_to_numpy, ncells):
         broken[where + ":incomplete-output"] = "%d points for %d x %d, no error" % (
             output.GetNumberOfPoints(), width, height)
         return
+    if width * height == 0:  # (an Update after a refused one, nothing changed: not executed)
+        return
     data = output.GetPointData()
+    if data.GetArray("Depth") is None or data.GetArray("CellId") is None:
+        broken[where + ":incomplete-output"] = "no Depth or CellId array, no error"
+        return
     out = dict(depth=vtk_to_numpy(data.GetArray("Depth")),
                cell_ids=vtk_to_numpy(data.GetArray("CellId")))
     check_image(out, ncells, broken, where)

@@ -464,3 +464,37 @@ def test_core_renderer_callbacks_cannot_deadlock_the_mesh():
             "Renderer per thread"], refusals
     """, timeout=60)
     assert code == 0, f"expected exit 0, got {code}\n{out}\n{err[-2000:]}"
+
+
+def test_core_curved_cell_with_a_node_at_1e300_is_out_of_scale():
+    """fuzz_wheel.py seed 2021 case 22212: a mid-edge node at -1e300 passed the size check (on
+    the vertices' edges) as a curved cell whose control-point box overflows; with 50 iso-values
+    the surface index over that box segfaulted. Now no such cell is kept (each is tangled or out
+    of scale, counted), the image is cast, and a camera 1e300 away is refused as in the filter."""
+    out = expect_clean_exit("""
+        points, cells = lattice(3)
+        points = points.copy()
+        node = cells[0, 4]  # a mid-edge node (of every cell that has it)
+        users = [c for c in range(len(cells)) if node in cells[c]]
+        assert all(node in cells[c, 4:] for c in users)
+        field = np.sum(points ** 2, axis=1)  # (of the unedited points: finite)
+        points[node, 0] = -1e300
+        mesh, ready, messages = prepare(points, cells, field)
+        print(mesh.summary, messages.warnings)
+        skipped = mesh.summary["out_of_scale"] + mesh.summary["tangled"]
+        assert ready and skipped == len(users) and mesh.summary["curved"] == 0, (
+            f"expected the {len(users)} cells with the node skipped (tangled or out of scale), "
+            f"none kept as curved, got {mesh.summary}")
+        bounds = mesh.bounds()
+        assert all(np.isfinite(bounds)), bounds
+        out = image(31, 31)
+        r = _core.Renderer(mesh, list(np.linspace(0, 2, 50)), camera((2.2, 1.6, 3.0), (0, 0, 0)),
+                           _core.RenderSettings(), **out)
+        assert r.cast() == r.number_of_tiles and np.isfinite(out["depth"]).sum() > 100
+        try:
+            _core.Renderer(mesh, [0.3], camera((1e300,) * 3), _core.RenderSettings(), **image(8, 8))
+            raise SystemExit("expected the camera 1e300 away refused")
+        except ValueError as error:
+            assert "scene diagonals from the scene" in str(error), str(error)
+    """)
+    print(out)

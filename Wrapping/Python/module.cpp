@@ -443,6 +443,11 @@ void InitRenderer(PyRenderer* self, nb::object meshObject, const std::vector<dou
     {
       throw nb::value_error("the PreparedMesh has no scene: its last prepare failed");
     }
+    tetdsr::Messages farCamera;
+    if (!tetdsr::checkCamera(camera, *scene, farCamera)) // (too far from this scene's cells)
+    {
+      ThrowFirstError(farCamera);
+    }
     const auto points = static_cast<std::size_t>(scene->mesh().numberOfPoints);
     if (settings.ColorBy && colorTuples < points)
     {
