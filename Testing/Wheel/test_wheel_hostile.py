@@ -498,3 +498,17 @@ def test_core_curved_cell_with_a_node_at_1e300_is_out_of_scale():
             assert "scene diagonals from the scene" in str(error), str(error)
     """)
     print(out)
+
+
+def test_pyvista_all_nan_field_says_why_nothing_is_drawn():
+    """An all-NaN field in a plotter: the background only, and the filter's error on VTK's
+    output window (stderr), not silence."""
+    code, out, err = run_child(prelude=PYVISTA_TWO, body="""
+        grid.point_data["f"] = np.full(grid.n_points, np.nan)
+        img, red, grey, pl, surfaces = shot([(0.5, "white")])
+        print("lit pixels", int((img.sum(axis=2) > 0).sum()))
+        assert int((img.sum(axis=2) > 0).sum()) == 0
+    """)
+    assert code == 0, f"expected exit 0, got {code}\n{out}\n{err[-2000:]}"
+    expected = "No cell can be rendered: all 48 input cells were skipped"
+    assert expected in err, f"expected {expected!r} on stderr, got:\n{err[-2000:]}"
