@@ -5,6 +5,7 @@
 # - pytest on Testing/Wheel: the wheel's filter against analytic truth, bad input, PyVista off
 #   screen (pip's VTK renders through EGL: no X server needed), and agreement with the C++ filter,
 #   whose outputs Testing/Wheel/cxx_reference.py writes first from build/ (ParaView's VTK 9.2);
+# - the wheel fuzzer's short form (a fixed seed);
 # - the ParaView Python plugin in Debian's pvpython 5.11 (the installed package on PYTHONPATH).
 # Needs Scripts/setup.sh's packages and its build/ (Scripts/test.sh runs it after them).
 set -euo pipefail
@@ -31,6 +32,11 @@ PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Testing/Wheel/cxx_re
   "$out/cxx_reference.npz"
 TETDSR_CXX_REFERENCE="$out/cxx_reference.npz" VTK_DEFAULT_OPENGL_WINDOW=vtkEGLRenderWindow \
   "$venv/bin/python" -m pytest -p no:cacheprovider -v -s Testing/Wheel
+
+# The wheel fuzzer's short form (Testing/Fuzz/fuzz_wheel.py: the binding and the filter given
+# hostile arrays, values, call orders and threads), fixed seed, about 30-60 s on a loaded machine.
+(cd "$out" && VTK_DEFAULT_OPENGL_WINDOW=vtkEGLRenderWindow "../../$venv/bin/python" \
+  ../../Testing/Fuzz/fuzz_wheel.py --seed 21 --cases 4000 --timeout 60 --out fuzz-wheel-failures)
 
 # pvpython sees only the installed package (not the venv's VTK): a folder holding a link to it.
 package=$("$venv/bin/python" -c "import os, tetdsr; print(os.path.dirname(tetdsr.__file__))")

@@ -1,6 +1,6 @@
 """tetdsr._core on its own (no VTK object involved): the core's checks give the core's
 sentences, PreparedMesh reads the dtypes VTK hands over, and Renderer checks every array it is
-given (shapes, dtypes, in place) and refuses to cast once its mesh has moved on."""
+given (shapes, dtypes, in place) and refuses to cast once its mesh is prepared again."""
 import os
 import sys
 
@@ -116,11 +116,20 @@ def test_renderer_checks_every_array_and_writes_in_place():
         _core.Renderer(mesh, [0.5], camera(), settings, **image(40, 50))
 
 
-def test_a_renderer_refuses_to_cast_once_its_mesh_moved_on():
+def test_a_renderer_refuses_to_cast_once_its_mesh_is_prepared_again():
+    """A Renderer keeps the surface it casts into (another Renderer's iso-values do not free
+    it), but not the scene: after a new prepare it refuses to cast."""
     mesh, _, _ = prepared()
-    first = _core.Renderer(mesh, [0.5], camera(), _core.RenderSettings(), **image(20, 20))
-    _core.Renderer(mesh, [0.2], camera(), _core.RenderSettings(), **image(20, 20))
-    with pytest.raises(ValueError, match="PreparedMesh changed"):
+    first_image, second_image = image(20, 20), image(20, 20)
+    first = _core.Renderer(mesh, [0.5], camera(), _core.RenderSettings(), **first_image)
+    alone = image(20, 20)
+    _core.Renderer(mesh, [0.5], camera(), _core.RenderSettings(), **alone).cast()
+    _core.Renderer(mesh, [0.2], camera(), _core.RenderSettings(), **second_image).cast()
+    assert first.cast() == first.number_of_tiles
+    assert np.array_equal(first_image["depth"], alone["depth"]), "expected the image of iso-value 0.5"
+    assert not np.array_equal(first_image["depth"], second_image["depth"])
+    mesh.prepare(**mesh_arrays(), messages=_core.Messages())
+    with pytest.raises(ValueError, match="prepared again since this Renderer was made"):
         first.cast()
 
 

@@ -1,9 +1,10 @@
 // tetdsr._core: the VTK-free core (Filters/Core) for Python. The wheel's whole C++ binding is
 // this file: the core's settings structs bound once as classes, its checks as functions writing
-// the core's Messages, its PreparedMesh fed with numpy arrays of the dtypes VTK hands over, and a
-// Renderer that checks every size against the arrays, keeps the arrays the core views alive and
-// casts on std::threads without the GIL. The Python filter (tetdsr/filter.py) only gets arrays
-// out of VTK objects and passes the messages on.
+// the core's Messages, its PreparedMesh fed with copies of numpy arrays of the dtypes VTK hands
+// over (shared by Python threads under a lock), and a Renderer that checks every size against the
+// arrays, keeps the surface it casts into and the arrays it writes alive, and casts on
+// std::threads without the GIL. The Python filter (tetdsr/filter.py) only gets arrays out of VTK
+// objects and passes the messages on.
 #include "tetdsr/Camera.h"
 #include "tetdsr/MeshInput.h"
 #include "tetdsr/Messages.h"
@@ -27,9 +28,14 @@
 #include <cstdint>
 #include <exception>
 #include <functional>
+#include <cstring>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <shared_mutex>
+#include <stdexcept>
 #include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -98,7 +104,9 @@ int ThreadCount(int requested)
 
 /// Runs body(begin, end) over [0, count) on `threads` std::threads (0: all cores), handing out
 /// chunks of `grain` indices from a shared counter (tiles differ in cost). The first exception
-/// thrown in any thread is rethrown here once all have stopped.
+/// thrown in any thread is rethrown here once all have stopped; a thread that cannot start
+/// (std::system_error: a pids or memory limit) stops the others and becomes a RuntimeError
+/// naming it, never an abort from a joinable std::thread destroyed.
 void ThreadedFor(int threads, tetdsr::NodeId count, tetdsr::NodeId grain,
   const std::function<void(tetdsr::NodeId, tetdsr::NodeId)>& body)
 {
@@ -130,14 +138,32 @@ void ThreadedFor(int threads, tetdsr::NodeId count, tetdsr::NodeId grain,
     }
   };
   std::vector<std::thread> pool;
-  for (int w = 1; w < workers; ++w)
+  pool.reserve(static_cast<std::size_t>(workers)); // (a std::bad_alloc here: before any start)
+  std::string notStarted;
+  for (int w = 1; w < workers && notStarted.empty(); ++w)
   {
-    pool.emplace_back(work);
+    try
+    {
+      pool.emplace_back(work);
+    }
+    catch (const std::system_error& error)
+    {
+      failed = true; // the threads started stop at their next chunk
+      notStarted = "Could not start thread " + std::to_string(w + 1) + " of " +
+        std::to_string(workers) + " (" + error.what() + "): ask for fewer threads.";
+    }
   }
-  work();
+  if (notStarted.empty())
+  {
+    work();
+  }
   for (std::thread& thread : pool)
   {
     thread.join();
+  }
+  if (!notStarted.empty())
+  {
+    throw std::runtime_error(notStarted);
   }
   if (failure)
   {
@@ -192,15 +218,26 @@ tetdsr::ArrayView ViewOf(const AnyArray& array, const std::string& name, const c
   return view;
 }
 
-/// The core's PreparedMesh and the numpy arrays its scene views. `Generation` counts what may
-/// move the memory a Renderer reads (a new prepare, new colour values, another surface), so that
-/// a Renderer left behind refuses to cast instead of reading freed memory.
+/// The core's PreparedMesh and copies of the arrays its scene views: the core trusts what it
+/// validated (ids in range, finite coordinates and values), so an in-place numpy edit of the
+/// caller's arrays afterwards (an id set to 10^12, a point to NaN) must not reach it: a kept
+/// scene renders what was prepared until the next prepare. `Generation` counts prepares, so that
+/// a Renderer of an earlier scene refuses to cast instead of reading freed memory.
+///
+/// Threads (Python threads run the calls below with the GIL released): `SceneLock` is held
+/// exclusively by prepare and shared by everything that reads the scene (a cast holds it
+/// throughout); `CacheLock` guards what is built on demand for a scene: the surface indices
+/// (each Renderer shares the one it casts into, so building another never frees it), the nodal
+/// gradients and the core's colour array cache. Locks are taken with the GIL released.
 struct PyPreparedMesh
 {
   tetdsr::PreparedMesh Core;
-  std::vector<AnyArray> Viewed;
-  std::optional<AnyArray> ColorViewed;
+  std::vector<std::vector<unsigned char>> Copied;
   std::uint64_t Generation = 0;
+  std::shared_ptr<const tetdsr::SurfaceIndex> Surface; // of the last iso-values asked for
+  std::vector<double> SurfaceValues;
+  mutable std::shared_mutex SceneLock;
+  std::mutex CacheLock;
 
   tetdsr::Scene& SceneOrThrow() const
   {
@@ -213,20 +250,58 @@ struct PyPreparedMesh
   }
 };
 
+/// A lock of `mutex` taken with the GIL released (a thread holding the lock may wait for the
+/// GIL: a cast's abort and progress callbacks).
+template <typename Lock, typename Mutex>
+Lock LockWithoutGil(Mutex& mutex)
+{
+  nb::gil_scoped_release release;
+  return Lock(mutex);
+}
+
+using SharedLock = std::shared_lock<std::shared_mutex>;
+using ExclusiveLock = std::unique_lock<std::shared_mutex>;
+
+/// Casts running in this thread (whose abort / progress callbacks run Python): a prepare from
+/// one of them would wait forever for the cast's own lock.
+thread_local int tCasts = 0;
+
+/// The view of a copy of `array`'s bytes, kept in `store`.
+tetdsr::ArrayView CopyOf(const AnyArray& array, const char* what, std::vector<unsigned char>& store)
+{
+  tetdsr::ArrayView view = ViewOf(array, "", what);
+  store.resize(array.nbytes());
+  if (!store.empty())
+  {
+    std::memcpy(store.data(), array.data(), store.size());
+  }
+  view.data = store.data();
+  return view;
+}
+
 bool Prepare(PyPreparedMesh& self, AnyArray points, AnyArray cellTypes, AnyArray offsets,
   AnyArray connectivity, AnyArray field, const std::string& fieldName, int component,
   const tetdsr::TransverseTest& transverse, int threads, tetdsr::Messages& messages)
 {
+  if (tCasts > 0)
+  {
+    throw nb::value_error("prepare was called from a cast's abort or progress callback: prepare "
+                          "once the cast has returned");
+  }
+  ExclusiveLock lock = LockWithoutGil<ExclusiveLock>(self.SceneLock);
+  ++self.Generation; // every Renderer made before refuses to cast from now on
+  self.Surface.reset();
+  self.SurfaceValues.clear();
+  std::vector<std::vector<unsigned char>> copies(5);
   tetdsr::MeshArrays arrays;
-  arrays.points = ViewOf(points, "", "points");
-  arrays.cellTypes = ViewOf(cellTypes, "", "cell_types");
-  arrays.offsets = ViewOf(offsets, "", "offsets");
-  arrays.connectivity = ViewOf(connectivity, "", "connectivity");
-  arrays.field = ViewOf(field, fieldName, "field");
+  arrays.points = CopyOf(points, "points", copies[0]);
+  arrays.cellTypes = CopyOf(cellTypes, "cell_types", copies[1]);
+  arrays.offsets = CopyOf(offsets, "offsets", copies[2]);
+  arrays.connectivity = CopyOf(connectivity, "connectivity", copies[3]);
+  arrays.field = CopyOf(field, "field", copies[4]);
+  arrays.field.name = fieldName;
   arrays.fieldComponent = component;
-  ++self.Generation;
-  self.Viewed = { points, cellTypes, offsets, connectivity, field };
-  self.ColorViewed.reset();
+  self.Copied = std::move(copies);
   nb::gil_scoped_release release;
   return self.Core.prepare(arrays, transverse, CellsFor(threads), messages);
 }
@@ -274,6 +349,8 @@ struct PyRenderer
 {
   nb::object MeshOwner; // the PyPreparedMesh
   std::uint64_t Generation = 0;
+  std::shared_ptr<const tetdsr::SurfaceIndex> Surface; // what Renderer casts into
+  std::unique_ptr<std::mutex> Casting = std::make_unique<std::mutex>(); // one cast at a time
   PySettings Settings;
   Array<std::uint8_t> Colors;
   Array<double> Depth;
@@ -300,6 +377,20 @@ void CheckShape(const Array<T>& array, std::size_t height, std::size_t width, st
   }
 }
 
+/// The surface index of `mesh` for `isoValues`: the last one if they are the same, else built
+/// (sharing the last one's hierarchy where it selects the same cells). Under mesh.CacheLock.
+std::shared_ptr<const tetdsr::SurfaceIndex> SurfaceFor(
+  PyPreparedMesh& mesh, const std::vector<double>& isoValues, int threads)
+{
+  if (!mesh.Surface || mesh.SurfaceValues != isoValues)
+  {
+    mesh.Surface = std::make_shared<const tetdsr::SurfaceIndex>(*mesh.Core.scene(),
+      tetdsr::IsoValues(isoValues), CellsFor(threads), mesh.Surface.get());
+    mesh.SurfaceValues = isoValues;
+  }
+  return mesh.Surface;
+}
+
 /// Renderer.__init__: checks every argument, then constructs the renderer in place at `self`.
 void InitRenderer(PyRenderer* self, nb::object meshObject, const std::vector<double>& isoValues,
   const tetdsr::Camera& camera, const PySettings& settings, Array<std::uint8_t> colors,
@@ -307,7 +398,6 @@ void InitRenderer(PyRenderer* self, nb::object meshObject, const std::vector<dou
   std::optional<Array<double>> colorValues, int threads)
 {
   PyPreparedMesh& mesh = nb::cast<PyPreparedMesh&>(meshObject);
-  tetdsr::Scene& scene = mesh.SceneOrThrow();
   tetdsr::Messages messages;
   if (!tetdsr::checkIsoValues(isoValues, messages) || !tetdsr::checkCamera(camera, messages) ||
     !tetdsr::checkClipPlanes(settings.Core.clipPlanes, messages))
@@ -329,32 +419,13 @@ void InitRenderer(PyRenderer* self, nb::object meshObject, const std::vector<dou
     CheckShape(*colorValues, height, width, 1, "color_values");
   }
   const tetdsr::RenderSettings& core = settings.Core;
-  if (settings.ColorBy &&
-    settings.ColorBy->Values.shape(0) < static_cast<std::size_t>(scene.mesh().numberOfPoints))
-  {
-    throw nb::value_error(("the colour array has " + std::to_string(settings.ColorBy->Values.shape(0)) +
-      " tuples for " + std::to_string(scene.mesh().numberOfPoints) + " points")
-                            .c_str());
-  }
   const bool mapped = (settings.ColorBy && !settings.ColorBy->Core.directColors) ||
     (core.cap != tetdsr::CapRegion::None && !core.clipPlanes.empty());
-  if (mapped && core.colorTable.colors.size() < 2)
-  {
-    throw nb::value_error("colour mapping needs a color_table with at least 2 colours");
-  }
 
-  PyRenderer made{ meshObject, 0, settings, colors, depth, normals, cellIds, colorValues, nullptr };
+  // The arrays are referenced (with the GIL) before the scene is looked at (without it).
+  PyRenderer made{ meshObject, 0, nullptr, std::make_unique<std::mutex>(), settings, colors, depth,
+    normals, cellIds, colorValues, nullptr };
   made.Settings.Core.colorBy = settings.ColorBy ? settings.ColorBy->Core : tetdsr::ColorByArray();
-  const tetdsr::SurfaceIndex* surface = nullptr;
-  {
-    nb::gil_scoped_release release;
-    if (core.normals.mode == tetdsr::NormalMode::NodalInterpolation && !scene.hasNodalGradients())
-    {
-      scene.computeNodalGradients(); // once per scene: kept with it
-    }
-    surface = &mesh.Core.surface(isoValues, CellsFor(threads));
-  }
-  made.Generation = ++mesh.Generation; // earlier renderers may view another surface now
   tetdsr::ImageView view;
   view.width = static_cast<int>(width);
   view.height = static_cast<int>(height);
@@ -363,7 +434,40 @@ void InitRenderer(PyRenderer* self, nb::object meshObject, const std::vector<dou
   view.normals = normals.data();
   view.cellIds = reinterpret_cast<tetdsr::NodeId*>(cellIds.data());
   view.colorValues = colorValues ? colorValues->data() : nullptr;
-  made.Renderer.reset(new tetdsr::Renderer(*surface, camera, made.Settings.Core, view));
+  const std::size_t colorTuples = settings.ColorBy ? settings.ColorBy->Values.shape(0) : 0;
+  {
+    nb::gil_scoped_release release;
+    SharedLock sceneLock(mesh.SceneLock);
+    tetdsr::Scene* scene = mesh.Core.scene();
+    if (!scene)
+    {
+      throw nb::value_error("the PreparedMesh has no scene: its last prepare failed");
+    }
+    tetdsr::Messages farCamera;
+    if (!tetdsr::checkCamera(camera, *scene, farCamera)) // (too far from this scene's cells)
+    {
+      ThrowFirstError(farCamera);
+    }
+    const auto points = static_cast<std::size_t>(scene->mesh().numberOfPoints);
+    if (settings.ColorBy && colorTuples < points)
+    {
+      throw nb::value_error(("the colour array has " + std::to_string(colorTuples) +
+        " tuples for " + std::to_string(points) + " points")
+                              .c_str());
+    }
+    if (mapped && core.colorTable.colors.size() < 2)
+    {
+      throw nb::value_error("colour mapping needs a color_table with at least 2 colours");
+    }
+    std::lock_guard<std::mutex> cacheLock(mesh.CacheLock);
+    if (core.normals.mode == tetdsr::NormalMode::NodalInterpolation && !scene->hasNodalGradients())
+    {
+      scene->computeNodalGradients(); // once per scene: kept with it
+    }
+    made.Surface = SurfaceFor(mesh, isoValues, threads);
+    made.Generation = mesh.Generation;
+    made.Renderer.reset(new tetdsr::Renderer(*made.Surface, camera, made.Settings.Core, view));
+  }
   new (self) PyRenderer(std::move(made));
 }
 
@@ -652,8 +756,8 @@ void BindChecks(nb::module_& m)
 void BindMesh(nb::module_& m)
 {
   nb::class_<PyPreparedMesh>(m, "PreparedMesh",
-    "A mesh as VTK holds it, checked and validated cell by cell into the core's scene; keeps the "
-    "arrays it views alive until the next prepare.")
+    "A mesh as VTK holds it, copied, checked and validated cell by cell into the core's scene "
+    "(edits of the arrays given do not reach it: prepare again).")
     .def(nb::init<>())
     .def("prepare", &Prepare, "points"_a, "cell_types"_a, "offsets"_a, "connectivity"_a,
       "field"_a, "field_name"_a = "", "component"_a = 0,
@@ -662,13 +766,26 @@ void BindMesh(nb::module_& m)
       "and connectivity int32/int64; field: (n,) or (n, k) of any number type, `component` "
       "contoured. False, with errors, when nothing can be rendered; warnings count skipped cells.")
     .def(
-      "reuse", [](const PyPreparedMesh& p, tetdsr::Messages& messages) { return p.Core.reuse(messages); },
+      "reuse",
+      [](const PyPreparedMesh& p, tetdsr::Messages& messages) {
+        SharedLock lock = LockWithoutGil<SharedLock>(p.SceneLock);
+        return p.Core.reuse(messages);
+      },
       "messages"_a, "For an unchanged input: the last prepare's errors again; False if it failed.")
-    .def_prop_ro("ready", [](const PyPreparedMesh& p) { return p.Core.scene() != nullptr; })
-    .def_prop_ro("summary", [](const PyPreparedMesh& p) { return SummaryOf(p.Core.summary()); })
+    .def_prop_ro("ready",
+      [](const PyPreparedMesh& p) {
+        SharedLock lock = LockWithoutGil<SharedLock>(p.SceneLock);
+        return p.Core.scene() != nullptr;
+      })
+    .def_prop_ro("summary",
+      [](const PyPreparedMesh& p) {
+        SharedLock lock = LockWithoutGil<SharedLock>(p.SceneLock);
+        return SummaryOf(p.Core.summary());
+      })
     .def(
       "bounds",
       [](const PyPreparedMesh& p) -> std::optional<std::array<double, 6>> {
+        SharedLock lock = LockWithoutGil<SharedLock>(p.SceneLock);
         std::array<double, 6> box;
         if (!p.SceneOrThrow().bounds(box.data()))
         {
@@ -677,31 +794,58 @@ void BindMesh(nb::module_& m)
         return box;
       },
       "The box around the valid cells (xmin, xmax, ymin, ymax, zmin, zmax), or None.")
-    .def("diagonal", [](const PyPreparedMesh& p) { return p.SceneOrThrow().diagonal(); })
+    .def("diagonal",
+      [](const PyPreparedMesh& p) {
+        SharedLock lock = LockWithoutGil<SharedLock>(p.SceneLock);
+        return p.SceneOrThrow().diagonal();
+      })
     .def_prop_ro("uncertified_hits",
-      [](const PyPreparedMesh& p) { return p.Core.scene() ? p.Core.scene()->uncertifiedHits() : 0; })
-    .def_prop_ro("memory_bytes", [](const PyPreparedMesh& p) { return p.Core.memoryBytes(); })
+      [](const PyPreparedMesh& p) {
+        SharedLock lock = LockWithoutGil<SharedLock>(p.SceneLock);
+        return p.Core.scene() ? p.Core.scene()->uncertifiedHits() : 0;
+      })
+    .def_prop_ro("memory_bytes",
+      [](const PyPreparedMesh& p) {
+        SharedLock lock = LockWithoutGil<SharedLock>(p.SceneLock);
+        std::size_t bytes = p.Core.memoryBytes();
+        for (const std::vector<unsigned char>& copy : p.Copied)
+        {
+          bytes += copy.size();
+        }
+        return bytes;
+      })
     .def(
       "point_values",
-      [](nb::handle self, AnyArray array, const std::string& name, std::uint64_t stamp,
+      [](PyPreparedMesh& p, AnyArray array, const std::string& name, std::uint64_t stamp,
         const std::string& role, tetdsr::Messages& messages) -> nb::object {
-        PyPreparedMesh& p = nb::cast<PyPreparedMesh&>(self);
         const tetdsr::ArrayView view = ViewOf(array, name, "point array");
-        const double* values = p.Core.pointValues(view, stamp, role.c_str(), messages);
-        if (!values)
+        std::unique_ptr<double[]> copy;
+        std::size_t shape[2] = { 0, static_cast<std::size_t>(view.components) };
+        {
+          nb::gil_scoped_release release;
+          SharedLock sceneLock(p.SceneLock);
+          std::lock_guard<std::mutex> cacheLock(p.CacheLock);
+          const double* values = p.Core.pointValues(view, stamp, role.c_str(), messages);
+          if (values)
+          {
+            // A copy: the core's converted values live only until the next call.
+            shape[0] = static_cast<std::size_t>(p.SceneOrThrow().mesh().numberOfPoints);
+            copy.reset(new double[shape[0] * shape[1]]);
+            std::copy(values, values + shape[0] * shape[1], copy.get());
+          }
+        }
+        if (!copy)
         {
           return nb::none();
         }
-        ++p.Generation; // (a Renderer made before may view the values this call replaced)
-        p.ColorViewed = array;
-        const std::size_t shape[2] = { static_cast<std::size_t>(p.SceneOrThrow().mesh().numberOfPoints),
-          static_cast<std::size_t>(view.components) };
-        return nb::cast(nb::ndarray<nb::numpy, const double, nb::ndim<2>>(values, 2, shape, self));
+        double* data = copy.release();
+        nb::capsule owner(data, [](void* d) noexcept { delete[] static_cast<double*>(d); });
+        return nb::cast(nb::ndarray<nb::numpy, double, nb::ndim<2>>(data, 2, shape, owner));
       },
       "array"_a, "name"_a, "stamp"_a, "role"_a, "messages"_a,
-      "A point array's values as an (n, k) float64 array: viewed when float64, else converted and "
-      "kept until another array or stamp is asked for (valid until then). None, with an error "
-      "naming `role`, when it has fewer tuples than the mesh has points.");
+      "A point array's values as a new (n, k) float64 array (converted once per array and stamp, "
+      "then copied). None, with an error naming `role`, when it has fewer tuples than the mesh "
+      "has points.");
 }
 
 /// Images.
@@ -721,10 +865,23 @@ void BindImages(nb::module_& m)
       "cast",
       [](PyRenderer& r, int threads, std::optional<std::function<bool()>> abort,
         std::optional<std::function<void(double)>> progress) {
-        if (nb::cast<PyPreparedMesh&>(r.MeshOwner).Generation != r.Generation)
+        PyPreparedMesh& mesh = nb::cast<PyPreparedMesh&>(r.MeshOwner);
+        SharedLock sceneLock = LockWithoutGil<SharedLock>(mesh.SceneLock); // held throughout
+        if (mesh.Generation != r.Generation)
         {
-          throw nb::value_error("the PreparedMesh changed since this Renderer was made: make a new one");
+          throw nb::value_error("the PreparedMesh was prepared again since this Renderer was made: make a new one");
         }
+        std::unique_lock<std::mutex> casting(*r.Casting, std::try_to_lock);
+        if (!casting.owns_lock())
+        {
+          throw nb::value_error("this Renderer is casting already (in another thread, or this "
+                                "is its own callback): make one Renderer per thread");
+        }
+        struct CastCount
+        {
+          CastCount() { ++tCasts; }
+          ~CastCount() { --tCasts; }
+        } counted;
         // Python is called between steps only, with the GIL; tiles are cast without it.
         auto askAbort = [&]() {
           nb::gil_scoped_acquire acquire;

@@ -401,7 +401,11 @@ std::uint16_t Scene::validate(
       return flags;
     }
   }
-  if (!forKind(kind, [&](auto cell) { return decltype(cell)::extent(nodes, extentLo, extentHi); }))
+  // A curved cell's box (its control points') can be far larger than its vertices' edges: a
+  // mid-edge node at 1e300 passes the size check and would give the scene an overflowing box.
+  if (!forKind(kind, [&](auto cell) { return decltype(cell)::extent(nodes, extentLo, extentHi); }) ||
+    !(std::max({ extentHi.x - extentLo.x, extentHi.y - extentLo.y, extentHi.z - extentLo.z }) <=
+      QuadraticTetCell::kMaxCellSize))
   {
     return kOutOfScale;
   }

@@ -11,18 +11,21 @@ tile on all cores, writing straight into the output's VTK arrays.
 
 Not here (the C++ build has them): distributed rendering over a vtkMultiProcessController.
 """
+import math
+import numbers
 import weakref
 
 import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
-from vtkmodules.vtkCommonCore import (VTK_UNSIGNED_CHAR, vtkCommand, vtkDataArray, vtkDoubleArray,
-                                      vtkIdTypeArray, vtkOutputWindow, vtkUnsignedCharArray)
-from vtkmodules.vtkCommonDataModel import (vtkDataObject, vtkDataSetAttributes, vtkImageData,
+from vtkmodules.vtkCommonCore import (VTK_UNSIGNED_CHAR, vtkCommand, vtkDataArray, vtkOutputWindow,
+                                      vtkScalarsToColors)
+from vtkmodules.vtkCommonDataModel import (vtkCompositeDataSet, vtkDataObject,
+                                           vtkDataSetAttributes, vtkImageData, vtkPlane,
                                            vtkPlaneCollection, vtkUnstructuredGrid)
 from vtkmodules.vtkCommonExecutionModel import vtkAlgorithm, vtkStreamingDemandDrivenPipeline
 from vtkmodules.vtkCommonMisc import vtkContourValues
-from vtkmodules.vtkRenderingCore import vtkColorTransferFunction
+from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction
 
 from . import _core
 
@@ -99,6 +102,30 @@ def _stamp(grid, scalars, component, transverse):
         component, transverse)
 
 
+def _integer(setter, value):
+    """An integer argument (bool and numpy integers too), as VTK's wrappers take one for an int;
+    a TypeError naming the setter for anything else (a float is not truncated)."""
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    raise TypeError(f"{setter} takes an integer, got {value!r}")
+
+
+def _reals(setter, values):
+    """Numbers (numpy's too) as floats; a TypeError naming the setter for anything else."""
+    if all(isinstance(v, numbers.Real) for v in values):
+        return tuple(float(v) for v in values)
+    raise TypeError(f"{setter} takes numbers, got {values!r}")
+
+
+def _vtk_object(setter, value, cls, none=True):
+    """`value` if it is a `cls` (or None, if `none`); a TypeError naming the setter at once
+    otherwise (not a traceback from deep inside the next Update)."""
+    if (none and value is None) or isinstance(value, cls):
+        return value
+    raise TypeError(f"{setter} takes a {cls.__name__}{' or None' if none else ''}, "
+                    f"got {type(value).__name__}")
+
+
 def _same_stamp(a, b):
     return a is not None and len(a) == len(b) and all(
         (x[0] is y[0] and x[1] == y[1]) if isinstance(x, tuple) else x == y for x, y in zip(a, b))
@@ -165,6 +192,16 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         messages.clear()
         return 0
 
+    def _fail(self, error, doing):
+        """An exception of the binding (no memory, a thread that could not start) as an error;
+        returns 0."""
+        if isinstance(error, MemoryError):
+            text = f"Not enough memory to {doing} ({error or 'std::bad_alloc'})."
+        else:
+            text = str(error)
+        self._emit(vtkCommand.ErrorEvent, "ERROR", text)
+        return 0
+
     def _emit(self, event, kind, text):
         if self.HasObserver(event):
             self.InvokeEvent(event, text)
@@ -224,6 +261,25 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
             self._settings[key] = value
             self.Modified()
 
+    def _set_clamped_integer(self, key, value, lo, hi):
+        """An integer setting clamped into [lo, hi] as the C++ filter's vtkSetClampMacro does,
+        with a warning saying so."""
+        number = _integer("Set" + key, value)
+        clamped = min(max(number, lo), hi)
+        if clamped != number:
+            self._emit(vtkCommand.WarningEvent, "Warning",
+                       f"{key} {number} is outside [{lo}, {hi}]: {clamped} is used.")
+        self._set(key, clamped)
+
+    def _set_finite(self, key, values):
+        """A tuple of numbers, refused with an error (the setting kept) unless all are finite."""
+        numbers_ = _reals("Set" + key, values)
+        if not all(math.isfinite(v) for v in numbers_):
+            self._emit(vtkCommand.ErrorEvent, "ERROR", f"{key} must be finite numbers, got "
+                       f"({', '.join(repr(v) for v in numbers_)}): {key} is unchanged.")
+            return
+        self._set(key, numbers_)
+
     # -- the pipeline's convenience methods of VTK's C++ algorithms
     def SetInputData(self, data):
         self.SetInputDataObject(0, data)
@@ -232,8 +288,21 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         return self.GetOutputDataObject(0)
 
     # -- iso-values, as vtkContourFilter
+    def _iso_value_count(self, setter, what, n, last):
+        """Whether `n` (an index when `last`, else a count) keeps the iso-values within the
+        core's per-iso-value index range; an error otherwise (vtkContourValues would try to
+        allocate them all: 10^9 values are 8 GB)."""
+        n = _integer(setter, n)
+        limit = _core.MAX_STYLE_INDEX
+        if 0 <= n < limit + (0 if last else 1):
+            return True
+        self._emit(vtkCommand.ErrorEvent, "ERROR",
+                   f"{setter}: {what} {n} is outside [0, {limit}{')' if last else ']'}.")
+        return False
+
     def SetValue(self, i, value):
-        self._contour_values.SetValue(i, value)
+        if self._iso_value_count("SetValue", "index", i, True):
+            self._contour_values.SetValue(i, value)
 
     def GetValue(self, i):
         return self._contour_values.GetValue(i)
@@ -242,7 +311,8 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         return tuple(self._contour_values.GetValue(i) for i in range(self.GetNumberOfContours()))
 
     def SetNumberOfContours(self, number):
-        self._contour_values.SetNumberOfContours(number)
+        if self._iso_value_count("SetNumberOfContours", "number", number, False):
+            self._contour_values.SetNumberOfContours(number)
 
     def GetNumberOfContours(self):
         return self._contour_values.GetNumberOfContours()
@@ -250,13 +320,14 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
     def GenerateValues(self, count, start, end=None):
         if end is None:
             start, end = start
-        self._contour_values.GenerateValues(count, start, end)
+        if self._iso_value_count("GenerateValues", "count", count, False):
+            self._contour_values.GenerateValues(count, start, end)
 
     # -- camera and image
     def SetCamera(self, camera):
         """vtkCamera: position, focal point, view up, view angle (vertical), parallel projection
         and scale are used. None: a camera that sees the whole mesh (looking down -z)."""
-        self._set_object("_camera", camera)
+        self._set_object("_camera", _vtk_object("SetCamera", camera, vtkCamera))
 
     def GetCamera(self):
         return self._camera
@@ -264,13 +335,15 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
     def SetImageSize(self, width, height=None):
         if height is None:
             width, height = width
-        self._set("ImageSize", (int(width), int(height)))
+        # (into C int range: the core's check then says what a size beyond memory needs)
+        size = [min(max(_integer("SetImageSize", v), -2 ** 31), 2 ** 31 - 1) for v in (width, height)]
+        self._set("ImageSize", tuple(size))
 
     def GetImageSize(self):
         return self._settings["ImageSize"]
 
     def SetArrayComponent(self, component):
-        self._set("ArrayComponent", int(component))
+        self._set("ArrayComponent", _integer("SetArrayComponent", component))
 
     def GetArrayComponent(self):
         return self._settings["ArrayComponent"]
@@ -279,7 +352,7 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
     def SetSurfaceColor(self, red, green=None, blue=None):
         if green is None:
             red, green, blue = red
-        self._set("SurfaceColor", (float(red), float(green), float(blue)))
+        self._set_finite("SurfaceColor", (red, green, blue))
 
     def GetSurfaceColor(self):
         return self._settings["SurfaceColor"]
@@ -287,7 +360,8 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
     def _set_number(self, key, value):
         """A shading number, clamped into the core's range for it; NaN refused with its error."""
         messages = _core.Messages()
-        changed, number = _core.set_clamped(_core.NUMBER_SETTINGS[key], float(value),
+        (number,) = _reals("Set" + key, (value,))
+        changed, number = _core.set_clamped(_core.NUMBER_SETTINGS[key], number,
                                             self._settings[key], messages)
         self._report(messages)
         if changed:
@@ -319,7 +393,7 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         return self._settings["SpecularPower"]
 
     def SetLightAtCamera(self, on):
-        self._set("LightAtCamera", bool(on))
+        self._set("LightAtCamera", bool(_integer("SetLightAtCamera", on)))
 
     def GetLightAtCamera(self):
         return self._settings["LightAtCamera"]
@@ -333,13 +407,13 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
     def SetLightPosition(self, x, y=None, z=None):
         if y is None:
             x, y, z = x
-        self._set("LightPosition", (float(x), float(y), float(z)))
+        self._set_finite("LightPosition", (x, y, z))
 
     def GetLightPosition(self):
         return self._settings["LightPosition"]
 
     def SetNormalMode(self, mode):
-        self._set("NormalMode", min(max(int(mode), self.EXACT_GRADIENT), self.DEPTH_BUFFER))
+        self._set_clamped_integer("NormalMode", mode, self.EXACT_GRADIENT, self.DEPTH_BUFFER)
 
     def GetNormalMode(self):
         return self._settings["NormalMode"]
@@ -379,7 +453,7 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
 
     # -- colour by an array
     def SetColorByArray(self, on):
-        self._set("ColorByArray", bool(on))
+        self._set("ColorByArray", bool(_integer("SetColorByArray", on)))
 
     def GetColorByArray(self):
         return self._settings["ColorByArray"]
@@ -391,7 +465,7 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         self.SetColorByArray(False)
 
     def SetColorArrayComponent(self, component):
-        self._set("ColorArrayComponent", max(int(component), -1))
+        self._set_clamped_integer("ColorArrayComponent", component, -1, 2 ** 31 - 1)
 
     def GetColorArrayComponent(self):
         return self._settings["ColorArrayComponent"]
@@ -399,25 +473,26 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
     def SetColorRange(self, lo, hi=None):
         if hi is None:
             lo, hi = lo
-        self._set("ColorRange", (float(lo), float(hi)))
+        self._set_finite("ColorRange", (lo, hi))
 
     def GetColorRange(self):
         return self._settings["ColorRange"]
 
     def SetLookupTable(self, table):
-        self._set_object("_lookup_table", table)
+        self._set_object("_lookup_table", _vtk_object("SetLookupTable", table, vtkScalarsToColors))
 
     def GetLookupTable(self):
         return self._lookup_table
 
     def SetColorMap(self, which):
-        self._set("ColorMap", min(max(int(which), self.COOL_TO_WARM), self.BLACK_BODY))
+        self._set_clamped_integer("ColorMap", which, self.COOL_TO_WARM, self.BLACK_BODY)
 
     def GetColorMap(self):
         return self._settings["ColorMap"]
 
     # -- clipping and caps
     def AddClippingPlane(self, plane):
+        _vtk_object("AddClippingPlane", plane, vtkPlane, none=False)
         if self._clipping_planes is None:
             self.SetClippingPlanes(vtkPlaneCollection())
         self._clipping_planes.AddItem(plane)  # (observed: re-executes)
@@ -431,21 +506,21 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
             self.Modified()
 
     def SetClippingPlanes(self, planes):
-        self._set_object("_clipping_planes", planes)
+        self._set_object("_clipping_planes", _vtk_object("SetClippingPlanes", planes, vtkPlaneCollection))
 
     def GetClippingPlanes(self):
         return self._clipping_planes
 
     def SetCapping(self, mode):
-        self._set("Capping", min(max(int(mode), self.NO_CAP), self.CAP_ABOVE_ISO_VALUE))
+        self._set_clamped_integer("Capping", mode, self.NO_CAP, self.CAP_ABOVE_ISO_VALUE)
 
     def GetCapping(self):
         return self._settings["Capping"]
 
     # -- transverse test and threads
     def SetTransverseTest(self, mode):
-        self._set("TransverseTest",
-                  min(max(int(mode), self.BERNSTEIN_BOUND), self.WIDENED_NODAL_RANGE))
+        self._set_clamped_integer("TransverseTest", mode, self.BERNSTEIN_BOUND,
+                                  self.WIDENED_NODAL_RANGE)
 
     def GetTransverseTest(self):
         return self._settings["TransverseTest"]
@@ -457,7 +532,7 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         return self._settings["NodalRangeWidening"]
 
     def SetNumberOfThreads(self, threads):
-        self._set("NumberOfThreads", max(int(threads), 0))
+        self._set_clamped_integer("NumberOfThreads", threads, 0, 2 ** 31 - 1)
 
     def GetNumberOfThreads(self):
         return self._settings["NumberOfThreads"]
@@ -503,6 +578,13 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
     # -- the pipeline
     def RequestInformation(self, request, inInfo, outInfo):
         messages = _core.Messages()
+        # A multiblock input is executed block by block: one without cells would execute
+        # nothing and say nothing.
+        data = (inInfo[0].GetInformationObject(0).Get(vtkDataObject.DATA_OBJECT())
+                if inInfo[0].GetNumberOfInformationObjects() else None)
+        if isinstance(data, vtkCompositeDataSet) and not _core.check_mesh_not_empty(
+                data.GetNumberOfPoints(), data.GetNumberOfCells(), messages):
+            return self._report(messages)
         width, height = self._settings["ImageSize"]
         if not _core.check_image_size(width, height, messages):
             return self._report(messages)
@@ -619,7 +701,11 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
             return self._report(messages)
 
         # Preprocess once per mesh, array and transverse test.
-        prepared = self._prepare(grid, scalars, component, messages)
+        try:
+            prepared = self._prepare(grid, scalars, component, messages)
+        except (MemoryError, RuntimeError) as error:
+            self._prepared, self._prepared_stamp = None, None
+            return self._fail(error, "prepare the mesh")
         summary = self._prepared.summary
         counts = self._counts
         counts["Rendered"] = summary["valid"] if prepared is not None else 0
@@ -631,8 +717,11 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
             counts[key] = summary[core_key]
         color_values = None
         if prepared is not None and color_array is not None:
-            color_values = prepared.point_values(_as_numpy(color_array), color_array.GetName() or "",
-                                                 color_array.GetMTime(), "colour array", messages)
+            try:
+                color_values = prepared.point_values(_as_numpy(color_array), color_array.GetName() or "",
+                                                     color_array.GetMTime(), "colour array", messages)
+            except MemoryError as error:
+                return self._fail(error, "convert the colour array")
         if prepared is None or not messages.ok:
             return self._report(messages)
         self._report(messages)  # the warnings
@@ -641,30 +730,29 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         if not _core.check_camera(camera, prepared, messages):
             return self._report(messages)
 
-        # The output arrays, which the core writes in place (numpy views of VTK's memory).
+        # The output arrays, which the core writes in place: allocated by numpy (a failure is a
+        # MemoryError; pip VTK's SetNumberOfTuples would throw std::bad_alloc through its wrapper
+        # and abort), then handed to VTK arrays that keep them.
         color_mapped = _core.is_color_mapped(s["ColorByArray"], s["Capping"] != self.NO_CAP,
                                              len(clip_planes))
-        arrays = {}
+        views = {}
         try:
-            for name, array_type, components in (
-                    ("Colors", vtkUnsignedCharArray, 4), ("Depth", vtkDoubleArray, 1),
-                    ("Normals", vtkDoubleArray, 3), ("CellId", vtkIdTypeArray, 1),
-                    ("ColorValues", vtkDoubleArray, 1)):
+            for name, dtype, components in (
+                    ("Colors", np.uint8, 4), ("Depth", np.float64, 1), ("Normals", np.float64, 3),
+                    ("CellId", np.int64, 1), ("ColorValues", np.float64, 1)):
                 if name == "ColorValues" and not color_mapped:
                     continue
-                array = array_type()
-                array.SetName(name)
-                array.SetNumberOfComponents(components)
-                array.SetNumberOfTuples(width * height)
-                arrays[name] = array
-            views = {}
-            for name, array in arrays.items():
-                components = array.GetNumberOfComponents()
-                shape = (height, width, components) if components > 1 else (height, width)
-                views[name] = vtk_to_numpy(array).reshape(shape)
+                views[name] = np.empty((height, width, components) if components > 1
+                                       else (height, width), dtype)
         except MemoryError:
             _core.report_unallocated_image(width, height, messages)
             return self._report(messages)
+        arrays = {}
+        for name, view in views.items():
+            flat = view.reshape(width * height, -1) if view.ndim == 3 else view.reshape(-1)
+            array = numpy_to_vtkIdTypeArray(flat) if name == "CellId" else numpy_to_vtk(flat)
+            array.SetName(name)
+            arrays[name] = array
 
         settings = self._render_settings(camera, len(values), clip_planes)
         if color_mapped:
@@ -681,13 +769,17 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
             settings.color_table = _core.sample_color_table(
                 lookup_table.GetColor, *lookup_table.GetRange(), lo, hi)
 
-        # Cast in steps, between which progress is told and abort asked.
-        renderer = _core.Renderer(prepared, values, camera, settings, views["Colors"],
-                                  views["Depth"], views["Normals"], views["CellId"],
-                                  views.get("ColorValues"), threads=s["NumberOfThreads"])
+        # Cast in steps, between which progress is told and abort asked. What the binding
+        # raises (memory that cannot be had, a thread that cannot start) becomes an error.
         uncertified_before = prepared.uncertified_hits
-        done = renderer.cast(s["NumberOfThreads"], lambda: bool(self.CheckAbort()),
-                             self.UpdateProgress)
+        try:
+            renderer = _core.Renderer(prepared, values, camera, settings, views["Colors"],
+                                      views["Depth"], views["Normals"], views["CellId"],
+                                      views.get("ColorValues"), threads=s["NumberOfThreads"])
+            done = renderer.cast(s["NumberOfThreads"], lambda: bool(self.CheckAbort()),
+                                 self.UpdateProgress)
+        except (MemoryError, RuntimeError) as error:
+            return self._fail(error, f"cast the {width} x {height} image")
         counts["UncertifiedHits"] = prepared.uncertified_hits - uncertified_before
         if done < renderer.number_of_tiles:
             _core.report_aborted_cast(done, renderer.number_of_tiles, messages)
