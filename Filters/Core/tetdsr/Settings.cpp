@@ -329,6 +329,34 @@ bool setClamped(const NumberSetting& setting, double value, double& member, Mess
   return changed;
 }
 
+bool checkNumber(const NumberSetting& setting, double value, double& used, Messages& messages)
+{
+  if (std::isnan(value))
+  {
+    messages.errors.push_back(text(setting.name, " must be a number, got NaN."));
+    return false;
+  }
+  used = std::min(std::max(value, setting.lo), setting.hi);
+  if (used != value)
+  {
+    messages.warnings.push_back(text(setting.name, " ", value, " is outside [", setting.lo, ", ",
+      setting.hi, "]: ", used, " is used."));
+  }
+  return true;
+}
+
+bool checkGroupedCount(
+  const char* name, std::size_t count, int perGroup, const char* group, Messages& messages)
+{
+  if (count % static_cast<std::size_t>(perGroup) == 0)
+  {
+    return true;
+  }
+  messages.errors.push_back(text(name, " has ", count, " numbers, not a multiple of ", perGroup,
+    " (", perGroup, " per ", group, "): none of them is used."));
+  return false;
+}
+
 //------------------------------------------------------------------------------
 const ColorMap& builtInColorMap(int which)
 {

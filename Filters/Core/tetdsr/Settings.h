@@ -150,6 +150,19 @@ constexpr NumberSetting kNodalRangeWidening{ "NodalRangeWidening", 0.0, DBL_MAX 
 /// False, with the error "<name> must be a number, got NaN.", for NaN (member unchanged).
 bool setClamped(const NumberSetting& setting, double value, double& member, Messages& messages);
 
+/// Opacities and colour components, for faces whose own setters clamp without a word (VTK's
+/// vtkProperty, ParaView's properties).
+constexpr NumberSetting kOpacity{ "Opacity", 0.0, 1.0 };
+
+/// `value` clamped into the setting's range, into `used`, with a warning naming the setting, the
+/// value and the range when it was outside. False, with the error of setClamped, for NaN.
+bool checkNumber(const NumberSetting& setting, double value, double& used, Messages& messages);
+
+/// False, with an error, when a flat list of `count` numbers (the setting `name`) is not made of
+/// whole groups of `perGroup` numbers, each one `group` (e.g. "plane: a point and a normal").
+bool checkGroupedCount(
+  const char* name, std::size_t count, int perGroup, const char* group, Messages& messages);
+
 //------------------------------------------------------------------------------
 // Colour maps and tables
 
