@@ -28,6 +28,18 @@ bool checkIsoValues(const std::vector<double>& values, Messages& messages)
   return true;
 }
 
+bool checkFieldNotConstantAtIsoValue(
+  const std::vector<double>& values, double lo, double hi, const std::string& name, Messages& messages)
+{
+  if (lo != hi || std::find(values.begin(), values.end(), lo) == values.end())
+  {
+    return true;
+  }
+  messages.warnings.push_back(text("'", name, "' is ", lo, " everywhere, equal to an iso-value: a "
+    "field equal to the iso-value everywhere has no surface to draw."));
+  return false;
+}
+
 bool checkClipPlanes(const std::vector<ClipPlane>& planes, Messages& messages)
 {
   if (planes.size() > static_cast<std::size_t>(kMaxClipPlanes))

@@ -43,6 +43,12 @@ constexpr int kMaxClipPlanes = 6;
 /// False, with an error, when there is no iso-value or one is not finite.
 bool checkIsoValues(const std::vector<double>& values, Messages& messages);
 
+/// A warning when the field `name`, whose finite nodal values span [lo, hi], is constant and
+/// equal to an iso-value: it has no surface to draw (false then). A range that misses every
+/// iso-value says nothing: a quadratic field may cross an iso-value between its nodes.
+bool checkFieldNotConstantAtIsoValue(
+  const std::vector<double>& values, double lo, double hi, const std::string& name, Messages& messages);
+
 /// False, with an error, for more than kMaxClipPlanes planes, or a plane with a NaN or Inf in its
 /// normal or origin, or a zero normal.
 bool checkClipPlanes(const std::vector<ClipPlane>& planes, Messages& messages);
