@@ -26,7 +26,9 @@
 #include "tetdsr/MeshInput.h"
 #include "tetdsr/Settings.h"
 
+#include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <vector>
 
 vtkStandardNewMacro(vtkDirectSurfaceRepresentation);
@@ -139,8 +141,17 @@ int vtkDirectSurfaceRepresentation::RequestData(
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceRepresentation::CheckInput()
 {
-  const std::string contourBy = std::to_string(this->ContourByAssociation) + ":" +
-    this->ContourByName;
+  // What the check depends on besides the input: Contour By and the iso-values (to the bit).
+  std::vector<double> isoValues(this->Mapper->GetNumberOfContours());
+  std::ostringstream key;
+  key.precision(17);
+  key << this->ContourByAssociation << ":" << this->ContourByName;
+  for (std::size_t k = 0; k < isoValues.size(); ++k)
+  {
+    isoValues[k] = this->Mapper->GetValue(static_cast<int>(k));
+    key << " " << isoValues[k];
+  }
+  const std::string contourBy = key.str();
   if (!this->HasInput)
   {
     this->InputDrawable = true; // nothing connected (a client's copy): nothing to say
@@ -178,6 +189,17 @@ void vtkDirectSurfaceRepresentation::CheckInput()
     // The first block that has the array decides (ParaView's array list is their union).
     vtkDataArray* array = nullptr;
     bool isPointArray = true;
+    double lo = VTK_DOUBLE_MAX, hi = -VTK_DOUBLE_MAX; // the finite range over every block
+    for (vtkUnstructuredGrid* grid : grids)
+    {
+      if (vtkDataArray* values = grid->GetPointData()->GetArray(this->ContourByName.c_str()))
+      {
+        double range[2];
+        values->GetFiniteRange(range, 0);
+        lo = std::min(lo, range[0]);
+        hi = std::max(hi, range[1]);
+      }
+    }
     for (vtkUnstructuredGrid* grid : grids)
     {
       if ((array = grid->GetPointData()->GetArray(this->ContourByName.c_str())))
@@ -202,6 +224,12 @@ void vtkDirectSurfaceRepresentation::CheckInput()
         isPointArray && this->ContourByAssociation != vtkDataObject::FIELD_ASSOCIATION_CELLS,
         array->GetNumberOfComponents(), -1, false,
         "an Extract Component filter (Contour By takes one)", component, messages);
+      // A field constant at an iso-value draws nothing: say so (NaN-only fields are the
+      // mapper's to report, cell by cell). A piece of several cannot tell.
+      if (ok && alone && lo <= hi)
+      {
+        tetdsr::checkFieldNotConstantAtIsoValue(isoValues, lo, hi, this->ContourByName, messages);
+      }
     }
   }
   tetdsr::vtkadapter::ReportMessages(this, messages);

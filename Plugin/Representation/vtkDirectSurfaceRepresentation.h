@@ -22,7 +22,10 @@
  * (ClipPlanes, IsoValueColors) that is not whole planes or colours is refused with an error; an
  * input that cannot show anything (empty, no finite point, a Contour By array that is missing or
  * has several components) is said so once per change of the input or of Contour By, and not
- * drawn (a renderer would cull an empty or non-finite actor before its mapper could say why).
+ * drawn (a renderer would cull an empty or non-finite actor before its mapper could say why);
+ * a field constant at an iso-value is warned about.
+ * With several processes a piece cannot tell the whole input's emptiness or range: only the
+ * Contour By array's checks apply there.
  *
  * @warning Translucent surfaces (an iso-value opacity or Opacity below 1) are blended by the
  * mapper over the finished frame, after its renderer's passes (see vtkDirectSurfaceMapper); with
