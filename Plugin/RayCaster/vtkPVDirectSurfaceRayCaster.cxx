@@ -4,6 +4,9 @@
 #include "vtkObjectFactory.h"
 #include "vtkPlane.h"
 
+#include "vtkDirectSurfaceReporting.h"
+#include "tetdsr/Settings.h"
+
 vtkStandardNewMacro(vtkPVDirectSurfaceRayCaster);
 
 vtkPVDirectSurfaceRayCaster::vtkPVDirectSurfaceRayCaster()
@@ -73,9 +76,64 @@ void vtkPVDirectSurfaceRayCaster::SetInteractiveClipPlane(vtkPlane* plane)
   }
 }
 
+void vtkPVDirectSurfaceRayCaster::SetIsoValueColorsCount(int count)
+{
+  tetdsr::Messages messages;
+  this->IsoValueColorsRefused = !tetdsr::checkGroupedCount(
+    "IsoValueColors", count, 3, "iso-value: red, green, blue", messages);
+  tetdsr::vtkadapter::ReportMessages(this, messages);
+}
+
+void vtkPVDirectSurfaceRayCaster::SetClipPlanesCount(int count)
+{
+  tetdsr::Messages messages;
+  this->ClipPlanesRefused = !tetdsr::checkGroupedCount(
+    "ClipPlanes", count, 6, "plane: a point and a normal", messages);
+  tetdsr::vtkadapter::ReportMessages(this, messages);
+}
+
+void vtkPVDirectSurfaceRayCaster::SetIsoValueColor(int i, double red, double green, double blue)
+{
+  if (this->IsoValueColorsRefused)
+  {
+    return;
+  }
+  const tetdsr::NumberSetting setting{ "IsoValueColors", 0.0, 1.0 };
+  const double color[3] = { red, green, blue };
+  double used[3];
+  tetdsr::Messages messages;
+  bool ok = true;
+  for (int k = 0; k < 3; ++k)
+  {
+    ok = tetdsr::checkNumber(setting, color[k], used[k], messages) && ok;
+  }
+  tetdsr::vtkadapter::ReportMessages(this, messages);
+  if (ok)
+  {
+    this->Superclass::SetIsoValueColor(i, used[0], used[1], used[2]);
+  }
+}
+
+void vtkPVDirectSurfaceRayCaster::SetIsoValueOpacity(int i, double opacity)
+{
+  double used;
+  tetdsr::Messages messages;
+  const bool ok =
+    tetdsr::checkNumber(tetdsr::NumberSetting{ "IsoValueOpacities", 0.0, 1.0 }, opacity, used, messages);
+  tetdsr::vtkadapter::ReportMessages(this, messages);
+  if (ok)
+  {
+    this->Superclass::SetIsoValueOpacity(i, used);
+  }
+}
+
 void vtkPVDirectSurfaceRayCaster::AddClipPlane(
   double x, double y, double z, double nx, double ny, double nz)
 {
+  if (this->ClipPlanesRefused)
+  {
+    return;
+  }
   auto plane = vtkSmartPointer<vtkPlane>::New();
   plane->SetOrigin(x, y, z);
   plane->SetNormal(nx, ny, nz);
@@ -115,4 +173,6 @@ void vtkPVDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ClipWithPlane: " << this->ClipWithPlane << "\n";
   os << indent << "InteractivePlane: " << this->InteractivePlane.GetPointer() << "\n";
   os << indent << "ListedPlanes: " << this->ListedPlanes.size() << "\n";
+  os << indent << "IsoValueColorsRefused: " << this->IsoValueColorsRefused << "\n";
+  os << indent << "ClipPlanesRefused: " << this->ClipPlanesRefused << "\n";
 }

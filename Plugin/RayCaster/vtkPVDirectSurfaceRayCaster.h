@@ -7,7 +7,9 @@
  * is not used and the superclass's default camera (the whole mesh, as ResetCamera places it)
  * applies. Its clipping planes are one plane edited with ParaView's interactive plane widget
  * (ClipWithPlane, SetInteractiveClipPlane) and a list of further planes (AddClipPlane); the
- * progress bar shows the filter's name.
+ * progress bar shows the filter's name. Lists of numbers that are not whole planes or colours,
+ * and per-iso-value colours and opacities outside [0, 1] or NaN, are refused or clamped with the
+ * core's messages.
  *
  * @sa vtkDirectSurfaceRayCaster
  */
@@ -67,6 +69,25 @@ public:
   void RemoveAllClipPlanes();
   ///@}
 
+  ///@{
+  /**
+   * How many numbers IsoValueColors and ClipPlanes hold (vtkSIDirectSurfaceListProperty calls
+   * these before the values): a count that is not whole colours (3) or planes (6) refuses the
+   * list, with an error (ParaView would cut it to whole ones without a word).
+   */
+  void SetIsoValueColorsCount(int count);
+  void SetClipPlanesCount(int count);
+  ///@}
+
+  ///@{
+  /**
+   * The superclass's, unless the IsoValueColors list was refused; components outside [0, 1]
+   * are clamped with a warning and NaN refused with an error (the superclass clamps silently).
+   */
+  void SetIsoValueColor(int i, double red, double green, double blue);
+  void SetIsoValueOpacity(int i, double opacity);
+  ///@}
+
 protected:
   vtkPVDirectSurfaceRayCaster();
   ~vtkPVDirectSurfaceRayCaster() override = default;
@@ -83,6 +104,8 @@ private:
   bool ClipWithPlane = false;
   vtkSmartPointer<vtkPlane> InteractivePlane;
   std::vector<vtkSmartPointer<vtkPlane>> ListedPlanes;
+  bool IsoValueColorsRefused = false;
+  bool ClipPlanesRefused = false;
 };
 
 #endif

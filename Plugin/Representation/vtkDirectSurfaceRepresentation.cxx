@@ -2,9 +2,13 @@
 
 #include "vtkActor.h"
 #include "vtkAlgorithmOutput.h"
+#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkDirectSurfaceMapper.h"
+#include "vtkDirectSurfaceReporting.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
@@ -12,13 +16,75 @@
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPVRenderView.h"
+#include "vtkPointData.h"
 #include "vtkPlane.h"
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
 #include "vtkTransform.h"
 #include "vtkUnstructuredGrid.h"
 
+#include "tetdsr/MeshInput.h"
+#include "tetdsr/Settings.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <vector>
+
 vtkStandardNewMacro(vtkDirectSurfaceRepresentation);
+
+namespace
+{
+using tetdsr::Messages;
+using tetdsr::NumberSetting;
+
+/// The unstructured grids of an input (itself, or a composite's blocks).
+std::vector<vtkUnstructuredGrid*> GridsOf(vtkDataObject* input)
+{
+  std::vector<vtkUnstructuredGrid*> grids;
+  if (auto* grid = vtkUnstructuredGrid::SafeDownCast(input))
+  {
+    grids.push_back(grid);
+  }
+  else if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      if (auto* block = vtkUnstructuredGrid::SafeDownCast(it->GetCurrentDataObject()))
+      {
+        grids.push_back(block);
+      }
+    }
+  }
+  return grids;
+}
+
+/// `value` checked against `setting` by the core (clamped with a warning; NaN refused): true,
+/// with the value to use in `used`, unless refused. The messages are reported as `object`'s.
+bool CheckNumber(vtkObject* object, const NumberSetting& setting, double value, double& used)
+{
+  Messages messages;
+  const bool ok = tetdsr::checkNumber(setting, value, used, messages);
+  tetdsr::vtkadapter::ReportMessages(object, messages);
+  return ok;
+}
+
+/// The same for three numbers (a colour, a position): refused if any is.
+bool CheckNumbers(vtkObject* object, const NumberSetting& setting, const double values[3],
+  double used[3])
+{
+  bool ok = true;
+  for (int k = 0; k < 3; ++k)
+  {
+    ok = CheckNumber(object, setting, values[k], used[k]) && ok;
+  }
+  return ok;
+}
+
+constexpr double kHuge = 1.7976931348623157e308; // DBL_MAX: any finite number
+}
 
 //------------------------------------------------------------------------------
 vtkDirectSurfaceRepresentation::vtkDirectSurfaceRepresentation()
@@ -67,7 +133,113 @@ int vtkDirectSurfaceRepresentation::RequestData(
   {
     this->Piece = vtkSmartPointer<vtkUnstructuredGrid>::New();
   }
+  this->InputTime = input ? input->GetMTime() : 0;
+  this->HasInput = input != nullptr;
   return this->Superclass::RequestData(request, inputVector, outputVector);
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceRepresentation::CheckInput()
+{
+  // What the check depends on besides the input: Contour By and the iso-values (to the bit).
+  std::vector<double> isoValues(this->Mapper->GetNumberOfContours());
+  std::ostringstream key;
+  key.precision(17);
+  key << this->ContourByAssociation << ":" << this->ContourByName;
+  for (std::size_t k = 0; k < isoValues.size(); ++k)
+  {
+    isoValues[k] = this->Mapper->GetValue(static_cast<int>(k));
+    key << " " << isoValues[k];
+  }
+  const std::string contourBy = key.str();
+  if (!this->HasInput)
+  {
+    this->InputDrawable = true; // nothing connected (a client's copy): nothing to say
+    this->UpdateActorVisibility();
+    return;
+  }
+  if (this->InputTime == this->CheckedInputTime && contourBy == this->CheckedContourBy)
+  {
+    return; // said once already
+  }
+  this->CheckedInputTime = this->InputTime;
+  this->CheckedContourBy = contourBy;
+
+  Messages messages;
+  const std::vector<vtkUnstructuredGrid*> grids = GridsOf(this->Piece);
+  vtkIdType points = 0, cells = 0;
+  for (vtkUnstructuredGrid* grid : grids)
+  {
+    points += grid->GetNumberOfPoints();
+    cells += grid->GetNumberOfCells();
+  }
+  // With several processes a piece may be empty while others hold the data: only the whole
+  // input is empty, and this process cannot tell.
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const bool alone = !controller || controller->GetNumberOfProcesses() <= 1;
+  const bool finite = vtkMath::AreBoundsInitialized(this->DataBounds) &&
+    std::isfinite(this->DataBounds[0] + this->DataBounds[1] + this->DataBounds[2] +
+      this->DataBounds[3] + this->DataBounds[4] + this->DataBounds[5]);
+  bool ok = !alone ||
+    (tetdsr::checkMeshNotEmpty(points, cells, messages) &&
+      tetdsr::checkMeshHasFinitePoints(finite, cells, messages));
+  ok = ok && cells > 0;
+  if (ok && !this->ContourByName.empty())
+  {
+    // The first block that has the array decides (ParaView's array list is their union).
+    vtkDataArray* array = nullptr;
+    bool isPointArray = true;
+    double lo = VTK_DOUBLE_MAX, hi = -VTK_DOUBLE_MAX; // the finite range over every block
+    for (vtkUnstructuredGrid* grid : grids)
+    {
+      if (vtkDataArray* values = grid->GetPointData()->GetArray(this->ContourByName.c_str()))
+      {
+        double range[2];
+        values->GetFiniteRange(range, 0);
+        lo = std::min(lo, range[0]);
+        hi = std::max(hi, range[1]);
+      }
+    }
+    for (vtkUnstructuredGrid* grid : grids)
+    {
+      if ((array = grid->GetPointData()->GetArray(this->ContourByName.c_str())))
+      {
+        break;
+      }
+      if ((array = grid->GetCellData()->GetArray(this->ContourByName.c_str())))
+      {
+        isPointArray = false;
+        break;
+      }
+    }
+    int component = 0;
+    if (!array)
+    {
+      tetdsr::reportMissingArray(tetdsr::InputArray::Field, this->ContourByName.c_str(), messages);
+      ok = false;
+    }
+    else
+    {
+      ok = tetdsr::choosePointArrayComponent(this->ContourByName,
+        isPointArray && this->ContourByAssociation != vtkDataObject::FIELD_ASSOCIATION_CELLS,
+        array->GetNumberOfComponents(), -1, false,
+        "an Extract Component filter (Contour By takes one)", component, messages);
+      // A field constant at an iso-value draws nothing: say so (NaN-only fields are the
+      // mapper's to report, cell by cell). A piece of several cannot tell.
+      if (ok && alone && lo <= hi)
+      {
+        tetdsr::checkFieldNotConstantAtIsoValue(isoValues, lo, hi, this->ContourByName, messages);
+      }
+    }
+  }
+  tetdsr::vtkadapter::ReportMessages(this, messages);
+  this->InputDrawable = ok;
+  this->UpdateActorVisibility();
+}
+
+void vtkDirectSurfaceRepresentation::UpdateActorVisibility()
+{
+  this->Actor->SetVisibility(this->Visible && this->InputDrawable ? 1 : 0);
 }
 
 //------------------------------------------------------------------------------
@@ -94,6 +266,7 @@ int vtkDirectSurfaceRepresentation::ProcessViewRequest(
   }
   else if (request == vtkPVView::REQUEST_RENDER())
   {
+    this->CheckInput();
     this->Mapper->SetInputConnection(vtkPVRenderView::GetPieceProducer(inInfo, this));
     this->WarnIfTranslucencyIsLost();
   }
@@ -145,7 +318,8 @@ bool vtkDirectSurfaceRepresentation::RemoveFromView(vtkView* view)
 void vtkDirectSurfaceRepresentation::SetVisibility(bool visible)
 {
   this->Superclass::SetVisibility(visible);
-  this->Actor->SetVisibility(visible ? 1 : 0);
+  this->Visible = visible;
+  this->UpdateActorVisibility();
 }
 
 //------------------------------------------------------------------------------
@@ -153,6 +327,8 @@ void vtkDirectSurfaceRepresentation::SetContourBy(
   int, int, int, int fieldAssociation, const char* name)
 {
   this->Mapper->SetInputArrayToProcess(0, 0, 0, fieldAssociation, name);
+  this->ContourByAssociation = fieldAssociation;
+  this->ContourByName = name ? name : "";
 }
 
 void vtkDirectSurfaceRepresentation::SetContourValue(int i, double value)
@@ -165,9 +341,23 @@ void vtkDirectSurfaceRepresentation::SetNumberOfContours(int number)
   this->Mapper->SetNumberOfContours(number);
 }
 
+void vtkDirectSurfaceRepresentation::SetIsoValueColorsCount(int count)
+{
+  Messages messages;
+  this->IsoValueColorsRefused = !tetdsr::checkGroupedCount(
+    "IsoValueColors", count, 3, "iso-value: red, green, blue", messages);
+  tetdsr::vtkadapter::ReportMessages(this, messages);
+}
+
 void vtkDirectSurfaceRepresentation::SetIsoValueColor(int i, double red, double green, double blue)
 {
-  this->Mapper->SetIsoValueColor(i, red, green, blue);
+  const double color[3] = { red, green, blue };
+  double used[3];
+  if (!this->IsoValueColorsRefused &&
+    CheckNumbers(this, NumberSetting{ "IsoValueColors", 0.0, 1.0 }, color, used))
+  {
+    this->Mapper->SetIsoValueColor(i, used[0], used[1], used[2]);
+  }
 }
 
 void vtkDirectSurfaceRepresentation::RemoveAllIsoValueColors()
@@ -177,7 +367,11 @@ void vtkDirectSurfaceRepresentation::RemoveAllIsoValueColors()
 
 void vtkDirectSurfaceRepresentation::SetIsoValueOpacity(int i, double opacity)
 {
-  this->Mapper->SetIsoValueOpacity(i, opacity);
+  double used;
+  if (CheckNumber(this, NumberSetting{ "IsoValueOpacities", 0.0, 1.0 }, opacity, used))
+  {
+    this->Mapper->SetIsoValueOpacity(i, used);
+  }
 }
 
 void vtkDirectSurfaceRepresentation::RemoveAllIsoValueOpacities()
@@ -185,9 +379,21 @@ void vtkDirectSurfaceRepresentation::RemoveAllIsoValueOpacities()
   this->Mapper->RemoveAllIsoValueOpacities();
 }
 
+void vtkDirectSurfaceRepresentation::SetClipPlanesCount(int count)
+{
+  Messages messages;
+  this->ClipPlanesRefused = !tetdsr::checkGroupedCount(
+    "ClipPlanes", count, 6, "plane: a point and a normal", messages);
+  tetdsr::vtkadapter::ReportMessages(this, messages);
+}
+
 void vtkDirectSurfaceRepresentation::AddClipPlane(
   double x, double y, double z, double nx, double ny, double nz)
 {
+  if (this->ClipPlanesRefused)
+  {
+    return;
+  }
   vtkNew<vtkPlane> plane;
   plane->SetOrigin(x, y, z);
   plane->SetNormal(nx, ny, nz);
@@ -231,69 +437,135 @@ void vtkDirectSurfaceRepresentation::SetMapScalars(int map)
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceRepresentation::SetOpacity(double opacity)
 {
-  this->Property->SetOpacity(opacity);
+  double used;
+  if (CheckNumber(this, tetdsr::kOpacity, opacity, used))
+  {
+    this->Property->SetOpacity(used);
+  }
 }
 
 void vtkDirectSurfaceRepresentation::SetAmbientColor(double red, double green, double blue)
 {
-  this->Property->SetAmbientColor(red, green, blue);
+  const double color[3] = { red, green, blue };
+  double used[3];
+  if (CheckNumbers(this, NumberSetting{ "AmbientColor", 0.0, 1.0 }, color, used))
+  {
+    this->Property->SetAmbientColor(used);
+  }
 }
 
 void vtkDirectSurfaceRepresentation::SetDiffuseColor(double red, double green, double blue)
 {
-  this->Property->SetDiffuseColor(red, green, blue);
+  const double color[3] = { red, green, blue };
+  double used[3];
+  if (CheckNumbers(this, NumberSetting{ "DiffuseColor", 0.0, 1.0 }, color, used))
+  {
+    this->Property->SetDiffuseColor(used);
+  }
 }
 
 void vtkDirectSurfaceRepresentation::SetSpecularColor(double red, double green, double blue)
 {
-  this->Property->SetSpecularColor(red, green, blue);
+  const double color[3] = { red, green, blue };
+  double used[3];
+  if (CheckNumbers(this, NumberSetting{ "SpecularColor", 0.0, 1.0 }, color, used))
+  {
+    this->Property->SetSpecularColor(used);
+  }
 }
 
 void vtkDirectSurfaceRepresentation::SetAmbient(double ambient)
 {
-  this->Property->SetAmbient(ambient);
+  double used;
+  if (CheckNumber(this, tetdsr::kAmbient, ambient, used))
+  {
+    this->Property->SetAmbient(used);
+  }
 }
 
 void vtkDirectSurfaceRepresentation::SetDiffuse(double diffuse)
 {
-  this->Property->SetDiffuse(diffuse);
+  double used;
+  if (CheckNumber(this, tetdsr::kDiffuse, diffuse, used))
+  {
+    this->Property->SetDiffuse(used);
+  }
 }
 
 void vtkDirectSurfaceRepresentation::SetSpecular(double specular)
 {
-  this->Property->SetSpecular(specular);
+  double used;
+  if (CheckNumber(this, tetdsr::kSpecular, specular, used))
+  {
+    this->Property->SetSpecular(used);
+  }
 }
 
 void vtkDirectSurfaceRepresentation::SetSpecularPower(double power)
 {
-  this->Property->SetSpecularPower(power);
+  double used;
+  if (CheckNumber(this, tetdsr::kSpecularPower, power, used))
+  {
+    this->Property->SetSpecularPower(used);
+  }
 }
 
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceRepresentation::SetPosition(double x, double y, double z)
 {
-  this->Actor->SetPosition(x, y, z);
+  const double values[3] = { x, y, z };
+  double used[3];
+  if (CheckNumbers(this, NumberSetting{ "Position", -kHuge, kHuge }, values, used))
+  {
+    this->Actor->SetPosition(used);
+  }
 }
 
 void vtkDirectSurfaceRepresentation::SetOrientation(double x, double y, double z)
 {
-  this->Actor->SetOrientation(x, y, z);
+  const double values[3] = { x, y, z };
+  double used[3];
+  if (CheckNumbers(this, NumberSetting{ "Orientation", -kHuge, kHuge }, values, used))
+  {
+    this->Actor->SetOrientation(used);
+  }
 }
 
 void vtkDirectSurfaceRepresentation::SetOrigin(double x, double y, double z)
 {
-  this->Actor->SetOrigin(x, y, z);
+  const double values[3] = { x, y, z };
+  double used[3];
+  if (CheckNumbers(this, NumberSetting{ "Origin", -kHuge, kHuge }, values, used))
+  {
+    this->Actor->SetOrigin(used);
+  }
 }
 
 void vtkDirectSurfaceRepresentation::SetScale(double x, double y, double z)
 {
-  this->Actor->SetScale(x, y, z);
+  const double values[3] = { x, y, z };
+  double used[3];
+  if (CheckNumbers(this, NumberSetting{ "Scale", -kHuge, kHuge }, values, used))
+  {
+    this->Actor->SetScale(used);
+  }
 }
 
 void vtkDirectSurfaceRepresentation::SetUserTransform(const double matrix[16])
 {
+  double used[16];
+  bool ok = true;
+  for (int k = 0; k < 16; ++k)
+  {
+    ok = CheckNumber(this, NumberSetting{ "UserTransform", -kHuge, kHuge }, matrix[k], used[k]) &&
+      ok;
+  }
+  if (!ok)
+  {
+    return;
+  }
   vtkNew<vtkTransform> transform;
-  transform->SetMatrix(matrix);
+  transform->SetMatrix(used);
   this->Actor->SetUserTransform(transform);
 }
 
@@ -312,6 +584,12 @@ void vtkDirectSurfaceRepresentation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Property: " << this->Property.GetPointer() << "\n";
   os << indent << "Piece: " << this->Piece.GetPointer() << "\n";
   os << indent << "WarnedTranslucencyLost: " << this->WarnedTranslucencyLost << "\n";
+  os << indent << "Visible: " << this->Visible << "\n";
+  os << indent << "ContourBy: " << this->ContourByAssociation << " '" << this->ContourByName
+     << "'\n";
+  os << indent << "InputDrawable: " << this->InputDrawable << "\n";
+  os << indent << "IsoValueColorsRefused: " << this->IsoValueColorsRefused << "\n";
+  os << indent << "ClipPlanesRefused: " << this->ClipPlanesRefused << "\n";
   os << indent << "DataBounds: (" << this->DataBounds[0] << ", " << this->DataBounds[1] << ", "
      << this->DataBounds[2] << ", " << this->DataBounds[3] << ", " << this->DataBounds[4] << ", "
      << this->DataBounds[5] << ")\n";

@@ -16,6 +16,17 @@
  * SetMapScalars) to the mapper's standard colouring API; colour, opacity and lighting
  * coefficients to the actor's vtkProperty; the transform to the actor.
  *
+ * Everything is checked, with the core's sentences (tetdsr/Settings.h, tetdsr/MeshInput.h), as
+ * ParaView's properties are not (its Python sets any value, a domain only guides the panel):
+ * a number outside its range is clamped with a warning and NaN refused with an error; a list
+ * (ClipPlanes, IsoValueColors) that is not whole planes or colours is refused with an error; an
+ * input that cannot show anything (empty, no finite point, a Contour By array that is missing or
+ * has several components) is said so once per change of the input or of Contour By, and not
+ * drawn (a renderer would cull an empty or non-finite actor before its mapper could say why);
+ * a field constant at an iso-value is warned about.
+ * With several processes a piece cannot tell the whole input's emptiness or range: only the
+ * Contour By array's checks apply there.
+ *
  * @warning Translucent surfaces (an iso-value opacity or Opacity below 1) are blended by the
  * mapper over the finished frame, after its renderer's passes (see vtkDirectSurfaceMapper); with
  * several rendering ranks ParaView has composited the ranks' images by then, so translucent
@@ -31,6 +42,8 @@
 #include "vtkNew.h"                              // For vtkNew
 #include "vtkPVDataRepresentation.h"
 #include "vtkSmartPointer.h" // For vtkSmartPointer
+
+#include <string> // For std::string
 
 class vtkActor;
 class vtkDirectSurfaceMapper;
@@ -76,6 +89,16 @@ public:
   void RemoveAllIsoValueOpacities();
   void AddClipPlane(double x, double y, double z, double nx, double ny, double nz);
   void RemoveAllClipPlanes();
+  ///@}
+
+  ///@{
+  /**
+   * How many numbers IsoValueColors and ClipPlanes hold (vtkSIDirectSurfaceListProperty calls
+   * these before the values): a count that is not whole colours (3) or planes (6) refuses the
+   * list, with an error.
+   */
+  void SetIsoValueColorsCount(int count);
+  void SetClipPlanesCount(int count);
   ///@}
 
   ///@{
@@ -138,6 +161,11 @@ protected:
 private:
   /// Warns once when translucent surfaces would be lost to compositing over several ranks.
   void WarnIfTranslucencyIsLost();
+  /// Says why the input cannot be drawn (empty, no finite point, Contour By missing or not one
+  /// component), once per change of the input or of Contour By; false then.
+  void CheckInput();
+  /// The actor is shown when the representation is and its input can be drawn.
+  void UpdateActorVisibility();
 
   vtkDirectSurfaceRepresentation(const vtkDirectSurfaceRepresentation&) = delete;
   void operator=(const vtkDirectSurfaceRepresentation&) = delete;
@@ -149,6 +177,20 @@ private:
   vtkSmartPointer<vtkDataObject> Piece;
   double DataBounds[6];
   bool WarnedTranslucencyLost = false;
+  bool Visible = true;
+  /// Contour By's array (association and name).
+  int ContourByAssociation = 0;
+  std::string ContourByName;
+  /// The input of the last RequestData (whether there was one, its modification time), and
+  /// what CheckInput last looked at (that time and Contour By) and found.
+  bool HasInput = false;
+  vtkMTimeType InputTime = 0;
+  vtkMTimeType CheckedInputTime = 0;
+  std::string CheckedContourBy;
+  bool InputDrawable = true;
+  /// Lists refused for a count of numbers that is not whole colours or planes.
+  bool IsoValueColorsRefused = false;
+  bool ClipPlanesRefused = false;
 };
 
 #endif

@@ -231,6 +231,17 @@ bool checkMeshNotEmpty(NodeId numberOfPoints, NodeId numberOfCells, Messages& me
   return true;
 }
 
+bool checkMeshHasFinitePoints(bool anyFinitePoint, NodeId numberOfCells, Messages& messages)
+{
+  if (!anyFinitePoint)
+  {
+    messages.errors.push_back(text("No cell can be rendered: no point of the input's ",
+      numberOfCells, " cells has finite coordinates (all are NaN or Inf)."));
+    return false;
+  }
+  return true;
+}
+
 struct PreparedMesh::Internals
 {
   // Copies of what could not be viewed (another number type or layout).

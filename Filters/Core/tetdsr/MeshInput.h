@@ -61,6 +61,10 @@ struct MeshArrays
 /// "The input mesh is empty ..." unless there are points and cells.
 bool checkMeshNotEmpty(NodeId numberOfPoints, NodeId numberOfCells, Messages& messages);
 
+/// "No cell can be rendered: ..." unless some point has finite coordinates (a mesh whose
+/// bounds are not finite; a renderer culls it before any cell is looked at).
+bool checkMeshHasFinitePoints(bool anyFinitePoint, NodeId numberOfCells, Messages& messages);
+
 /// A mesh prepared for rendering: its scene (validation, every decision on every cell), the
 /// arrays converted for it, the surface index of the last iso-values, and a colour array's
 /// values. Build one, keep it while the input does not change (the face decides that: VTK's

@@ -28,6 +28,18 @@ bool checkIsoValues(const std::vector<double>& values, Messages& messages)
   return true;
 }
 
+bool checkFieldNotConstantAtIsoValue(
+  const std::vector<double>& values, double lo, double hi, const std::string& name, Messages& messages)
+{
+  if (lo != hi || std::find(values.begin(), values.end(), lo) == values.end())
+  {
+    return true;
+  }
+  messages.warnings.push_back(text("'", name, "' is ", lo, " everywhere, equal to an iso-value: a "
+    "field equal to the iso-value everywhere has no surface to draw."));
+  return false;
+}
+
 bool checkClipPlanes(const std::vector<ClipPlane>& planes, Messages& messages)
 {
   if (planes.size() > static_cast<std::size_t>(kMaxClipPlanes))
@@ -327,6 +339,34 @@ bool setClamped(const NumberSetting& setting, double value, double& member, Mess
   const bool changed = value != member;
   member = value;
   return changed;
+}
+
+bool checkNumber(const NumberSetting& setting, double value, double& used, Messages& messages)
+{
+  if (std::isnan(value))
+  {
+    messages.errors.push_back(text(setting.name, " must be a number, got NaN."));
+    return false;
+  }
+  used = std::min(std::max(value, setting.lo), setting.hi);
+  if (used != value)
+  {
+    messages.warnings.push_back(text(setting.name, " ", value, " is outside [", setting.lo, ", ",
+      setting.hi, "]: ", used, " is used."));
+  }
+  return true;
+}
+
+bool checkGroupedCount(
+  const char* name, std::size_t count, int perGroup, const char* group, Messages& messages)
+{
+  if (count % static_cast<std::size_t>(perGroup) == 0)
+  {
+    return true;
+  }
+  messages.errors.push_back(text(name, " has ", count, " numbers, not a multiple of ", perGroup,
+    " (", perGroup, " per ", group, "): none of them is used."));
+  return false;
 }
 
 //------------------------------------------------------------------------------

@@ -43,6 +43,12 @@ constexpr int kMaxClipPlanes = 6;
 /// False, with an error, when there is no iso-value or one is not finite.
 bool checkIsoValues(const std::vector<double>& values, Messages& messages);
 
+/// A warning when the field `name`, whose finite nodal values span [lo, hi], is constant and
+/// equal to an iso-value: it has no surface to draw (false then). A range that misses every
+/// iso-value says nothing: a quadratic field may cross an iso-value between its nodes.
+bool checkFieldNotConstantAtIsoValue(
+  const std::vector<double>& values, double lo, double hi, const std::string& name, Messages& messages);
+
 /// False, with an error, for more than kMaxClipPlanes planes, or a plane with a NaN or Inf in its
 /// normal or origin, or a zero normal.
 bool checkClipPlanes(const std::vector<ClipPlane>& planes, Messages& messages);
@@ -149,6 +155,19 @@ constexpr NumberSetting kNodalRangeWidening{ "NodalRangeWidening", 0.0, DBL_MAX 
 /// `value` clamped into the setting's range, stored in `member`; true when `member` changed.
 /// False, with the error "<name> must be a number, got NaN.", for NaN (member unchanged).
 bool setClamped(const NumberSetting& setting, double value, double& member, Messages& messages);
+
+/// Opacities and colour components, for faces whose own setters clamp without a word (VTK's
+/// vtkProperty, ParaView's properties).
+constexpr NumberSetting kOpacity{ "Opacity", 0.0, 1.0 };
+
+/// `value` clamped into the setting's range, into `used`, with a warning naming the setting, the
+/// value and the range when it was outside. False, with the error of setClamped, for NaN.
+bool checkNumber(const NumberSetting& setting, double value, double& used, Messages& messages);
+
+/// False, with an error, when a flat list of `count` numbers (the setting `name`) is not made of
+/// whole groups of `perGroup` numbers, each one `group` (e.g. "plane: a point and a normal").
+bool checkGroupedCount(
+  const char* name, std::size_t count, int perGroup, const char* group, Messages& messages);
 
 //------------------------------------------------------------------------------
 // Colour maps and tables
