@@ -171,6 +171,14 @@ bool choosePointArrayComponent(const std::string& name, bool isPointArray, int c
     component = std::max(requestedComponent, 0);
     return true;
   }
+  if (!allowMagnitude && !componentSetting)
+  {
+    // A face with no component setting (the mapper): only another array will do.
+    messages.errors.push_back(text("Array '", shown, "' has ", components,
+      " components but the field must have one: choose a one-component point array with "
+      "SetInputArrayToProcess(0, 0, 0, FIELD_ASSOCIATION_POINTS, name)."));
+    return false;
+  }
   if (!allowMagnitude)
   {
     messages.errors.push_back(text("Array '", shown, "' has ", components,
@@ -316,6 +324,17 @@ std::string IsoValueStyles::describe() const
 }
 
 //------------------------------------------------------------------------------
+bool checkFiniteRange(const char* name, double lo, double hi, Messages& messages)
+{
+  if (std::isfinite(lo) && std::isfinite(hi))
+  {
+    return true;
+  }
+  messages.errors.push_back(
+    text(name, " must be two finite numbers, got (", lo, ", ", hi, "); it is left unchanged."));
+  return false;
+}
+
 bool setClamped(const NumberSetting& setting, double value, double& member, Messages& messages)
 {
   if (std::isnan(value))
