@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -274,4 +275,60 @@ TEST(MeshInput, ColourValuesAreViewedOrConvertedAndCheckedForLength)
   ASSERT_EQ(messages.errors.size(), 1u);
   EXPECT_EQ(messages.errors[0], "The colour array 'c' has " + std::to_string(points - 1) +
       " tuples for " + std::to_string(points) + " points.");
+}
+
+TEST(MeshInput, AKeptSceneSurvivesEditsOfTheArraysItViews)
+{
+  // VTK's contract is that an edited array is marked Modified(), and then the face rebuilds the
+  // scene; an edit in place without it (numpy makes that easy) must give a stale or missing
+  // cell, never a read outside the arrays. Every cell is made curved (a mid-edge node moved) in
+  // half the lattice, so that the curved path, which reads the mesh for every ray, is covered.
+  LatticeMesh mesh = sphereLattice();
+  for (std::size_t c = 0; c < mesh.cellNodes.size() / 10; c += 2)
+  {
+    const tetdsr::NodeId id = mesh.cellNodes[10 * c + 4];
+    mesh.setPoint(id, mesh.point(id) + glm::dvec3(0.0, 0.0, 1e-3));
+  }
+  LatticeArrays own(mesh);
+  tetdsr::Messages messages;
+  tetdsr::PreparedMesh prepared;
+  ASSERT_TRUE(prepared.prepare(own.arrays(), tetdsr::TransverseTest(), tetdsr::serialFor, messages));
+  ASSERT_GT(prepared.summary().curvedCells, 0);
+  tetdsr::Scene& scene = *prepared.scene();
+  const std::vector<tetdsr::SurfaceHit> before = castFan(prepared, 0.1);
+
+  // Edits: ids beyond the points and negative, a cell re-typed to need more ids than it has, an
+  // offset past the end of the connectivity.
+  const auto cells = static_cast<tetdsr::NodeId>(own.Types.size());
+  for (tetdsr::NodeId c = 0; c < cells; c += 3)
+  {
+    own.Mesh.cellNodes[10 * c + 5] = 1000000000000LL;
+  }
+  own.Mesh.cellNodes[10 * 1 + 2] = -7;
+  own.Types[4] = tetdsr::kVtkTetra;
+  own.Offsets[cells] = own.Offsets[cells] + 1000;
+  // The arrays the scene views are these (LatticeArrays keeps them): nothing was copied.
+  scene.computeNodalGradients();
+  const std::vector<tetdsr::SurfaceHit> after = castFan(prepared, 0.2); // a new surface index
+  int hits = 0;
+  for (const tetdsr::SurfaceHit& hit : after)
+  {
+    if (hit.t >= 0.0)
+    {
+      ++hits;
+      EXPECT_NE(hit.cellId % 3, 0) << "an edited cell was hit";
+      EXPECT_TRUE(std::isfinite(scene.interpolate(hit.cellId, glm::dvec3(0.5), own.Mesh.values.data())) ||
+        hit.cellId == 1 || hit.cellId == 4 || hit.cellId == cells - 1);
+      (void)scene.interpolateNodalGradient(hit.cellId, glm::dvec3(0.5));
+    }
+  }
+  EXPECT_GT(hits, 0) << "the cells not edited still render";
+  for (tetdsr::NodeId c = 0; c < cells; c += 3)
+  {
+    EXPECT_TRUE(std::isnan(scene.interpolate(c, glm::dvec3(0.5), own.Mesh.values.data())))
+      << "cell " << c << ": its ids were edited out of range";
+  }
+  tetdsr::NodeId found = -1;
+  (void)scene.locate(glm::dvec3(0.5), found);
+  EXPECT_EQ(before.size(), after.size());
 }

@@ -323,11 +323,14 @@ BoxItem Scene::boxOf(const glm::dvec3& extentLo, const glm::dvec3& extentHi, dou
 BoxItem Scene::cellBox(NodeId cellId) const
 {
   glm::dvec3 nodes[kCellNodes];
-  loadNodes(cellId, nodes);
   glm::dvec3 lo, hi;
-  forKind(kindOf(cellId), [&](auto cell) { return decltype(cell)::extent(nodes, lo, hi); });
-  // (succeeded when validated)
-  BoxItem box = boxOf(lo, hi, longestEdge(nodes));
+  const bool asValidated = loadNodes(cellId, nodes) &&
+    forKind(kindOf(cellId), [&](auto cell) { return decltype(cell)::extent(nodes, lo, hi); });
+  if (!asValidated)
+  {
+    lo = hi = Origin_; // edited since validation: a point box (its record is empty, never hit)
+  }
+  BoxItem box = boxOf(lo, hi, asValidated ? longestEdge(nodes) : 0.0);
   box.id = static_cast<std::uint32_t>(cellId);
   return box;
 }
@@ -410,9 +413,31 @@ std::uint16_t Scene::validate(
   return flags;
 }
 
-void Scene::loadNodes(NodeId cellId, glm::dvec3 nodes[kCellNodes], int needed) const
+const NodeId* Scene::nodeIds(NodeId cellId) const
+{
+  if (!readable(cellId))
+  {
+    return nullptr;
+  }
+  const NodeId* ids = Mesh_.connectivity + Mesh_.offsets[cellId];
+  const int count = nodeCount(Mesh_.cellTypes[cellId]);
+  for (int n = 0; n < count; ++n)
+  {
+    if (ids[n] < 0 || ids[n] >= Mesh_.numberOfPoints)
+    {
+      return nullptr;
+    }
+  }
+  return ids;
+}
+
+bool Scene::loadNodes(NodeId cellId, glm::dvec3 nodes[kCellNodes], int needed) const
 {
   const NodeId* ids = nodeIds(cellId);
+  if (!ids)
+  {
+    return false;
+  }
   const bool linear = Mesh_.cellTypes[cellId] == kVtkTetra;
   const int count = std::min(needed, linear ? LinearTetCell::kNodes : kCellNodes);
   for (int n = 0; n < count; ++n)
@@ -424,12 +449,17 @@ void Scene::loadNodes(NodeId cellId, glm::dvec3 nodes[kCellNodes], int needed) c
   {
     LinearTetCell::complete(nodes);
   }
+  return true;
 }
 
-void Scene::loadValues(NodeId cellId, double values[kCellNodes], const double* pointValues,
+bool Scene::loadValues(NodeId cellId, double values[kCellNodes], const double* pointValues,
   int components, int component) const
 {
   const NodeId* ids = nodeIds(cellId);
+  if (!ids)
+  {
+    return false;
+  }
   const bool linear = Mesh_.cellTypes[cellId] == kVtkTetra;
   const int count = linear ? LinearTetCell::kNodes : kCellNodes;
   for (int n = 0; n < count; ++n)
@@ -440,19 +470,27 @@ void Scene::loadValues(NodeId cellId, double values[kCellNodes], const double* p
   {
     LinearTetCell::complete(values);
   }
+  return true;
 }
 
 bool Scene::inCell(NodeId cellId, const glm::dvec3& point, double L[4]) const
 {
   glm::dvec3 nodes[kCellNodes];
-  loadNodes(cellId, nodes);
+  if (!loadNodes(cellId, nodes))
+  {
+    return false; // (edited since validation)
+  }
   return forKind(kindOf(cellId), [&](auto cell) { return decltype(cell)::contains(nodes, point, L); });
 }
 
 void Scene::cellCoordinates(NodeId cellId, const glm::dvec3& point, double L[4]) const
 {
   glm::dvec3 nodes[kCellNodes];
-  loadNodes(cellId, nodes);
+  if (!loadNodes(cellId, nodes))
+  {
+    std::fill(L, L + 4, std::numeric_limits<double>::quiet_NaN()); // (edited since validation)
+    return;
+  }
   forKind(kindOf(cellId), [&](auto cell) { decltype(cell)::coordinates(nodes, point, L); });
 }
 
@@ -461,8 +499,10 @@ bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& 
 {
   glm::dvec3 nodes[kCellNodes];
   double values[kCellNodes];
-  loadNodes(cellId, nodes);
-  loadValues(cellId, values, Mesh_.values);
+  if (!loadNodes(cellId, nodes) || !loadValues(cellId, values, Mesh_.values))
+  {
+    return false; // (edited since validation)
+  }
   bool certified = true;
   if (!CurvedTetCell::intersect(
         nodes, values, isoValues, first, last, ray, tMin, tLimit, hit, certified))
@@ -487,7 +527,10 @@ void Scene::prepareCell(NodeId cellId, CellRecord& cell) const
   cell.cellId = static_cast<std::uint32_t>(cellId);
   cell.kind = CellRecord::Kind::Empty;
   double values[kCellNodes];
-  loadValues(cellId, values, Mesh_.values);
+  if (!loadValues(cellId, values, Mesh_.values))
+  {
+    return; // edited since validation: an empty record, never hit
+  }
   forKind(kindOf(cellId), [&](auto kind) {
     using Kind = decltype(kind);
     glm::dvec3 nodes[kCellNodes];
@@ -509,7 +552,10 @@ double Scene::interpolate(NodeId cellId, const glm::dvec3& point, const double* 
   int components, int component) const
 {
   double values[kCellNodes];
-  loadValues(cellId, values, pointValues, components, component);
+  if (!loadValues(cellId, values, pointValues, components, component))
+  {
+    return std::numeric_limits<double>::quiet_NaN(); // (edited since validation)
+  }
   double L[4];
   cellCoordinates(cellId, point, L); // valid cells only reach here
   return forKind(kindOf(cellId), [&](auto cell) { return decltype(cell)::interpolate(values, L); });
@@ -518,8 +564,7 @@ double Scene::interpolate(NodeId cellId, const glm::dvec3& point, const double* 
 double Scene::cellSize(NodeId cellId) const
 {
   glm::dvec3 nodes[kCellNodes];
-  loadNodes(cellId, nodes);
-  return longestEdge(nodes);
+  return loadNodes(cellId, nodes) ? longestEdge(nodes) : 0.0; // (0: edited since validation)
 }
 
 bool Scene::locate(const glm::dvec3& point, NodeId& cellId) const
@@ -590,7 +635,10 @@ void Scene::computeNodalGradients()
   for (const ValidCell& valid : ValidCells_)
   {
     double values[kCellNodes];
-    loadValues(valid.id, values, Mesh_.values);
+    if (!loadValues(valid.id, values, Mesh_.values))
+    {
+      continue; // (edited since validation)
+    }
     for (const double value : values)
     {
       largest = std::max(largest, std::abs(value));
@@ -602,8 +650,10 @@ void Scene::computeNodalGradients()
     const std::uint32_t cell = valid.id;
     glm::dvec3 nodes[kCellNodes];
     double values[kCellNodes];
-    loadNodes(cell, nodes);
-    loadValues(cell, values, Mesh_.values);
+    if (!loadNodes(cell, nodes) || !loadValues(cell, values, Mesh_.values))
+    {
+      continue; // (edited since validation)
+    }
     for (double& value : values)
     {
       value *= scale;
@@ -643,6 +693,10 @@ glm::dvec3 Scene::interpolateNodalGradient(NodeId cellId, const glm::dvec3& poin
   double L[4];
   cellCoordinates(cellId, point, L);
   const NodeId* ids = nodeIds(cellId);
+  if (!ids || static_cast<NodeId>(NodalGradients_.size()) != Mesh_.numberOfPoints)
+  {
+    return glm::dvec3(0.0); // (edited since validation)
+  }
   const bool linear = kindOf(cellId) == CellKind::LinearTet;
   glm::dvec3 gradient(0.0);
   for (int k = 0; k < 4; ++k)

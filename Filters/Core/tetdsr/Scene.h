@@ -228,12 +228,17 @@ private:
   void forChunks(const ParallelFor& parallelFor,
     const std::function<void(NodeId chunk, NodeId begin, NodeId end)>& body) const;
 
-  /// A cell's point ids (nodeCount of its type: the caller checked them).
-  const NodeId* nodeIds(NodeId cellId) const { return Mesh_.connectivity + Mesh_.offsets[cellId]; }
-  /// A cell's first `needed` of its 10 node positions (a linear tet completed: LinearTetCell).
-  void loadNodes(NodeId cellId, glm::dvec3 nodes[kCellNodes], int needed = kCellNodes) const;
-  /// A point array's values at a cell's 10 nodes (a linear tet's completed).
-  void loadValues(NodeId cellId, double values[kCellNodes], const double* pointValues,
+  /// A valid cell's point ids, read again from the mesh: null when its type, offsets or ids no
+  /// longer pass validation's checks. The scene views the caller's arrays, which may be edited in
+  /// place after validation (VTK's contract says Modified(), numpy makes it easy to forget): every
+  /// later read goes through here, so such an edit gives a stale or missing cell, never a read out
+  /// of bounds. A few comparisons per read; the rays' hot path reads records, not the mesh.
+  const NodeId* nodeIds(NodeId cellId) const;
+  /// A cell's first `needed` of its 10 node positions (a linear tet completed: LinearTetCell);
+  /// false if its ids were edited out of range (nodeIds).
+  bool loadNodes(NodeId cellId, glm::dvec3 nodes[kCellNodes], int needed = kCellNodes) const;
+  /// A point array's values at a cell's 10 nodes (a linear tet's completed); false as loadNodes.
+  bool loadValues(NodeId cellId, double values[kCellNodes], const double* pointValues,
     int components = 1, int component = 0) const;
   /// The barycentric coordinates of `point` in a valid cell (the kind's coordinates step).
   void cellCoordinates(NodeId cellId, const glm::dvec3& point, double L[4]) const;
