@@ -295,11 +295,14 @@ struct vtkDirectSurfaceMapper::Internals
   std::vector<float> OpaqueDepth;
   std::vector<double> RayLimits;
 
-  /// What a window draws the image with (OpenGL objects belong to one context): its textures
-  /// and quad, and the signature of the image its textures hold.
-  struct WindowResources
+  /// What one view (a window's renderer and an actor of this mapper) draws its image with:
+  /// textures and quad (OpenGL objects belong to the window's context), and the signature of
+  /// the image the textures hold, so that each view re-uses its own.
+  struct ViewResources
   {
     vtkWeakPointer<vtkOpenGLRenderWindow> Window;
+    vtkWeakPointer<vtkRenderer> Renderer;
+    vtkWeakPointer<vtkActor> Actor;
     vtkSmartPointer<vtkTextureObject> ColorTexture;
     vtkSmartPointer<vtkTextureObject> DepthTexture;
     std::unique_ptr<vtkOpenGLQuadHelper> Quad;
@@ -325,27 +328,41 @@ struct vtkDirectSurfaceMapper::Internals
       this->Signature.clear();
     }
   };
-  std::vector<std::unique_ptr<WindowResources>> Windows;
+  std::vector<std::unique_ptr<ViewResources>> Views;
   /// What the last report of an undrawable input (empty bounds) was made for.
   std::vector<std::uintptr_t> SilenceStamp;
 
-  /// The resources of `window`, made on first use. Entries of deleted windows are dropped (a
-  /// window releases its quads' and textures' OpenGL objects itself when it goes).
-  WindowResources& ResourcesOf(vtkOpenGLRenderWindow* window)
+  /// The resources of a view, made on first use. Entries of deleted windows, renderers or
+  /// actors are dropped (a window releases its quads' and textures' OpenGL objects itself when
+  /// it goes; those of a deleted renderer or actor are released here).
+  ViewResources& ResourcesOf(vtkOpenGLRenderWindow* window, vtkRenderer* renderer, vtkActor* actor)
   {
-    this->Windows.erase(std::remove_if(this->Windows.begin(), this->Windows.end(),
-                          [](const std::unique_ptr<WindowResources>& r) { return !r->Window; }),
-      this->Windows.end());
-    for (auto& resources : this->Windows)
+    for (auto it = this->Views.begin(); it != this->Views.end();)
     {
-      if (resources->Window == window)
+      ViewResources& r = **it;
+      if (!r.Window || !r.Renderer || !r.Actor)
       {
-        return *resources;
+        if (r.Window)
+        {
+          r.Release(r.Window);
+        }
+        it = this->Views.erase(it);
+      }
+      else if (r.Window == window && r.Renderer == renderer && r.Actor == actor)
+      {
+        return r;
+      }
+      else
+      {
+        ++it;
       }
     }
-    this->Windows.emplace_back(new WindowResources);
-    this->Windows.back()->Window = window;
-    return *this->Windows.back();
+    this->Views.emplace_back(new ViewResources);
+    ViewResources& made = *this->Views.back();
+    made.Window = window;
+    made.Renderer = renderer;
+    made.Actor = actor;
+    return made;
   }
 
   adapter::PreparedMesh& MeshOf(unsigned int block)
@@ -479,7 +496,7 @@ struct vtkDirectSurfaceMapper::Internals
     });
   }
 
-  void Upload(WindowResources& gl, vtkOpenGLRenderWindow* window, int width, int height)
+  void Upload(ViewResources& gl, vtkOpenGLRenderWindow* window, int width, int height)
   {
     for (auto* texture : { &gl.ColorTexture, &gl.DepthTexture })
     {
@@ -499,7 +516,7 @@ struct vtkDirectSurfaceMapper::Internals
   }
 
   static bool Draw(
-    WindowResources& gl, vtkOpenGLRenderWindow* window, bool translucent, const int viewport[4])
+    ViewResources& gl, vtkOpenGLRenderWindow* window, bool translucent, const int viewport[4])
   {
     if (!gl.Quad)
     {
@@ -856,14 +873,17 @@ void vtkDirectSurfaceMapper::ReportWhyNothingIsDrawn()
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceMapper::ReleaseGraphicsResources(vtkWindow* window)
 {
-  auto& windows = this->Internal->Windows;
-  for (auto it = windows.begin(); it != windows.end();)
+  auto& views = this->Internal->Views;
+  for (auto it = views.begin(); it != views.end();)
   {
     // (A null window: VTK asks every prop to let go of everything.)
     if (!window || (*it)->Window == window)
     {
-      (*it)->Release(window ? window : (*it)->Window.GetPointer());
-      it = windows.erase(it);
+      if ((*it)->Window)
+      {
+        (*it)->Release((*it)->Window);
+      }
+      it = views.erase(it);
     }
     else
     {
@@ -931,9 +951,9 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   }
   frame.CollectLights(renderer);
 
-  // Re-use the image this window holds when nothing it depends on changed.
+  // Re-use the image this view holds when nothing it depends on changed.
   Internals& in = *this->Internal;
-  Internals::WindowResources& gl = in.ResourcesOf(window);
+  Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor);
   this->ComputeSignature(frame);
   this->LastRenderReusedImage = gl.TexturesValid && frame.Signature == gl.Signature;
   if (this->LastRenderReusedImage)

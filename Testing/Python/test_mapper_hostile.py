@@ -190,6 +190,30 @@ class Sharing(unittest.TestCase):
         self.assertGreater(masks["right"].sum(), 500)
         self.assertEqual(int((masks["both"] != union).sum()), 0)
 
+    def test_two_opaque_actors_each_reuse_their_image(self):
+        # Each view (renderer and actor) keeps its own image: a still second frame casts nothing.
+        mapper = vtkDirectSurfaceMapper()
+        mapper.SetInputData(MESH)
+        mapper.SetValue(0, RADIUS2)
+        renderer = vtkRenderer()
+        for x in (-1.5, 1.5):
+            actor = vtkActor()
+            actor.SetMapper(mapper)
+            actor.SetPosition(x, 0, 0)
+            renderer.AddActor(actor)
+        window = shared_window()
+        window.AddRenderer(renderer)
+        place_camera(renderer, (0.0, 0.5, 9.0)).SetFocalPoint(0, 0, 0)
+        renderer.ResetCameraClippingRange()
+        window.Render()
+        first = zbuffer(window)
+        window.Render()
+        print("second frame re-used the image: %s; %d pixels changed" % (
+            mapper.GetLastRenderReusedImage(), (zbuffer(window) != first).sum()))
+        self.assertTrue(mapper.GetLastRenderReusedImage())
+        self.assertEqual(int((zbuffer(window) != first).sum()), 0)
+        self.assertGreater(int((first < 1).sum()), 1000)
+
     def test_one_mapper_in_two_windows_and_two_viewports(self):
         # Each view must equal what a mapper of its own draws there (and the exact sphere).
         shared = vtkDirectSurfaceMapper()
