@@ -700,7 +700,7 @@ void vtkDirectSurfaceMapper::SetInteractiveImageSampleDistance(double distance)
 void vtkDirectSurfaceMapper::SetScalarRange(double lo, double hi)
 {
   adapter::Messages messages;
-  if (tetdsr::checkFiniteRange("ScalarRange", lo, hi, messages))
+  if (tetdsr::checkFiniteNumbers("ScalarRange", { lo, hi }, messages))
   {
     this->Superclass::SetScalarRange(lo, hi);
   }

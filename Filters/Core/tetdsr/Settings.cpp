@@ -324,14 +324,19 @@ std::string IsoValueStyles::describe() const
 }
 
 //------------------------------------------------------------------------------
-bool checkFiniteRange(const char* name, double lo, double hi, Messages& messages)
+bool checkFiniteNumbers(const char* name, std::initializer_list<double> values, Messages& messages)
 {
-  if (std::isfinite(lo) && std::isfinite(hi))
+  if (std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); }))
   {
     return true;
   }
+  std::string shown;
+  for (double v : values)
+  {
+    shown += (shown.empty() ? "" : ", ") + text(v);
+  }
   messages.errors.push_back(
-    text(name, " must be two finite numbers, got (", lo, ", ", hi, "); it is left unchanged."));
+    text(name, " must be finite numbers, got (", shown, "); it is left unchanged."));
   return false;
 }
 

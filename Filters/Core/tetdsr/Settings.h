@@ -15,6 +15,7 @@
 #include <cfloat>
 #include <cmath>
 #include <functional>
+#include <initializer_list>
 #include <limits>
 #include <string>
 #include <vector>
@@ -151,9 +152,10 @@ constexpr NumberSetting kMaximumImageSampleDistance{ "MaximumImageSampleDistance
 constexpr NumberSetting kInteractiveImageSampleDistance{ "InteractiveImageSampleDistance", 1.0,
   64.0 };
 
-/// False, with the error "<name> must be two finite numbers, got (lo, hi).", when an end of a
-/// range setting is NaN or infinite.
-bool checkFiniteRange(const char* name, double lo, double hi, Messages& messages);
+/// False, with the error "<name> must be finite numbers, got (a, b, ...); it is left
+/// unchanged.", when a number of a vector setting (a range, a colour, a position) is NaN or
+/// infinite.
+bool checkFiniteNumbers(const char* name, std::initializer_list<double> values, Messages& messages);
 
 /// `value` clamped into the setting's range, stored in `member`; true when `member` changed.
 /// False, with the error "<name> must be a number, got NaN.", for NaN (member unchanged).
