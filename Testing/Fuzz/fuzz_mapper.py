@@ -538,9 +538,11 @@ def check_render(case, scene, broken, step):
                 k, step, np.nanmin(z), np.nanmax(z))
     if not scene.exact or scene.errors:
         return
+    # Every sphere inside the mesh (|c| <= 0.2 per axis, radius <= 0.7): a ray is covered when
+    # it meets any of them between the near and the far plane.
     iso = [scene.mapper.GetValue(i) for i in range(scene.mapper.GetNumberOfContours())]
-    radius2 = max(v for v in iso if v < 0.49 and v > 0.0) if any(0 < v < 0.49 for v in iso) else None
-    if radius2 is None:
+    spheres = [v for v in iso if 0.0 < v <= 0.49 + 1e-12]
+    if not spheres:
         return
     for r, renderer in enumerate(scene.renderers):
         window = renderer.GetRenderWindow()
@@ -549,10 +551,11 @@ def check_render(case, scene, broken, step):
         for actor in renderer.GetActors():
             if not actor.GetVisibility():
                 continue
-            (x0, y0, w, h), hit, margin = sphere_coverage(renderer, actor, scene.centre, radius2)
-            expected = hit if expected is None else expected | hit
-            sure = margin > 1e-6
-            clear = sure if clear is None else clear & sure
+            for radius2 in spheres:
+                (x0, y0, w, h), hit, margin = sphere_coverage(renderer, actor, scene.centre, radius2)
+                expected = hit if expected is None else expected | hit
+                sure = margin > 1e-6
+                clear = sure if clear is None else clear & sure
         if expected is None or w <= 0 or h <= 0:
             continue
         got = z[y0:y0 + h, x0:x0 + w] < 1
