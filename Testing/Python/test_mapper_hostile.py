@@ -85,7 +85,7 @@ class Setters(unittest.TestCase):
             mapper.SetScalarRange(*bad)
         print("errors:", [e.strip().splitlines()[-1] for e in messages.errors])
         self.assertEqual(len(messages.errors), 2)
-        self.assertIn("ScalarRange must be two finite numbers", messages.errors[0])
+        self.assertIn("ScalarRange must be finite numbers, got (nan, 1)", messages.errors[0])
         self.assertEqual(mapper.GetScalarRange(), (2.0, 3.0))
 
     def test_input_of_another_type_refused(self):
