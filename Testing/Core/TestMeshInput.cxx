@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -331,4 +332,61 @@ TEST(MeshInput, AKeptSceneSurvivesEditsOfTheArraysItViews)
   tetdsr::NodeId found = -1;
   (void)scene.locate(glm::dvec3(0.5), found);
   EXPECT_EQ(before.size(), after.size());
+}
+
+TEST(IsoValues, ManyInOneCellGiveTheFirstCrossingOfAny)
+{
+  // 300 iso-values over the range of a field with a minimum inside the lattice (so rays see the
+  // field fall, then rise): each ray's first hit must be the nearest of the 300 single-value
+  // hits, found by search instead of 300 solves per cell (the cost grows with their logarithm).
+  LatticeMesh mesh = makeLattice(3, glm::dvec3(0.0), 1.0);
+  mesh.sample([](const glm::dvec3& x) {
+    return glm::dot(x - glm::dvec3(0.4, 0.55, 0.5), x - glm::dvec3(0.4, 0.55, 0.5)) + 0.3 * x.x;
+  });
+  const LatticeArrays own(mesh);
+  tetdsr::Messages messages;
+  tetdsr::PreparedMesh prepared;
+  ASSERT_TRUE(prepared.prepare(own.arrays(), tetdsr::TransverseTest(), tetdsr::serialFor, messages));
+  std::vector<double> values;
+  for (int k = 0; k < 300; ++k)
+  {
+    values.push_back(0.05 + 0.7 * k / 299.0);
+  }
+  const tetdsr::SurfaceIndex many(*prepared.scene(), tetdsr::IsoValues(values));
+  std::vector<std::unique_ptr<tetdsr::SurfaceIndex>> single;
+  for (double v : values)
+  {
+    single.push_back(std::make_unique<tetdsr::SurfaceIndex>(*prepared.scene(), tetdsr::IsoValues({ v })));
+  }
+  tetdsr::Camera camera;
+  camera.position = glm::dvec3(2.1, 1.7, 2.9);
+  camera.focalPoint = glm::dvec3(0.5);
+  const tetdsr::RayGenerator rays(camera, 20, 20);
+  int hits = 0;
+  for (int j = 0; j < 20; ++j)
+    for (int i = 0; i < 20; ++i)
+    {
+      const tetdsr::Ray ray = rays.pixelRay(i, j);
+      double nearest = std::numeric_limits<double>::infinity();
+      std::size_t nearestValue = 0;
+      for (std::size_t k = 0; k < single.size(); ++k)
+      {
+        tetdsr::SurfaceHit hit;
+        if (single[k]->firstHit(ray, hit) && hit.t < nearest)
+        {
+          nearest = hit.t;
+          nearestValue = k;
+        }
+      }
+      tetdsr::SurfaceHit hit;
+      const bool found = many.firstHit(ray, hit);
+      ASSERT_EQ(found, std::isfinite(nearest)) << "pixel " << i << ", " << j;
+      if (found)
+      {
+        ++hits;
+        EXPECT_EQ(hit.t, nearest) << "pixel " << i << ", " << j << ": expected the hit of value "
+                                  << nearestValue << ", got value " << hit.isoIndex;
+      }
+    }
+  EXPECT_GT(hits, 200);
 }

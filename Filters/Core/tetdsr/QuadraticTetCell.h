@@ -244,6 +244,92 @@ inline BernsteinForm formOf(const CellRecord& cell)
   }
   return form;
 }
+/// Up to this many iso-values within a cell's range are each solved for (firstCrossingOfEach);
+/// more are searched (firstCrossingOfMany), so that the cost grows with their logarithm.
+constexpr std::size_t kDirectIsoValues = 8;
+
+/// The first root in [sEntry, sHit] of f(s) - v, f(s) = a s^2 + b s + c (the field times
+/// `scale`), over the iso-values v = sorted[first, last): each solved for. Narrows sHit; true if
+/// any was found, with its sorted() index.
+inline bool firstCrossingOfEach(double a, double b, double c, double scale,
+  const std::vector<double>& sorted, std::size_t first, std::size_t last, double sEntry,
+  double& sHit, std::size_t& index)
+{
+  bool found = false;
+  for (std::size_t k = first; k < last; ++k)
+  {
+    double s;
+    if (firstRootInInterval(a, b, c - sorted[k] * scale, sEntry, sHit, s))
+    {
+      found = true;
+      sHit = s;
+      index = k;
+    }
+  }
+  return found;
+}
+
+/// The same for many iso-values, by search. On each piece of [sEntry, sHit] where f is monotone
+/// (split at its vertex), the values crossed lie between f at the piece's ends, and they are
+/// crossed in order from f(start) on: those within a rounding band of f(start) are each solved
+/// for, then the others in the direction f moves, until one has a root. The band (1e-10 of the
+/// terms' size) covers the rounding of f's evaluation (a few eps) and the quadratic solver's
+/// double-root band (1e-12 of the discriminant's terms) with room to spare; it only widens the
+/// candidates, every root is still firstRootInInterval's.
+inline bool firstCrossingOfMany(double a, double b, double c, double scale,
+  const std::vector<double>& sorted, std::size_t first, std::size_t last, double sEntry,
+  double& sHit, std::size_t& index)
+{
+  double ends[3] = { sEntry, sHit, sHit };
+  int pieces = 1;
+  if (a != 0.0)
+  {
+    const double vertex = -b / (2.0 * a);
+    if (vertex > sEntry && vertex < sHit)
+    {
+      ends[1] = vertex;
+      pieces = 2;
+    }
+  }
+  const auto begin = sorted.begin() + static_cast<std::ptrdiff_t>(first);
+  const auto end = sorted.begin() + static_cast<std::ptrdiff_t>(last);
+  for (int piece = 0; piece < pieces; ++piece)
+  {
+    const double s0 = ends[piece], s1 = ends[piece + 1];
+    const double f0 = (a * s0 + b) * s0 + c;
+    const double f1 = (a * s1 + b) * s1 + c;
+    const double reach = std::max(std::abs(s0), std::abs(s1));
+    const double band = 1e-10 *
+      (std::abs(a) * reach * reach + std::abs(b) * reach + std::abs(c) +
+        (a != 0.0 ? b * b / (4.0 * std::abs(a)) : 0.0));
+    // The candidates v * scale in [min(f0, f1) - band, max(f0, f1) + band], nearest f0 first.
+    const auto lo = std::lower_bound(begin, end, (std::min(f0, f1) - band) / scale);
+    const auto hi = std::upper_bound(begin, end, (std::max(f0, f1) + band) / scale);
+    const bool rising = f1 >= f0;
+    bool found = false;
+    for (std::ptrdiff_t step = 0; step < hi - lo; ++step)
+    {
+      const auto k = rising ? lo + step : hi - 1 - step;
+      double s;
+      if (firstRootInInterval(a, b, c - *k * scale, s0, sHit, s))
+      {
+        found = true;
+        sHit = s;
+        index = static_cast<std::size_t>(k - sorted.begin());
+      }
+      // Past the band around f(start), the first value with a root is the first crossed.
+      if (found && std::abs(*k * scale - f0) > band)
+      {
+        break;
+      }
+    }
+    if (found)
+    {
+      return true;
+    }
+  }
+  return false;
+}
 } // namespace quadratic_tet_detail
 
 inline bool QuadraticTetCell::intersect(const CellRecord& cell, const Ray& ray,
@@ -290,19 +376,10 @@ inline bool QuadraticTetCell::intersect(const CellRecord& cell, const Ray& ray,
   const double a = form.bilinear(dL, dL);
   const double b = 2.0 * form.bilinear(L, dL);
   const double c = form.bilinear(L, L);
-  const std::vector<double>& sorted = isoValues.sorted();
-  bool found = false;
   double sHit = sExit;
-  for (std::size_t k = first; k < last; ++k)
-  {
-    double s;
-    if (firstRootInInterval(a, b, c - sorted[k] * cell.scale, sEntry, sHit, s))
-    {
-      found = true;
-      sHit = s;
-      hit.isoIndex = k;
-    }
-  }
+  const bool found = last - first <= kDirectIsoValues
+    ? firstCrossingOfEach(a, b, c, cell.scale, isoValues.sorted(), first, last, sEntry, sHit, hit.isoIndex)
+    : firstCrossingOfMany(a, b, c, cell.scale, isoValues.sorted(), first, last, sEntry, sHit, hit.isoIndex);
   if (!found)
   {
     return false;
