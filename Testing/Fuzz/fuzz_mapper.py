@@ -498,9 +498,12 @@ def depth_of(window):
     return vtk_to_numpy(z).reshape(h, w).astype(np.float64)
 
 
-def sphere_coverage(renderer, actor, centre, radius2):
-    """Pixels of `renderer` whose ray meets the sphere |x - centre|^2 = radius2 of the model
-    coordinates of `actor`, and how far from grazing each ray is."""
+def sphere_coverage(renderer, actor, centre, radii2):
+    """Pixels of `renderer` whose ray meets one of the concentric spheres |x - centre|^2 = r2
+    (r2 in `radii2`) of the model coordinates of `actor` between the near and the far plane,
+    and whether each pixel is clear of grazing. The squared distance to the centre along the
+    ray's segment is continuous, so the segment meets a sphere exactly when r2 lies between the
+    segment's smallest and largest squared distance: one sorted search per pixel."""
     w, h = renderer.GetSize()
     x0, y0 = renderer.GetOrigin()
     m = renderer.GetActiveCamera().GetCompositeProjectionTransformMatrix(
@@ -519,15 +522,24 @@ def sphere_coverage(renderer, actor, centre, radius2):
     near, far = unproject(-1.0), unproject(1.0)
     d = far - near
     o = near - centre
-    qa, qb, qc = np.sum(d * d, 1), 2 * np.sum(o * d, 1), np.sum(o * o, 1) - radius2
-    disc = qb * qb - 4 * qa * qc
-    root = np.sqrt(np.maximum(disc, 0))
-    t0, t1 = (-qb - root) / (2 * qa), (-qb + root) / (2 * qa)
-    # A hit between the near and the far plane (t in [0, 1]).
-    hit = (disc >= 0) & (((t0 >= 0) & (t0 <= 1)) | ((t1 >= 0) & (t1 <= 1)))
-    margin = np.abs(disc) / (qa * radius2) / 4
-    margin = np.minimum(margin, np.minimum(np.abs(t0), np.abs(t1)) * 1e3 + np.abs(t0 - 1) * 1e3)
-    return (x0, y0, w, h), hit.reshape(h, w), margin.reshape(h, w)
+    qa, qb, qc = np.sum(d * d, 1), 2 * np.sum(o * d, 1), np.sum(o * o, 1)
+    t = np.clip(-qb / (2 * qa), 0, 1)
+    at_near, at_far = qc, qa + qb + qc
+    lowest = qa * t * t + qb * t + qc
+    highest = np.maximum(at_near, at_far)
+    radii2 = np.sort(np.asarray(radii2, dtype=np.float64))
+    # The first radius at or above the lowest squared distance, then whether it is below the
+    # highest.
+    k = np.searchsorted(radii2, lowest)
+    hit = (k < len(radii2)) & (radii2[np.minimum(k, len(radii2) - 1)] <= highest)
+
+    def clear_of(values):  # no radius within 1e-6 (relative) of these squared distances
+        k = np.clip(np.searchsorted(radii2, values), 1, len(radii2) - 1) if len(radii2) > 1 \
+            else np.zeros(len(values), dtype=int)
+        nearest = np.minimum(np.abs(radii2[k] - values), np.abs(radii2[k - 1 if len(radii2) > 1 else k] - values))
+        return nearest > 1e-6 * radii2[-1]
+    clear = clear_of(lowest) & clear_of(at_near) & clear_of(at_far)
+    return (x0, y0, w, h), hit.reshape(h, w), clear.reshape(h, w)
 
 
 def check_render(case, scene, broken, step):
@@ -551,11 +563,9 @@ def check_render(case, scene, broken, step):
         for actor in renderer.GetActors():
             if not actor.GetVisibility():
                 continue
-            for radius2 in spheres:
-                (x0, y0, w, h), hit, margin = sphere_coverage(renderer, actor, scene.centre, radius2)
-                expected = hit if expected is None else expected | hit
-                sure = margin > 1e-6
-                clear = sure if clear is None else clear & sure
+            (x0, y0, w, h), hit, sure = sphere_coverage(renderer, actor, scene.centre, spheres)
+            expected = hit if expected is None else expected | hit
+            clear = sure if clear is None else clear & sure
         if expected is None or w <= 0 or h <= 0:
             continue
         got = z[y0:y0 + h, x0:x0 + w] < 1
