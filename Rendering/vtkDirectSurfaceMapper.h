@@ -35,7 +35,11 @@
  * surfaces front to back, up to the opaque geometry's depth, and the result is blended over the
  * finished frame: correct with opaque props, with plain blending, order-independent
  * translucency and depth peeling alike; other translucent props are seen behind it, never in
- * front. Positional lights are point lights without attenuation or cone. Hardware selection
+ * front. Several actors sharing one translucent mapper are each drawn, blended farthest first
+ * (by the distance of their centres from the camera), not sorted per pixel. One mapper may serve
+ * several actors, renderers and windows: each view keeps its own last image. An input with
+ * empty bounds (no cells, only non-finite points, an empty composite dataset), which VTK's
+ * culler drops before Render, is reported when its bounds are asked for. Positional lights are point lights without attenuation or cone. Hardware selection
  * (picking) does not see the surface.
  *
  * @sa vtkDirectSurfaceRayCaster

@@ -225,8 +225,12 @@ def build_input(case, scene):
         kind = pick(r, ["one", "two", "empty", "polydata"])
         if kind == "two" and grid.GetNumberOfCells() > 1:
             half = grid.GetNumberOfCells() // 2
-            data.SetBlock(0, make_grid(points, cells[:half], field))
-            data.SetBlock(1, make_grid(points, cells[half:], field))
+            for b, part in enumerate((cells[:half], cells[half:])):
+                block = make_grid(points, part, field)
+                # The grid's own points and field, so that its edits are the blocks' edits.
+                block.SetPoints(grid.GetPoints())
+                block.GetPointData().SetScalars(grid.GetPointData().GetScalars())
+                data.SetBlock(b, block)
         elif kind != "empty":
             data.SetBlock(0, grid)
         if kind == "polydata":
