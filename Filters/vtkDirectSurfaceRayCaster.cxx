@@ -513,6 +513,25 @@ TETDSR_CLAMPED_SETTER(CentralDifferenceStep)
 TETDSR_CLAMPED_SETTER(NodalRangeWidening)
 #undef TETDSR_CLAMPED_SETTER
 
+// Vectors of numbers: a NaN or infinite component refused with the core's error.
+#define TETDSR_FINITE_VECTOR3_SETTER(Name)                                                         \
+  void vtkDirectSurfaceRayCaster::Set##Name(double x, double y, double z)                          \
+  {                                                                                                \
+    adapter::Messages messages;                                                                    \
+    if (tetdsr::checkFiniteNumbers(#Name, { x, y, z }, messages) &&                                \
+      (this->Name[0] != x || this->Name[1] != y || this->Name[2] != z))                            \
+    {                                                                                              \
+      this->Name[0] = x;                                                                           \
+      this->Name[1] = y;                                                                           \
+      this->Name[2] = z;                                                                           \
+      this->Modified();                                                                            \
+    }                                                                                              \
+    adapter::ReportMessages(this, messages);                                                       \
+  }
+TETDSR_FINITE_VECTOR3_SETTER(SurfaceColor)
+TETDSR_FINITE_VECTOR3_SETTER(LightPosition)
+#undef TETDSR_FINITE_VECTOR3_SETTER
+
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceRayCaster::AddClippingPlane(vtkPlane* plane)
 {

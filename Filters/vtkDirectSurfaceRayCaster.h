@@ -127,9 +127,11 @@ public:
   /**
    * Phong shading: surface colour (default white), ambient (0.1), diffuse (0.7),
    * specular (0.2) coefficients and specular power (30). The side facing the viewer is lit.
-   * The coefficients are clamped to [0, 1], the power to [0, 128]; NaN is refused with an error.
+   * The coefficients are clamped to [0, 1], the power to [0, 128]; NaN is refused with an error,
+   * and so is a colour with a NaN or infinite component.
    */
-  vtkSetVector3Macro(SurfaceColor, double);
+  virtual void SetSurfaceColor(double red, double green, double blue);
+  void SetSurfaceColor(const double color[3]) { this->SetSurfaceColor(color[0], color[1], color[2]); }
   vtkGetVector3Macro(SurfaceColor, double);
   virtual void SetAmbient(double ambient);
   vtkGetMacro(Ambient, double);
@@ -144,12 +146,17 @@ public:
   ///@{
   /**
    * The point light: at the camera position when LightAtCamera is on (default), else at
-   * LightPosition (world coordinates, default (0, 0, 1)).
+   * LightPosition (world coordinates, default (0, 0, 1); a NaN or infinite coordinate is refused
+   * with an error).
    */
   vtkSetMacro(LightAtCamera, bool);
   vtkGetMacro(LightAtCamera, bool);
   vtkBooleanMacro(LightAtCamera, bool);
-  vtkSetVector3Macro(LightPosition, double);
+  virtual void SetLightPosition(double x, double y, double z);
+  void SetLightPosition(const double position[3])
+  {
+    this->SetLightPosition(position[0], position[1], position[2]);
+  }
   vtkGetVector3Macro(LightPosition, double);
   ///@}
 

@@ -39,6 +39,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <string>
@@ -282,17 +283,87 @@ struct vtkDirectSurfaceMapper::Internals
   std::vector<double> BlockDepth;
   std::vector<tetdsr::NodeId> BlockCellIds;
 
-  // Translucent surfaces wait for the renderer's EndEvent.
-  vtkWeakPointer<vtkRenderer> ObservedRenderer;
-  unsigned long ObserverTag = 0;
-  vtkWeakPointer<vtkActor> PendingActor;
+  // Translucent surfaces wait for their renderer's EndEvent: every actor of this mapper that
+  // asked for them in that renderer's frame (one mapper may serve several actors and renderers).
+  struct Deferred
+  {
+    vtkWeakPointer<vtkRenderer> Renderer;
+    unsigned long ObserverTag = 0;
+    std::vector<vtkWeakPointer<vtkActor>> Actors;
+  };
+  std::vector<Deferred> DeferredDraws;
   std::vector<float> OpaqueDepth;
   std::vector<double> RayLimits;
 
-  vtkSmartPointer<vtkTextureObject> ColorTexture;
-  vtkSmartPointer<vtkTextureObject> DepthTexture;
-  std::unique_ptr<vtkOpenGLQuadHelper> Quad;
-  bool TexturesValid = false;
+  /// What one view (a window's renderer and an actor of this mapper) draws its image with:
+  /// textures and quad (OpenGL objects belong to the window's context), and the signature of
+  /// the image the textures hold, so that each view re-uses its own.
+  struct ViewResources
+  {
+    vtkWeakPointer<vtkOpenGLRenderWindow> Window;
+    vtkWeakPointer<vtkRenderer> Renderer;
+    vtkWeakPointer<vtkActor> Actor;
+    vtkSmartPointer<vtkTextureObject> ColorTexture;
+    vtkSmartPointer<vtkTextureObject> DepthTexture;
+    std::unique_ptr<vtkOpenGLQuadHelper> Quad;
+    bool TexturesValid = false;
+    std::vector<double> Signature;
+
+    void Release(vtkWindow* window)
+    {
+      if (this->Quad)
+      {
+        this->Quad->ReleaseGraphicsResources(window);
+        this->Quad.reset();
+      }
+      for (auto* texture : { &this->ColorTexture, &this->DepthTexture })
+      {
+        if (*texture)
+        {
+          (*texture)->ReleaseGraphicsResources(window);
+          *texture = nullptr;
+        }
+      }
+      this->TexturesValid = false;
+      this->Signature.clear();
+    }
+  };
+  std::vector<std::unique_ptr<ViewResources>> Views;
+  /// What the last report of an undrawable input (empty bounds) was made for.
+  std::vector<std::uintptr_t> SilenceStamp;
+
+  /// The resources of a view, made on first use. Entries of deleted windows, renderers or
+  /// actors are dropped (a window releases its quads' and textures' OpenGL objects itself when
+  /// it goes; those of a deleted renderer or actor are released here).
+  ViewResources& ResourcesOf(vtkOpenGLRenderWindow* window, vtkRenderer* renderer, vtkActor* actor)
+  {
+    for (auto it = this->Views.begin(); it != this->Views.end();)
+    {
+      ViewResources& r = **it;
+      if (!r.Window || !r.Renderer || !r.Actor)
+      {
+        if (r.Window)
+        {
+          r.Release(r.Window);
+        }
+        it = this->Views.erase(it);
+      }
+      else if (r.Window == window && r.Renderer == renderer && r.Actor == actor)
+      {
+        return r;
+      }
+      else
+      {
+        ++it;
+      }
+    }
+    this->Views.emplace_back(new ViewResources);
+    ViewResources& made = *this->Views.back();
+    made.Window = window;
+    made.Renderer = renderer;
+    made.Actor = actor;
+    return made;
+  }
 
   adapter::PreparedMesh& MeshOf(unsigned int block)
   {
@@ -425,9 +496,9 @@ struct vtkDirectSurfaceMapper::Internals
     });
   }
 
-  void Upload(vtkOpenGLRenderWindow* window, int width, int height)
+  void Upload(ViewResources& gl, vtkOpenGLRenderWindow* window, int width, int height)
   {
-    for (auto* texture : { &this->ColorTexture, &this->DepthTexture })
+    for (auto* texture : { &gl.ColorTexture, &gl.DepthTexture })
     {
       if (!*texture)
       {
@@ -439,26 +510,27 @@ struct vtkDirectSurfaceMapper::Internals
       }
       (*texture)->SetContext(window);
     }
-    this->ColorTexture->Create2DFromRaw(width, height, 4, VTK_UNSIGNED_CHAR, this->Colors.data());
-    this->DepthTexture->Create2DFromRaw(width, height, 1, VTK_FLOAT, this->WindowDepth.data());
-    this->TexturesValid = true;
+    gl.ColorTexture->Create2DFromRaw(width, height, 4, VTK_UNSIGNED_CHAR, this->Colors.data());
+    gl.DepthTexture->Create2DFromRaw(width, height, 1, VTK_FLOAT, this->WindowDepth.data());
+    gl.TexturesValid = true;
   }
 
-  bool Draw(vtkOpenGLRenderWindow* window, bool translucent, const int viewport[4])
+  static bool Draw(
+    ViewResources& gl, vtkOpenGLRenderWindow* window, bool translucent, const int viewport[4])
   {
-    if (!this->Quad)
+    if (!gl.Quad)
     {
       std::string fragment = vtkOpenGLRenderUtilities::GetFullScreenQuadFragmentShaderTemplate();
       vtkShaderProgram::Substitute(fragment, "//VTK::FSQ::Decl", kQuadDeclarations);
       vtkShaderProgram::Substitute(fragment, "//VTK::FSQ::Impl", kQuadImplementation);
-      this->Quad.reset(new vtkOpenGLQuadHelper(window,
+      gl.Quad.reset(new vtkOpenGLQuadHelper(window,
         vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), fragment.c_str(), ""));
     }
     else
     {
-      window->GetShaderCache()->ReadyShaderProgram(this->Quad->Program);
+      window->GetShaderCache()->ReadyShaderProgram(gl.Quad->Program);
     }
-    if (!this->Quad->Program || !this->Quad->Program->GetCompiled())
+    if (!gl.Quad->Program || !gl.Quad->Program->GetCompiled())
     {
       return false;
     }
@@ -488,13 +560,13 @@ struct vtkDirectSurfaceMapper::Internals
       state->vtkglDepthFunc(GL_LEQUAL);
       state->vtkglDepthMask(GL_TRUE);
     }
-    this->ColorTexture->Activate();
-    this->DepthTexture->Activate();
-    this->Quad->Program->SetUniformi("colorTexture", this->ColorTexture->GetTextureUnit());
-    this->Quad->Program->SetUniformi("depthTexture", this->DepthTexture->GetTextureUnit());
-    this->Quad->Render();
-    this->DepthTexture->Deactivate();
-    this->ColorTexture->Deactivate();
+    gl.ColorTexture->Activate();
+    gl.DepthTexture->Activate();
+    gl.Quad->Program->SetUniformi("colorTexture", gl.ColorTexture->GetTextureUnit());
+    gl.Quad->Program->SetUniformi("depthTexture", gl.DepthTexture->GetTextureUnit());
+    gl.Quad->Render();
+    gl.DepthTexture->Deactivate();
+    gl.ColorTexture->Deactivate();
     return true;
   }
 };
@@ -509,9 +581,12 @@ vtkDirectSurfaceMapper::vtkDirectSurfaceMapper()
 
 vtkDirectSurfaceMapper::~vtkDirectSurfaceMapper()
 {
-  if (this->Internal->ObservedRenderer)
+  for (const auto& deferred : this->Internal->DeferredDraws)
   {
-    this->Internal->ObservedRenderer->RemoveObserver(this->Internal->ObserverTag);
+    if (deferred.Renderer)
+    {
+      deferred.Renderer->RemoveObserver(deferred.ObserverTag);
+    }
   }
 }
 
@@ -542,13 +617,39 @@ bool vtkDirectSurfaceMapper::HasTranslucentPolygonalGeometry()
   return this->IsTranslucent(nullptr);
 }
 
-void vtkDirectSurfaceMapper::DrawDeferred(vtkObject* renderer, unsigned long, void*)
+void vtkDirectSurfaceMapper::DrawDeferred(vtkObject* object, unsigned long, void*)
 {
-  vtkActor* actor = this->Internal->PendingActor;
-  this->Internal->PendingActor = nullptr;
-  if (actor)
+  auto* renderer = static_cast<vtkRenderer*>(object);
+  std::vector<vtkSmartPointer<vtkActor>> actors;
+  for (auto& deferred : this->Internal->DeferredDraws)
   {
-    this->Draw(static_cast<vtkRenderer*>(renderer), actor, true);
+    if (deferred.Renderer == renderer)
+    {
+      for (const auto& actor : deferred.Actors)
+      {
+        if (actor)
+        {
+          actors.emplace_back(actor.GetPointer());
+        }
+      }
+      deferred.Actors.clear();
+    }
+  }
+  // Each is blended over the frame and writes no depth: the farthest first, so that nearer
+  // surfaces are blended over farther ones (by the distance of the actors' centres).
+  double eye[3];
+  renderer->GetActiveCamera()->GetPosition(eye);
+  auto distance = [&eye](vtkActor* actor) {
+    const double* centre = actor->GetCenter();
+    return centre ? vtkMath::Distance2BetweenPoints(centre, eye) : 0.0;
+  };
+  std::stable_sort(actors.begin(), actors.end(),
+    [&](const vtkSmartPointer<vtkActor>& a, const vtkSmartPointer<vtkActor>& b) {
+      return distance(a) > distance(b);
+    });
+  for (const auto& actor : actors)
+  {
+    this->Draw(renderer, actor, true);
   }
 }
 
@@ -562,7 +663,48 @@ int vtkDirectSurfaceMapper::FillInputPortInformation(int, vtkInformation* info)
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceMapper::SetInputData(vtkDataObject* input)
 {
+  if (input && !vtkUnstructuredGrid::SafeDownCast(input) &&
+    !vtkCompositeDataSet::SafeDownCast(input))
+  {
+    vtkErrorMacro("SetInputData: a " << input->GetClassName()
+                                     << " cannot be drawn: give a vtkUnstructuredGrid of quadratic "
+                                        "tetrahedra, or a composite dataset of them.");
+    return;
+  }
   this->SetInputDataInternal(0, input);
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceMapper::SetMaximumImageSampleDistance(double distance)
+{
+  adapter::Messages messages;
+  if (tetdsr::setClamped(
+        tetdsr::kMaximumImageSampleDistance, distance, this->MaximumImageSampleDistance, messages))
+  {
+    this->Modified();
+  }
+  adapter::ReportMessages(this, messages);
+}
+
+void vtkDirectSurfaceMapper::SetInteractiveImageSampleDistance(double distance)
+{
+  adapter::Messages messages;
+  if (tetdsr::setClamped(tetdsr::kInteractiveImageSampleDistance, distance,
+        this->InteractiveImageSampleDistance, messages))
+  {
+    this->Modified();
+  }
+  adapter::ReportMessages(this, messages);
+}
+
+void vtkDirectSurfaceMapper::SetScalarRange(double lo, double hi)
+{
+  adapter::Messages messages;
+  if (tetdsr::checkFiniteNumbers("ScalarRange", { lo, hi }, messages))
+  {
+    this->Superclass::SetScalarRange(lo, hi);
+  }
+  adapter::ReportMessages(this, messages);
 }
 
 //------------------------------------------------------------------------------
@@ -681,28 +823,73 @@ double* vtkDirectSurfaceMapper::GetBounds()
   {
     composite->GetBounds(this->Bounds);
   }
+  if (!vtkMath::AreBoundsInitialized(this->Bounds))
+  {
+    this->ReportWhyNothingIsDrawn();
+  }
   return this->Bounds;
+}
+
+void vtkDirectSurfaceMapper::ReportWhyNothingIsDrawn()
+{
+  // Once per change: GetBounds is asked many times a frame.
+  vtkDataObject* input = this->GetInputDataObject(0, 0);
+  std::vector<std::uintptr_t> stamp{ reinterpret_cast<std::uintptr_t>(input),
+    static_cast<std::uintptr_t>(this->GetMTime()),
+    static_cast<std::uintptr_t>(input ? input->GetMTime() : 0) };
+  auto stampGrid = [&stamp](vtkDataObject* object) {
+    if (auto* grid = vtkUnstructuredGrid::SafeDownCast(object))
+    {
+      stamp.push_back(static_cast<std::uintptr_t>(adapter::MeshModifiedTime(grid)));
+    }
+  };
+  stampGrid(input);
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      stampGrid(it->GetCurrentDataObject());
+    }
+  }
+  if (stamp == this->Internal->SilenceStamp)
+  {
+    return;
+  }
+  this->Internal->SilenceStamp = stamp;
+  Frame frame(nullptr, nullptr, false);
+  if (!this->CollectBlocks(frame))
+  {
+    return; // (it said why)
+  }
+  for (const auto& block : frame.Blocks)
+  {
+    this->PrepareBlock(frame, block.first, block.second);
+  }
+  adapter::ReportMessages(this, frame.Messages);
 }
 
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceMapper::ReleaseGraphicsResources(vtkWindow* window)
 {
-  Internals& in = *this->Internal;
-  if (in.Quad)
+  auto& views = this->Internal->Views;
+  for (auto it = views.begin(); it != views.end();)
   {
-    in.Quad->ReleaseGraphicsResources(window);
-    in.Quad.reset();
-  }
-  for (auto* texture : { &in.ColorTexture, &in.DepthTexture })
-  {
-    if (*texture)
+    // (A null window: VTK asks every prop to let go of everything.)
+    if (!window || (*it)->Window == window)
     {
-      (*texture)->ReleaseGraphicsResources(window);
-      *texture = nullptr;
+      if ((*it)->Window)
+      {
+        (*it)->Release((*it)->Window);
+      }
+      it = views.erase(it);
+    }
+    else
+    {
+      ++it;
     }
   }
-  in.TexturesValid = false;
-  in.Signature.clear();
 }
 
 //------------------------------------------------------------------------------
@@ -715,18 +902,27 @@ void vtkDirectSurfaceMapper::Render(vtkRenderer* renderer, vtkActor* actor)
   }
   // Translucent: drawn once, after the renderer's passes (depth peeling and order-independent
   // translucency would otherwise call this in each of their passes with their own buffers).
-  Internals& in = *this->Internal;
-  if (in.ObservedRenderer != renderer)
+  auto& draws = this->Internal->DeferredDraws;
+  draws.erase(std::remove_if(draws.begin(), draws.end(),
+                [](const Internals::Deferred& deferred) { return !deferred.Renderer; }),
+    draws.end());
+  auto entry = std::find_if(draws.begin(), draws.end(),
+    [renderer](const Internals::Deferred& deferred) { return deferred.Renderer == renderer; });
+  if (entry == draws.end())
   {
-    if (in.ObservedRenderer)
-    {
-      in.ObservedRenderer->RemoveObserver(in.ObserverTag);
-    }
-    in.ObservedRenderer = renderer;
-    in.ObserverTag = renderer->AddObserver(
+    Internals::Deferred deferred;
+    deferred.Renderer = renderer;
+    deferred.ObserverTag = renderer->AddObserver(
       vtkCommand::EndEvent, this, &vtkDirectSurfaceMapper::DrawDeferred, 1.0);
+    draws.push_back(deferred);
+    entry = draws.end() - 1;
   }
-  in.PendingActor = actor;
+  const bool pending = std::any_of(entry->Actors.begin(), entry->Actors.end(),
+    [actor](const vtkWeakPointer<vtkActor>& a) { return a == actor; });
+  if (!pending)
+  {
+    entry->Actors.emplace_back(actor);
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -755,13 +951,14 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   }
   frame.CollectLights(renderer);
 
-  // Re-use the last image when nothing it depends on changed.
+  // Re-use the image this view holds when nothing it depends on changed.
   Internals& in = *this->Internal;
+  Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor);
   this->ComputeSignature(frame);
-  this->LastRenderReusedImage = in.TexturesValid && frame.Signature == in.Signature;
+  this->LastRenderReusedImage = gl.TexturesValid && frame.Signature == gl.Signature;
   if (this->LastRenderReusedImage)
   {
-    in.Draw(window, translucent, frame.Viewport);
+    Internals::Draw(gl, window, translucent, frame.Viewport);
     timer->StopTimer();
     this->TimeToDraw = timer->GetElapsedTime();
     return;
@@ -772,9 +969,9 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
     return;
   }
   in.ComputeWindowDepth(frame);
-  in.Upload(window, frame.CastWidth, frame.CastHeight);
-  in.Draw(window, translucent, frame.Viewport);
-  in.Signature = std::move(frame.Signature);
+  in.Upload(gl, window, frame.CastWidth, frame.CastHeight);
+  Internals::Draw(gl, window, translucent, frame.Viewport);
+  gl.Signature = std::move(frame.Signature);
   timer->StopTimer();
   in.LastCastSeconds = timer->GetElapsedTime();
   in.SampleDistance = distance;
@@ -791,7 +988,8 @@ bool vtkDirectSurfaceMapper::CollectBlocks(Frame& frame)
   {
     frame.Blocks.emplace_back(0, grid);
   }
-  else if (auto* composite = vtkCompositeDataSet::SafeDownCast(frame.Input))
+  int otherBlocks = 0; // of a composite input, not drawn
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(frame.Input))
   {
     vtkSmartPointer<vtkCompositeDataIterator> it;
     it.TakeReference(composite->NewIterator());
@@ -801,6 +999,17 @@ bool vtkDirectSurfaceMapper::CollectBlocks(Frame& frame)
       {
         frame.Blocks.emplace_back(it->GetCurrentFlatIndex(), block);
       }
+      else
+      {
+        ++otherBlocks;
+      }
+    }
+    if (frame.Blocks.empty() && otherBlocks == 0)
+    {
+      adapter::Messages messages; // a composite dataset without blocks
+      tetdsr::checkMeshNotEmpty(0, 0, messages);
+      adapter::ReportMessages(this, messages);
+      return false;
     }
   }
   // Scenes of blocks the input no longer has are dropped, with the arrays they keep alive.
@@ -815,6 +1024,11 @@ bool vtkDirectSurfaceMapper::CollectBlocks(Frame& frame)
   {
     vtkErrorMacro("The input is neither a vtkUnstructuredGrid nor a composite dataset of them.");
     return false;
+  }
+  if (otherBlocks > 0)
+  {
+    vtkWarningMacro(<< otherBlocks << " of " << otherBlocks + frame.Blocks.size()
+                    << " blocks of the composite input are not vtkUnstructuredGrid: not drawn.");
   }
   return true;
 }
@@ -934,9 +1148,12 @@ bool vtkDirectSurfaceMapper::CastBlocks(Frame& frame)
   return !aborted && this->NumberOfRenderedCells > 0;
 }
 
-bool vtkDirectSurfaceMapper::CastBlock(Frame& frame, unsigned int index, vtkUnstructuredGrid* grid)
+bool vtkDirectSurfaceMapper::PrepareBlock(Frame& frame, unsigned int index, vtkUnstructuredGrid* grid)
 {
-  Internals& in = *this->Internal;
+  if (!tetdsr::checkMeshNotEmpty(grid->GetNumberOfPoints(), grid->GetNumberOfCells(), frame.Messages))
+  {
+    return false; // (before the field: an empty grid has none)
+  }
   int association = -1;
   vtkDataArray* field = this->GetInputArrayToProcess(0, grid, association);
   int component = 0;
@@ -946,15 +1163,21 @@ bool vtkDirectSurfaceMapper::CastBlock(Frame& frame, unsigned int index, vtkUnst
       "No scalar field: choose a point array with "
       "SetInputArrayToProcess(0, 0, 0, FIELD_ASSOCIATION_POINTS, name).");
   }
-  adapter::PreparedMesh& prepared = in.MeshOf(index);
-  if (!field ||
-    !adapter::CheckPointArray(
-      field, association, -1, false, "the field's component", component, frame.Messages) ||
-    !prepared.Prepare(
-      grid, field, component, tetdsr::TransverseTest(), this->NumberOfThreads, frame.Messages))
+  adapter::PreparedMesh& prepared = this->Internal->MeshOf(index);
+  return field &&
+    adapter::CheckPointArray(field, association, -1, false, nullptr, component, frame.Messages) &&
+    prepared.Prepare(
+      grid, field, component, tetdsr::TransverseTest(), this->NumberOfThreads, frame.Messages);
+}
+
+bool vtkDirectSurfaceMapper::CastBlock(Frame& frame, unsigned int index, vtkUnstructuredGrid* grid)
+{
+  Internals& in = *this->Internal;
+  if (!this->PrepareBlock(frame, index, grid))
   {
     return true; // skipped: the messages say why
   }
+  adapter::PreparedMesh& prepared = in.MeshOf(index);
   this->NumberOfRenderedCells += prepared.GetSummary().validCells;
   ChooseColors(this, grid, prepared, frame.Settings, frame.Messages);
 

@@ -35,7 +35,11 @@
  * surfaces front to back, up to the opaque geometry's depth, and the result is blended over the
  * finished frame: correct with opaque props, with plain blending, order-independent
  * translucency and depth peeling alike; other translucent props are seen behind it, never in
- * front. Positional lights are point lights without attenuation or cone. Hardware selection
+ * front. Several actors sharing one translucent mapper are each drawn, blended farthest first
+ * (by the distance of their centres from the camera), not sorted per pixel. One mapper may serve
+ * several actors, renderers and windows: each view keeps its own last image. An input with
+ * empty bounds (no cells, only non-finite points, an empty composite dataset), which VTK's
+ * culler drops before Render, is reported when its bounds are asked for. Positional lights are point lights without attenuation or cone. Hardware selection
  * (picking) does not see the surface.
  *
  * @sa vtkDirectSurfaceRayCaster
@@ -61,8 +65,15 @@ public:
 
   /**
    * The mesh: a vtkUnstructuredGrid, or a composite dataset of them (or use SetInputConnection).
+   * Other data objects are refused with an error (the input is kept).
    */
   void SetInputData(vtkDataObject* input);
+
+  /**
+   * The colour map's range (vtkMapper's): a NaN or infinite end is refused with an error.
+   */
+  void SetScalarRange(double lo, double hi) override;
+  using vtkMapper::SetScalarRange;
 
   ///@{
   /**
@@ -98,14 +109,15 @@ public:
    * interactive frame casts one ray per ImageSampleDistance x ImageSampleDistance pixels, the
    * distance adjusted from the last frame's time to meet the actor's allocated render time,
    * within [1, MaximumImageSampleDistance] (default 8). Off: InteractiveImageSampleDistance
-   * (default 2) while interacting. Still renders always use 1.
+   * (default 2) while interacting. Still renders always use 1. Both distances are clamped to
+   * [1, 64]; NaN is refused with an error (the value is kept).
    */
   vtkSetMacro(AutoAdjustSampleDistances, bool);
   vtkGetMacro(AutoAdjustSampleDistances, bool);
   vtkBooleanMacro(AutoAdjustSampleDistances, bool);
-  vtkSetClampMacro(MaximumImageSampleDistance, double, 1.0, 64.0);
+  virtual void SetMaximumImageSampleDistance(double distance);
   vtkGetMacro(MaximumImageSampleDistance, double);
-  vtkSetClampMacro(InteractiveImageSampleDistance, double, 1.0, 64.0);
+  virtual void SetInteractiveImageSampleDistance(double distance);
   vtkGetMacro(InteractiveImageSampleDistance, double);
   ///@}
 
@@ -196,11 +208,18 @@ private:
   /// Casts every block into one image, reporting what they skipped; false when there is nothing
   /// to draw (aborted, or no cell rendered).
   bool CastBlocks(Frame& frame);
+  /// Makes a block's prepared mesh current (its field checked, its scene built or re-used);
+  /// false, with the messages in the frame, when nothing of it can be rendered.
+  bool PrepareBlock(Frame& frame, unsigned int index, vtkUnstructuredGrid* grid);
   /// Casts one block (the nearest surface of several blocks wins); false when aborted. A block
   /// that cannot be rendered is skipped, with messages saying why.
   bool CastBlock(Frame& frame, unsigned int index, vtkUnstructuredGrid* grid);
-  /// The renderer's EndEvent: draws the translucent surfaces a render asked for.
+  /// The renderer's EndEvent: draws the translucent surfaces its actors of this mapper asked
+  /// for, farthest actor first.
   void DrawDeferred(vtkObject* renderer, unsigned long event, void* data);
+  /// The culler drops an actor whose bounds are empty before Render is called: then (once per
+  /// change of the input or the settings) the reason is reported from GetBounds.
+  void ReportWhyNothingIsDrawn();
   bool IsTranslucent(vtkActor* actor);
 
   struct Internals;

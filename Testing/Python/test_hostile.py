@@ -230,6 +230,24 @@ class HostileInput(unittest.TestCase):
         self.assertEqual(caster.GetCentralDifferenceStep(), 1e-3)
         self.assertEqual(caster.GetNodalRangeWidening(), 0.25)
 
+    def test_non_finite_colour_and_light_position_are_refused(self):
+        # Once accepted: a NaN red drew every hit with red 0, a NaN light position flat ambient
+        # grey, with no message.
+        reference = Run(one_tet(), configure=lambda c: c.LightAtCameraOff())
+        for name, configure in [
+                ("SurfaceColor", lambda c: c.SetSurfaceColor(float("nan"), 0.5, 0.5)),
+                ("LightPosition", lambda c: (c.LightAtCameraOff(),
+                                             c.SetLightPosition(1.0, float("inf"), 1.0)))]:
+            run = Run(one_tet(), configure=configure)
+            print("%s: %s" % (name, [e.strip().splitlines()[-1] for e in run.errors]))
+            self.assertEqual(len(run.errors), 1, run.errors)
+            self.assertIn("%s must be finite numbers" % name, run.errors[0])
+            if name == "LightPosition":
+                self.assertEqual(run.caster.GetLightPosition(), (0.0, 0.0, 1.0))
+                np.testing.assert_array_equal(run.array("Colors"), reference.array("Colors"))
+            else:
+                self.assertEqual(run.caster.GetSurfaceColor(), (1.0, 1.0, 1.0))
+
     def test_huge_widening_finds_no_false_surface(self):
         reference = Run(one_tet())
         run = Run(one_tet(), configure=lambda c: (c.SetTransverseTest(c.WIDENED_NODAL_RANGE),

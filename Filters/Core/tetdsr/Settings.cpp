@@ -183,6 +183,14 @@ bool choosePointArrayComponent(const std::string& name, bool isPointArray, int c
     component = std::max(requestedComponent, 0);
     return true;
   }
+  if (!allowMagnitude && !componentSetting)
+  {
+    // A face with no component setting (the mapper): only another array will do.
+    messages.errors.push_back(text("Array '", shown, "' has ", components,
+      " components but the field must have one: choose a one-component point array with "
+      "SetInputArrayToProcess(0, 0, 0, FIELD_ASSOCIATION_POINTS, name)."));
+    return false;
+  }
   if (!allowMagnitude)
   {
     messages.errors.push_back(text("Array '", shown, "' has ", components,
@@ -328,6 +336,22 @@ std::string IsoValueStyles::describe() const
 }
 
 //------------------------------------------------------------------------------
+bool checkFiniteNumbers(const char* name, std::initializer_list<double> values, Messages& messages)
+{
+  if (std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); }))
+  {
+    return true;
+  }
+  std::string shown;
+  for (double v : values)
+  {
+    shown += (shown.empty() ? "" : ", ") + text(v);
+  }
+  messages.errors.push_back(
+    text(name, " must be finite numbers, got (", shown, "); it is left unchanged."));
+  return false;
+}
+
 bool setClamped(const NumberSetting& setting, double value, double& member, Messages& messages)
 {
   if (std::isnan(value))

@@ -15,6 +15,7 @@
 #include <cfloat>
 #include <cmath>
 #include <functional>
+#include <initializer_list>
 #include <limits>
 #include <string>
 #include <vector>
@@ -84,7 +85,8 @@ void reportMissingArray(InputArray which, const char* name, Messages& messages);
 /// Checks an array chosen as a field or colour array (`name`: "" when unnamed): a point array
 /// whose component `requestedComponent` exists (-1: the only one, or with allowMagnitude the
 /// vector's magnitude). `componentSetting` names the setting the component is chosen with, for
-/// the messages. The component to use (-1: the magnitude) comes back through `component`.
+/// the messages; null for a face that has none (a many-component array is then refused with
+/// advice to choose another array). The component to use (-1: the magnitude) comes back through `component`.
 bool choosePointArrayComponent(const std::string& name, bool isPointArray, int components,
   int requestedComponent, bool allowMagnitude, const char* componentSetting, int& component,
   Messages& messages);
@@ -151,6 +153,15 @@ constexpr NumberSetting kSpecular{ "Specular", 0.0, 1.0 };
 constexpr NumberSetting kSpecularPower{ "SpecularPower", 0.0, 128.0 };
 constexpr NumberSetting kCentralDifferenceStep{ "CentralDifferenceStep", 1e-12, 1.0 };
 constexpr NumberSetting kNodalRangeWidening{ "NodalRangeWidening", 0.0, DBL_MAX };
+/// The mapper's level of detail: pixels a ray along each axis while interacting.
+constexpr NumberSetting kMaximumImageSampleDistance{ "MaximumImageSampleDistance", 1.0, 64.0 };
+constexpr NumberSetting kInteractiveImageSampleDistance{ "InteractiveImageSampleDistance", 1.0,
+  64.0 };
+
+/// False, with the error "<name> must be finite numbers, got (a, b, ...); it is left
+/// unchanged.", when a number of a vector setting (a range, a colour, a position) is NaN or
+/// infinite.
+bool checkFiniteNumbers(const char* name, std::initializer_list<double> values, Messages& messages);
 
 /// `value` clamped into the setting's range, stored in `member`; true when `member` changed.
 /// False, with the error "<name> must be a number, got NaN.", for NaN (member unchanged).
