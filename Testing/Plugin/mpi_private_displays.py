@@ -1,0 +1,87 @@
+"""Runs a ParaView command under `mpirun -np N`, each rank on an X server of its own, within a time
+limit.
+
+ParaView 5.11 deadlocks under MPI when its ranks disagree on remote rendering: rank 0 waits in
+IceT's communicator set-up (vtkIceTCompositePass::Render -> icetCreateMPICommunicator ->
+MPI_Comm_dup) while rank 1 waits in ProcessRMIs' barrier, both spinning forever
+(../shared/notes/environment.md; seen here with this plugin and with ParaView's own Surface and
+Volume). It follows a rank's X connection being refused, and Xvfb refuses connections made at
+the same moment, as two ranks on one server make them. So each rank gets its own Xvfb, the run
+has a hard time limit, and a run that hangs or is refused by X is run again (at most ATTEMPTS
+times, each said); any other failure is reported at once.
+
+Usage: mpi_private_displays.py <ranks> <seconds per attempt> <command> [arguments...]
+"""
+import os
+import signal
+import subprocess
+import sys
+import time
+
+ATTEMPTS = 3
+REFUSALS = ("bad X server connection", "unable to open display", "cannot connect to X server")
+
+
+def start_server():
+    """An Xvfb on a free display (-displayfd: the server picks it and writes it back)."""
+    read, write = os.pipe()
+    server = subprocess.Popen(
+        ["Xvfb", "-displayfd", str(write), "-screen", "0", "1280x1024x24", "-nolisten", "tcp"],
+        pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(write)
+    number = b""
+    while not number.endswith(b"\n"):
+        chunk = os.read(read, 16)
+        if not chunk:
+            break
+        number += chunk
+    os.close(read)
+    if not number.strip():
+        server.kill()
+        raise RuntimeError("mpi_private_displays: Xvfb did not start")
+    return server, ":" + number.decode().strip()
+
+
+def attempt(ranks, seconds, command):
+    """(return code or None on a hang, output)."""
+    servers = [start_server() for _ in range(ranks)]
+    try:
+        # Each rank picks its display by its rank (Open MPI's OMPI_COMM_WORLD_RANK).
+        env = dict(os.environ, TETDSR_RANK_DISPLAYS=" ".join(name for _, name in servers))
+        # sh -c '...' takes the command as $0 and its arguments as "$@".
+        launcher = ["sh", "-c", 'DISPLAY=$(echo $TETDSR_RANK_DISPLAYS | cut -d" " '
+                    '-f$((OMPI_COMM_WORLD_RANK + 1))); export DISPLAY; exec "$0" "$@"']
+        mpirun = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks)]
+        run = subprocess.Popen(mpirun + launcher + command, env=env,
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                               errors="replace", start_new_session=True)
+        try:
+            output, _ = run.communicate(timeout=seconds)
+            return run.returncode, output
+        except subprocess.TimeoutExpired:
+            os.killpg(run.pid, signal.SIGKILL)
+            output, _ = run.communicate()
+            return None, output
+    finally:
+        for server, _ in servers:
+            server.kill()
+            server.wait()
+
+
+def main():
+    ranks, seconds, command = int(sys.argv[1]), float(sys.argv[2]), sys.argv[3:]
+    for number in range(1, ATTEMPTS + 1):
+        code, output = attempt(ranks, seconds, command)
+        sys.stdout.write(output)
+        sys.stdout.flush()
+        refused = code not in (0, None) and any(text in output for text in REFUSALS)
+        if code == 0 or (code is not None and not refused):
+            sys.exit(code)
+        why = f"hung for {seconds:g} s (ParaView's MPI deadlock)" if code is None else "refused by X"
+        print(f"mpi_private_displays: attempt {number} of {ATTEMPTS} {why}", flush=True)
+        time.sleep(1)
+    sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()
