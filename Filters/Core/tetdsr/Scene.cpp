@@ -438,10 +438,11 @@ const NodeId* Scene::nodeIds(NodeId cellId) const
 bool Scene::loadNodes(NodeId cellId, glm::dvec3 nodes[kCellNodes], int needed) const
 {
   const NodeId* ids = nodeIds(cellId);
-  if (!ids)
-  {
-    return false;
-  }
+  return ids && loadNodes(cellId, ids, nodes, needed);
+}
+
+bool Scene::loadNodes(NodeId cellId, const NodeId* ids, glm::dvec3 nodes[kCellNodes], int needed) const
+{
   const bool linear = Mesh_.cellTypes[cellId] == kVtkTetra;
   const int count = std::min(needed, linear ? LinearTetCell::kNodes : kCellNodes);
   for (int n = 0; n < count; ++n)
@@ -460,10 +461,12 @@ bool Scene::loadValues(NodeId cellId, double values[kCellNodes], const double* p
   int components, int component) const
 {
   const NodeId* ids = nodeIds(cellId);
-  if (!ids)
-  {
-    return false;
-  }
+  return ids && loadValues(cellId, ids, values, pointValues, components, component);
+}
+
+bool Scene::loadValues(NodeId cellId, const NodeId* ids, double values[kCellNodes],
+  const double* pointValues, int components, int component) const
+{
   const bool linear = Mesh_.cellTypes[cellId] == kVtkTetra;
   const int count = linear ? LinearTetCell::kNodes : kCellNodes;
   for (int n = 0; n < count; ++n)
@@ -503,7 +506,8 @@ bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& 
 {
   glm::dvec3 nodes[kCellNodes];
   double values[kCellNodes];
-  if (!loadNodes(cellId, nodes) || !loadValues(cellId, values, Mesh_.values))
+  const NodeId* ids = nodeIds(cellId); // checked once for both reads
+  if (!ids || !loadNodes(cellId, ids, nodes) || !loadValues(cellId, ids, values, Mesh_.values))
   {
     return false; // (edited since validation)
   }

@@ -240,6 +240,11 @@ private:
   /// A point array's values at a cell's 10 nodes (a linear tet's completed); false as loadNodes.
   bool loadValues(NodeId cellId, double values[kCellNodes], const double* pointValues,
     int components = 1, int component = 0) const;
+  /// The same with ids already checked by nodeIds (one check for several reads).
+  bool loadNodes(NodeId cellId, const NodeId* ids, glm::dvec3 nodes[kCellNodes],
+    int needed = kCellNodes) const;
+  bool loadValues(NodeId cellId, const NodeId* ids, double values[kCellNodes],
+    const double* pointValues, int components = 1, int component = 0) const;
   /// The barycentric coordinates of `point` in a valid cell (the kind's coordinates step).
   void cellCoordinates(NodeId cellId, const glm::dvec3& point, double L[4]) const;
   /// Whether `point` lies in a valid cell (within kBarycentricTolerance), and where.
