@@ -1,0 +1,550 @@
+// Polynomials of any degree D on a simplex in Bernstein-Bezier form: the fields and maps of the
+// higher-order tetrahedra (VTK_LAGRANGE_TETRAHEDRON and VTK_BEZIER_TETRAHEDRON of orders 3 and
+// 4, HigherOrderTetCell.h), and the determinant of a curved cell's Jacobian (degree 3 (D - 1)).
+//
+// A polynomial of degree D in the barycentric coordinates L_0..L_3 of a tetrahedron is
+//   f(L) = sum_{|a| = D} c_a B_a(L),  B_a(L) = D! / (a_0! a_1! a_2! a_3!) L_0^a_0 L_1^a_1 L_2^a_2 L_3^a_3,
+// over the multi-indices a of the lattice {a_k >= 0, sum a_k = D}. The facts used:
+// - the B_a are non-negative and sum to 1 on the simplex, so f lies between the least and the
+//   largest c_a there (convex hull); a sub-simplex's coefficients are f's blossom at its vertices
+//   (de Casteljau), so the bound tightens as pieces shrink;
+// - one de Casteljau step at a point U, c'_b = sum_k U_k c_{b + e_k} (|b| = D - 1), gives the
+//   blossom with one argument U; D steps at L give f(L), D - 1 steps the derivatives:
+//   df/dL_k = D c''_{e_k} (f taken as homogeneous of degree D, so df/dL_k are its partials);
+// - along a segment from P to Q (barycentric points) f is a univariate polynomial of degree D
+//   whose Bernstein coefficients on [0, 1] are the blossoms f[P^(D-k), Q^k], k = 0..D.
+//
+// Lattice order ("canonical"): a_3 slowest, then a_2, then a_1 (a_0 = D - the rest). Its first
+// (D + 1)(D + 2) / 2 entries are those with a_3 = 0: a polynomial on the face L_3 = 0 (a triangle
+// in L_0..L_2) is the same array with the rest unused.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace tetdsr
+{
+
+/// The number of multi-indices of degree d in 4 variables: the tetrahedral number.
+constexpr int latticeCount(int d)
+{
+  return d < 0 ? 0 : (d + 1) * (d + 2) * (d + 3) / 6;
+}
+
+/// The number of multi-indices of degree d in 3 variables (a_3 = 0): the triangular number.
+constexpr int faceLatticeCount(int d)
+{
+  return d < 0 ? 0 : (d + 1) * (d + 2) / 2;
+}
+
+/// The canonical position of the multi-index (d - a1 - a2 - a3, a1, a2, a3).
+constexpr int latticeIndex(int d, int a1, int a2, int a3)
+{
+  int position = 0;
+  for (int t = 0; t < a3; ++t)
+  {
+    position += faceLatticeCount(d - t);
+  }
+  for (int s = 0; s < a2; ++s)
+  {
+    position += d - a3 - s + 1;
+  }
+  return position + a1;
+}
+
+/// The lattice of degree D: its multi-indices in canonical order, and for each multi-index b of
+/// degree D - 1 the positions of b + e_k (the de Casteljau step's four inputs).
+template <int D>
+struct Lattice
+{
+  static constexpr int kCount = latticeCount(D);
+  static constexpr int kFaceCount = faceLatticeCount(D);
+
+  struct Tables
+  {
+    std::int8_t alpha[kCount > 0 ? kCount : 1][4];
+    std::uint16_t raise[latticeCount(D - 1) > 0 ? latticeCount(D - 1) : 1][4];
+    double multinomial[kCount > 0 ? kCount : 1]; ///< D! / (a_0! a_1! a_2! a_3!)
+  };
+
+  static constexpr Tables makeTables()
+  {
+    Tables t{};
+    for (int a3 = 0; a3 <= D; ++a3)
+    {
+      for (int a2 = 0; a2 <= D - a3; ++a2)
+      {
+        for (int a1 = 0; a1 <= D - a3 - a2; ++a1)
+        {
+          const int at = latticeIndex(D, a1, a2, a3);
+          t.alpha[at][0] = static_cast<std::int8_t>(D - a1 - a2 - a3);
+          t.alpha[at][1] = static_cast<std::int8_t>(a1);
+          t.alpha[at][2] = static_cast<std::int8_t>(a2);
+          t.alpha[at][3] = static_cast<std::int8_t>(a3);
+          double m = 1.0;
+          int k = 0;
+          const int parts[4] = { D - a1 - a2 - a3, a1, a2, a3 };
+          for (int v = 0; v < 4; ++v)
+          {
+            for (int j = 1; j <= parts[v]; ++j)
+            {
+              ++k;
+              m = m * k / j; // D! / prod(a_v!) built as a product of exact binomials
+            }
+          }
+          t.multinomial[at] = m;
+        }
+      }
+    }
+    for (int b3 = 0; b3 <= D - 1; ++b3)
+    {
+      for (int b2 = 0; b2 <= D - 1 - b3; ++b2)
+      {
+        for (int b1 = 0; b1 <= D - 1 - b3 - b2; ++b1)
+        {
+          const int at = latticeIndex(D - 1, b1, b2, b3);
+          t.raise[at][0] = static_cast<std::uint16_t>(latticeIndex(D, b1, b2, b3));
+          t.raise[at][1] = static_cast<std::uint16_t>(latticeIndex(D, b1 + 1, b2, b3));
+          t.raise[at][2] = static_cast<std::uint16_t>(latticeIndex(D, b1, b2 + 1, b3));
+          t.raise[at][3] = static_cast<std::uint16_t>(latticeIndex(D, b1, b2, b3 + 1));
+        }
+      }
+    }
+    return t;
+  }
+
+  static constexpr Tables kTables = makeTables();
+};
+
+namespace bernstein
+{
+
+/// One de Casteljau step at U: `out` (degree D - 1) from `in` (degree D). `variables` is 4 on
+/// a tetrahedron, 3 on a triangle (U_3 unused: the coefficients with a_3 > 0 are not read).
+template <int D>
+inline void step(const double* in, const double U[4], double* out, int variables = 4)
+{
+  const auto& raise = Lattice<D>::kTables.raise;
+  const int count = variables == 4 ? latticeCount(D - 1) : faceLatticeCount(D - 1);
+  for (int b = 0; b < count; ++b)
+  {
+    double sum = U[0] * in[raise[b][0]] + U[1] * in[raise[b][1]] + U[2] * in[raise[b][2]];
+    if (variables == 4)
+    {
+      sum += U[3] * in[raise[b][3]];
+    }
+    out[b] = sum;
+  }
+}
+
+/// The blossom f[U_0, ..., U_{D-1}] (D points, barycentric).
+template <int D>
+inline double blossom(const double* c, const double (*points)[4], int variables = 4)
+{
+  if constexpr (D == 0)
+  {
+    return c[0];
+  }
+  else
+  {
+    double reduced[latticeCount(D - 1)];
+    step<D>(c, points[0], reduced, variables);
+    return blossom<D - 1>(reduced, points + 1, variables);
+  }
+}
+
+/// f(L).
+template <int D>
+inline double evaluate(const double* c, const double L[4], int variables = 4)
+{
+  double points[D > 0 ? D : 1][4];
+  for (int k = 0; k < D; ++k)
+  {
+    std::copy(L, L + 4, points[k]);
+  }
+  return blossom<D>(c, points, variables);
+}
+
+/// D - 1 de Casteljau steps at the given points: the 4 (or 3) coefficients of degree 1 left.
+template <int D>
+inline void reduceTo1(const double* c, const double (*points)[4], double* out, int variables)
+{
+  if constexpr (D <= 1)
+  {
+    std::copy(c, c + 4, out);
+  }
+  else if constexpr (D == 2)
+  {
+    step<2>(c, points[0], out, variables);
+  }
+  else
+  {
+    double reduced[latticeCount(D - 1)];
+    step<D>(c, points[0], reduced, variables);
+    reduceTo1<D - 1>(reduced, points + 1, out, variables);
+  }
+}
+
+/// The partial derivatives df/dL_k of f as a homogeneous polynomial of degree D, k = 0..3
+/// (or 0..2 on a triangle), at L; and f(L) itself.
+template <int D>
+inline double partials(const double* c, const double L[4], double d[4], int variables = 4)
+{
+  if constexpr (D == 0)
+  {
+    d[0] = d[1] = d[2] = d[3] = 0.0;
+    return c[0];
+  }
+  else
+  {
+    // D - 1 steps leave the 4 coefficients of degree 1: f = sum_k L_k g_k, df/dL_k = D g_k.
+    double g[4];
+    if constexpr (D == 1)
+    {
+      std::copy(c, c + (variables == 4 ? 4 : 3), g);
+    }
+    else
+    {
+      double points[D - 1][4];
+      for (int k = 0; k < D - 1; ++k)
+      {
+        std::copy(L, L + 4, points[k]);
+      }
+      reduceTo1<D>(c, points, g, variables);
+    }
+    double value = 0.0;
+    for (int k = 0; k < variables; ++k)
+    {
+      d[k] = D * g[k];
+      value += L[k] * g[k];
+    }
+    if (variables == 3)
+    {
+      d[3] = 0.0;
+    }
+    return value;
+  }
+}
+
+/// The univariate Bernstein coefficients on [0, 1] of f along the segment from P to Q:
+/// out[k] = f[P^(D - k), Q^k].
+template <int D>
+inline void onSegment(const double* c, const double P[4], const double Q[4], double out[D + 1])
+{
+  double points[D > 0 ? D : 1][4];
+  for (int k = 0; k <= D; ++k)
+  {
+    for (int j = 0; j < D; ++j)
+    {
+      std::copy(j < D - k ? P : Q, (j < D - k ? P : Q) + 4, points[j]);
+    }
+    out[k] = blossom<D>(c, points);
+  }
+}
+
+namespace detail
+{
+/// Fills the coefficients on the sub-simplex with vertices V[0..n] for the multi-indices that
+/// give vertex `next` and beyond the remaining `D` arguments; `partial` has taken the others
+/// (their counts in `taken`).
+template <int D>
+inline void subSimplex(const double* partial, const double (*V)[4], int n, int next, int taken[4],
+  int total, double* out)
+{
+  if constexpr (D == 0)
+  {
+    out[latticeIndex(total, taken[1], taken[2], taken[3])] = partial[0];
+  }
+  else
+  {
+    for (int v = next; v <= n; ++v)
+    {
+      double reduced[latticeCount(D - 1)];
+      step<D>(partial, V[v], reduced, n + 1);
+      ++taken[v];
+      subSimplex<D - 1>(reduced, V, n, v, taken, total, out);
+      --taken[v];
+    }
+  }
+}
+} // namespace detail
+
+/// f's Bernstein coefficients on the sub-simplex with vertices V[0..n] (barycentric points of
+/// this simplex; n = 3, or n = 2 for a triangle), in canonical order over those vertices.
+template <int D>
+inline void onSubSimplex(const double* c, const double V[4][4], int n, double* out)
+{
+  int taken[4] = { 0, 0, 0, 0 };
+  detail::subSimplex<D>(c, V, n, 0, taken, D, out);
+}
+
+/// The least and largest of `count` coefficients.
+inline void range(const double* c, int count, double& lo, double& hi)
+{
+  lo = hi = c[0];
+  for (int k = 1; k < count; ++k)
+  {
+    lo = std::min(lo, c[k]);
+    hi = std::max(hi, c[k]);
+  }
+}
+
+/// The largest magnitude of `count` coefficients.
+inline double magnitude(const double* c, int count)
+{
+  double m = 0.0;
+  for (int k = 0; k < count; ++k)
+  {
+    m = std::max(m, std::abs(c[k]));
+  }
+  return m;
+}
+
+/// The coefficients (degree D - 1) of the derivative along L_j - L_i (the direction in which
+/// L_j grows and L_i shrinks, the rest fixed): D (c_{b + e_j} - c_{b + e_i}).
+template <int D>
+inline void derivative(const double* c, int j, int i, double* out)
+{
+  const auto& raise = Lattice<D>::kTables.raise;
+  for (int b = 0; b < latticeCount(D - 1); ++b)
+  {
+    out[b] = D * (c[raise[b][j]] - c[raise[b][i]]);
+  }
+}
+
+/// The product of f (degree A) and g (degree B): (f g)_c = sum_{a + b = c} C(a) C(b) / C(c)
+/// f_a g_b, C the multinomials. Each coefficient a weighted mean of products.
+template <int A, int B>
+inline void multiply(const double* f, const double* g, double* out)
+{
+  constexpr int C = A + B;
+  const auto& la = Lattice<A>::kTables;
+  const auto& lb = Lattice<B>::kTables;
+  const auto& lc = Lattice<C>::kTables;
+  std::fill(out, out + latticeCount(C), 0.0);
+  for (int a = 0; a < latticeCount(A); ++a)
+  {
+    for (int b = 0; b < latticeCount(B); ++b)
+    {
+      const int at = latticeIndex(C, la.alpha[a][1] + lb.alpha[b][1], la.alpha[a][2] + lb.alpha[b][2],
+        la.alpha[a][3] + lb.alpha[b][3]);
+      out[at] += la.multinomial[a] * lb.multinomial[b] * f[a] * g[b];
+    }
+  }
+  for (int k = 0; k < latticeCount(C); ++k)
+  {
+    out[k] /= lc.multinomial[k];
+  }
+}
+
+/// The two halves of f's simplex split at the midpoint M of its edge (a, b): `keepA` on the
+/// half that keeps vertex a (b replaced by M), `keepB` on the other. The blossom is affine in
+/// each argument, so replacing k copies of V_b by (V_a + V_b) / 2 gives
+/// 2^-k sum_j C(k, j) c_{beta + j (e_a - e_b)}.
+template <int D>
+inline void bisect(const double* c, int a, int b, double* keepA, double* keepB)
+{
+  const auto& t = Lattice<D>::kTables;
+  for (int k = 0; k < latticeCount(D); ++k)
+  {
+    for (int side = 0; side < 2; ++side)
+    {
+      const int from = side == 0 ? b : a; // the vertex replaced by M
+      const int to = side == 0 ? a : b;
+      int beta[4] = { t.alpha[k][0], t.alpha[k][1], t.alpha[k][2], t.alpha[k][3] };
+      const int copies = beta[from];
+      double sum = 0.0, binomial = 1.0;
+      for (int j = 0; j <= copies; ++j)
+      {
+        sum += binomial * c[latticeIndex(D, beta[1], beta[2], beta[3])];
+        binomial = binomial * (copies - j) / (j + 1);
+        --beta[from];
+        ++beta[to];
+      }
+      (side == 0 ? keepA : keepB)[k] = std::ldexp(sum, -copies);
+    }
+  }
+}
+
+} // namespace bernstein
+
+/// f(u) for univariate Bernstein coefficients b[0..D] on [0, 1] (de Casteljau: stable).
+template <int D>
+inline double evaluateBernstein(const double b[D + 1], double u)
+{
+  double work[D + 1];
+  std::copy(b, b + D + 1, work);
+  for (int level = D; level > 0; --level)
+  {
+    for (int k = 0; k < level; ++k)
+    {
+      work[k] = (1.0 - u) * work[k] + u * work[k + 1];
+    }
+  }
+  return work[0];
+}
+
+/// The root in [lo, hi] of f, whose values at lo and hi differ in sign (or are zero): the
+/// bracket is kept and halved by secant steps (Illinois variant) or, when those stall, by
+/// bisection, until it holds no double between its ends.
+template <int D>
+double refineBernsteinRoot(const double b[D + 1], double lo, double hi)
+{
+  double fLo = evaluateBernstein<D>(b, lo), fHi = evaluateBernstein<D>(b, hi);
+  if (fLo == 0.0)
+  {
+    return lo;
+  }
+  if (fHi == 0.0)
+  {
+    return hi;
+  }
+  int side = 0;
+  for (int iteration = 0; iteration < 200; ++iteration)
+  {
+    const double mid = 0.5 * (lo + hi);
+    if (!(mid > lo && mid < hi))
+    {
+      break; // adjacent doubles
+    }
+    // A secant point inside the bracket, or the middle every third step (guaranteed halving).
+    double x = iteration % 3 == 2 ? mid : lo + fLo * (lo - hi) / (fHi - fLo);
+    if (!(x > lo && x < hi))
+    {
+      x = mid;
+    }
+    const double fx = evaluateBernstein<D>(b, x);
+    if (fx == 0.0)
+    {
+      return x;
+    }
+    if ((fx < 0.0) == (fLo < 0.0))
+    {
+      lo = x;
+      fLo = fx;
+      if (side == -1)
+      {
+        fHi *= 0.5; // Illinois: the stale end's value halved
+      }
+      side = -1;
+    }
+    else
+    {
+      hi = x;
+      fHi = fx;
+      if (side == 1)
+      {
+        fLo *= 0.5;
+      }
+      side = 1;
+    }
+  }
+  return std::abs(fLo) <= std::abs(fHi) ? lo : hi;
+}
+
+/// Certified first root on [0, 1] of a univariate polynomial of degree D given by its Bernstein
+/// coefficients b[0..D] (b[0] = f(0), b[D] = f(1)). Coefficients of one sign exclude a root (the
+/// convex hull); exactly one sign change in them proves exactly one root (Descartes' rule in
+/// Bernstein form), which is then bracketed by the polynomial's own values at the interval's ends
+/// and refined by bisection with secant steps to the last bit. Otherwise the interval is halved
+/// (de Casteljau), the left half first. An interval narrower than kRootWidth whose coefficients
+/// still straddle 0 (a tangent or near-tangent root: several sign changes that never separate) is
+/// taken as a root at its middle, flagged uncertified. Returns false if there is no root.
+template <int D>
+bool firstBernsteinRoot(const double b[D + 1], double& root, bool& certified)
+{
+  /// Below this width (of the cell's chord) roots that do not separate are one tangent root:
+  /// 2^-40, about 1e-12 of the cell, far below a pixel and far above rounding of the positions.
+  constexpr double kRootWidth = 0x1p-40;
+  /// Coefficients within this of the largest (relative) prove no sign: each is a de Casteljau
+  /// combination of the cell's coefficients, rounded by a few eps per step.
+  constexpr double kCoefficientRounding = 16.0 * D * std::numeric_limits<double>::epsilon();
+  struct Interval
+  {
+    double lo, hi;
+    double c[D + 1];
+  };
+  double largest = 0.0;
+  for (int k = 0; k <= D; ++k)
+  {
+    largest = std::max(largest, std::abs(b[k]));
+  }
+  if (!(largest > 0.0) || !std::isfinite(largest))
+  {
+    return false;
+  }
+  const double pad = kCoefficientRounding * largest;
+  // Depth-first, left half first: the first interval settled holds the first root.
+  constexpr int kMaxDepth = 64;
+  Interval stack[kMaxDepth + 2];
+  int top = 0;
+  stack[top].lo = 0.0;
+  stack[top].hi = 1.0;
+  std::copy(b, b + D + 1, stack[top].c);
+  ++top;
+  while (top > 0)
+  {
+    const Interval piece = stack[--top];
+    double lo, hi;
+    bernstein::range(piece.c, D + 1, lo, hi);
+    if (lo > pad || hi < -pad)
+    {
+      continue; // one sign: no root here
+    }
+    if (std::abs(piece.c[0]) <= pad && piece.lo == 0.0)
+    {
+      // f(0) is zero to rounding: the root is the start.
+      root = 0.0;
+      certified = true;
+      return true;
+    }
+    int changes = 0;
+    for (int k = 0; k < D; ++k)
+    {
+      changes += (piece.c[k] < 0.0) != (piece.c[k + 1] < 0.0);
+    }
+    const bool endsDiffer = (piece.c[0] < 0.0) != (piece.c[D] < 0.0);
+    if (changes == 1 && endsDiffer)
+    {
+      root = refineBernsteinRoot<D>(b, piece.lo, piece.hi);
+      certified = true;
+      return true;
+    }
+    if (piece.hi - piece.lo <= kRootWidth || top >= kMaxDepth)
+    {
+      if (endsDiffer)
+      {
+        root = refineBernsteinRoot<D>(b, piece.lo, piece.hi);
+        certified = true; // a sign change of f itself: a root in the interval
+        return true;
+      }
+      root = 0.5 * (piece.lo + piece.hi);
+      certified = false;
+      return true;
+    }
+    // Halve: the right half pushed first, the left popped first.
+    Interval left, right;
+    left.lo = piece.lo;
+    left.hi = right.lo = 0.5 * (piece.lo + piece.hi);
+    right.hi = piece.hi;
+    double work[D + 1];
+    std::copy(piece.c, piece.c + D + 1, work);
+    for (int level = 0; level <= D; ++level)
+    {
+      left.c[level] = work[0];
+      right.c[D - level] = work[D - level];
+      for (int k = 0; k < D - level; ++k)
+      {
+        work[k] = 0.5 * (work[k] + work[k + 1]);
+      }
+    }
+    stack[top++] = right;
+    stack[top++] = left;
+  }
+  return false;
+}
+
+} // namespace tetdsr
