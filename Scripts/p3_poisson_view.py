@@ -12,7 +12,6 @@ off-screen GL of its own):
 import sys
 
 from vtkmodules.vtkFiltersCore import vtkContourFilter
-from vtkmodules.vtkFiltersSources import vtkSphereSource
 from vtkmodules.vtkIOImage import vtkPNGWriter
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderer,
@@ -22,8 +21,10 @@ import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (registers the OpenGL render
 # The level of the point array "u" whose isosurface the pictures show.
 ISO_VALUE = 0.5
 IMAGE_SIZE = (600, 600)
-# Looking at the unit ball's centre from (+x, -y, +z); the view takes in the whole ball.
-CAMERA = {"position": (2.6, -3.4, 2.2), "focal_point": (0.0, 0.0, 0.0),
+# Looking down (60 degrees above the x-y plane) on the five bumps of make_p3_poisson.py, from
+# where their pieces of the level set lie furthest apart on the screen; the view takes in all of
+# them (the ball itself, radius 1, reaches beyond it).
+CAMERA = {"position": (-0.7, 1.4, 2.8), "focal_point": (0.1, 0.0, 0.0),
           "view_up": (0.0, 0.0, 1.0), "view_angle": 30.0}
 
 
@@ -37,7 +38,7 @@ def set_camera(camera):
 
 def render_contour(vtu_path, png_path):
     """vtkContourFilter's isosurface u = ISO_VALUE of the file, flat shaded with its triangles'
-    edges drawn, inside the unit ball's outline, written as a PNG; returns the triangle count."""
+    edges drawn, written as a PNG; returns the triangle count."""
     reader = vtkXMLUnstructuredGridReader()
     reader.SetFileName(vtu_path)
     contour = vtkContourFilter()
@@ -55,20 +56,8 @@ def render_contour(vtu_path, png_path):
     surface.GetMapper().SetInputConnection(contour.GetOutputPort())
     surface.GetProperty().SetColor(0.85, 0.45, 0.2)
     surface.GetProperty().EdgeVisibilityOn()
-    surface.GetProperty().SetEdgeColor(0.25, 0.1, 0.0)
+    surface.GetProperty().SetEdgeColor(0.45, 0.2, 0.05)
     renderer.AddActor(surface)
-    # The domain's boundary as a faint wireframe, for scale.
-    ball = vtkSphereSource()
-    ball.SetRadius(1.0)
-    ball.SetThetaResolution(36)
-    ball.SetPhiResolution(18)
-    outline = vtkActor()
-    outline.SetMapper(vtkPolyDataMapper())
-    outline.GetMapper().SetInputConnection(ball.GetOutputPort())
-    outline.GetProperty().SetRepresentationToWireframe()
-    outline.GetProperty().SetColor(0.75, 0.75, 0.8)
-    outline.GetProperty().LightingOff()
-    renderer.AddActor(outline)
     set_camera(renderer.GetActiveCamera())
     renderer.ResetCameraClippingRange()
 
