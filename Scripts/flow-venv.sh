@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Creates (or reuses) build/flow-venv (gmsh, scikit-fem, pyamg at pinned versions) and runs its
-# Python with the given arguments; the flow-dataset scripts (make-expansion-flow.sh,
-# make-cylinder-flow.sh) go through it. The venv sees Debian's site packages for ParaView's
-# VTK 9.2 (python3-paraview), which writes and checks the .vtu; its own numpy stays below 2 for
-# that VTK.
+# Python with the given arguments; the dataset scripts (make-expansion-flow.sh,
+# make-cylinder-flow.sh, make-p3-poisson.sh) go through it. The venv sees Debian's site packages
+# for ParaView's VTK 9.2 (python3-paraview), which writes and checks the .vtu; its own numpy stays
+# below 2 for that VTK.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

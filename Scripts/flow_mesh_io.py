@@ -1,5 +1,6 @@
 """What the flow generators (make_expansion_flow.py, make_cylinder_flow.py) share: taking a gmsh
-order-2 mesh's tetrahedra, and writing VTK_QUADRATIC_TETRA cells with point arrays to a .vtu."""
+order-2 mesh's tetrahedra (make_p3_poisson.py takes its order-3 ones the same way), and writing
+VTK_QUADRATIC_TETRA cells with point arrays to a .vtu."""
 import sys
 
 import numpy as np
@@ -9,14 +10,15 @@ from vtkmodules.vtkCommonDataModel import VTK_QUADRATIC_TETRA, vtkCellArray, vtk
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
 
 
-def tetrahedra_nodes(node_tags, coords, cell_node_tags):
-    """Points (n x 3) and cells (m x 10, gmsh's node order) of gmsh's 10-node tetrahedra, keeping
-    only their nodes, numbered 0..n-1 (gmsh's tags need not be contiguous)."""
+def tetrahedra_nodes(node_tags, coords, cell_node_tags, nodes_per_cell=10):
+    """Points (n x 3) and cells (m x nodes_per_cell, gmsh's node order) of gmsh's tetrahedra
+    (10-node ones by default), keeping only their nodes, numbered 0..n-1 in the order of their
+    tags (gmsh's tags need not be contiguous)."""
     node_tags = np.asarray(node_tags, dtype=np.int64)
     row = np.zeros(node_tags.max() + 1, dtype=np.int64)
     row[node_tags] = np.arange(len(node_tags))
     used, cells = np.unique(np.asarray(cell_node_tags, dtype=np.int64), return_inverse=True)
-    return np.asarray(coords).reshape(-1, 3)[row[used]], cells.reshape(-1, 10)
+    return np.asarray(coords).reshape(-1, 3)[row[used]], cells.reshape(-1, nodes_per_cell)
 
 
 def write_vtu(path, points, cells, arrays, field_data=None):
