@@ -9,6 +9,7 @@
 #include "vtkNew.h"
 #include "vtkPlane.h"
 #include "vtkPlaneCollection.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkSMPTools.h"
 #include "vtkScalarsToColors.h"
@@ -53,6 +54,7 @@ struct Stamp
     add(cells ? cells->GetConnectivityArray() : nullptr);
     add(input->GetCellTypesArray());
     add(scalars);
+    add(input->GetPointData()->GetRationalWeights());
     return stamp;
   }
   bool operator==(const Stamp& other) const { return parts == other.parts; }
@@ -227,6 +229,7 @@ bool PreparedMesh::Prepare(vtkUnstructuredGrid* input, vtkDataArray* scalars, in
   arrays.cellTypes = ViewOf(input->GetCellTypesArray(), fresh.Viewed);
   arrays.field = ViewOf(scalars, fresh.Viewed);
   arrays.fieldComponent = component;
+  arrays.rationalWeights = ViewOf(input->GetPointData()->GetRationalWeights(), fresh.Viewed);
   bool prepared = false;
   WithThreads(numberOfThreads,
     [&]() { prepared = fresh.Core.prepare(arrays, transverse, SMPParallelFor, messages); });

@@ -905,6 +905,9 @@ bool vtkDirectSurfaceRayCaster::PrepareScene(Execution& run)
   this->NumberOfInvalidIdCells = summary.invalidIdCells;
   this->NumberOfUnsupportedCells = summary.unsupportedCells;
   this->NumberOfMalformedCells = summary.malformedCells;
+  this->NumberOfOrderTooHighCells = summary.orderTooHighCells;
+  this->NumberOfRationalCells = summary.rationalCells;
+  this->NumberOfHigherOrderCells = summary.higherOrderCells;
   run.ColorValues = run.ColorArray && ready
     ? prepared.PointArrayValues(run.ColorArray, "colour array", run.Messages)
     : nullptr;
@@ -1054,6 +1057,9 @@ void vtkDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfInvalidIdCells: " << this->NumberOfInvalidIdCells << "\n";
   os << indent << "NumberOfUnsupportedCells: " << this->NumberOfUnsupportedCells << "\n";
   os << indent << "NumberOfMalformedCells: " << this->NumberOfMalformedCells << "\n";
+  os << indent << "NumberOfOrderTooHighCells: " << this->NumberOfOrderTooHighCells << "\n";
+  os << indent << "NumberOfRationalCells: " << this->NumberOfRationalCells << "\n";
+  os << indent << "NumberOfHigherOrderCells: " << this->NumberOfHigherOrderCells << "\n";
   os << indent << "NumberOfOutOfScaleCells: " << this->NumberOfOutOfScaleCells << "\n";
   os << indent << "PreprocessedBytes: " << this->GetPreprocessedBytes() << "\n";
 }

@@ -328,11 +328,13 @@ public:
   ///@{
   /**
    * What the last preprocessing found: cells rendered, inverted (rendered), curved (rendered
-   * as the isoparametric image of the reference tet), and skipped for: tangled curved cells
-   * (the Jacobian determinant changes sign inside), flat or needle-like shape or
-   * repeated node ids (degenerate), NaN/Inf values or coordinates, node ids out of range, an
-   * unsupported cell type, a number of ids that does not match the type or offsets out of
-   * order (malformed), a longest edge outside [1e-100, 1e100] (out of scale).
+   * as the isoparametric image of the reference tet), of order 3 or 4 (rendered: Lagrange and
+   * Bezier tetrahedra of 20 and 35 nodes), and skipped for: tangled curved cells (the Jacobian
+   * determinant changes sign inside), flat or needle-like shape or repeated node ids
+   * (degenerate), NaN/Inf values or coordinates, node ids out of range, an unsupported cell
+   * type, a number of ids that does not match the type or offsets out of order (malformed), a
+   * Lagrange or Bezier tetrahedron of order above 4, a rational Bezier cell (weights that differ
+   * within it), a longest edge outside [1e-100, 1e100] (out of scale).
    */
   vtkGetMacro(NumberOfRenderedCells, vtkIdType);
   vtkGetMacro(NumberOfInvertedCells, vtkIdType);
@@ -343,6 +345,9 @@ public:
   vtkGetMacro(NumberOfInvalidIdCells, vtkIdType);
   vtkGetMacro(NumberOfUnsupportedCells, vtkIdType);
   vtkGetMacro(NumberOfMalformedCells, vtkIdType);
+  vtkGetMacro(NumberOfOrderTooHighCells, vtkIdType);
+  vtkGetMacro(NumberOfRationalCells, vtkIdType);
+  vtkGetMacro(NumberOfHigherOrderCells, vtkIdType);
   vtkGetMacro(NumberOfOutOfScaleCells, vtkIdType);
   ///@}
 
@@ -421,6 +426,9 @@ protected:
   vtkIdType NumberOfInvalidIdCells = 0;
   vtkIdType NumberOfUnsupportedCells = 0;
   vtkIdType NumberOfMalformedCells = 0;
+  vtkIdType NumberOfOrderTooHighCells = 0;
+  vtkIdType NumberOfRationalCells = 0;
+  vtkIdType NumberOfHigherOrderCells = 0;
   vtkIdType NumberOfOutOfScaleCells = 0;
 
 private:

@@ -232,7 +232,8 @@ TEST(MeshInput, CellsOfOtherTypesAndMalformedCellsAreCountedAndTold)
   EXPECT_EQ(summary.malformedCells, 3) << "cell 1 (10 ids for 4), cells 2 and 3 (offset 3)";
   EXPECT_EQ(summary.validCells, arrays.offsets.tuples - 1 - 4);
   ASSERT_EQ(messages.warnings.size(), 2u);
-  EXPECT_EQ(messages.warnings[0], "Skipped 1 cells whose type is neither VTK_QUADRATIC_TETRA nor VTK_TETRA.");
+  EXPECT_EQ(messages.warnings[0], "Skipped 1 cells of a type TetDSR does not read (it reads VTK_TETRA, "
+    "VTK_QUADRATIC_TETRA, and VTK_LAGRANGE_TETRAHEDRON or VTK_BEZIER_TETRAHEDRON of order 1 to 4).");
   EXPECT_EQ(messages.warnings[1].rfind("Skipped 3 malformed cells: a number of node ids", 0), 0u)
     << messages.warnings[1];
 
@@ -243,8 +244,10 @@ TEST(MeshInput, CellsOfOtherTypesAndMalformedCellsAreCountedAndTold)
   EXPECT_FALSE(nothing.prepare(own.arrays(), tetdsr::TransverseTest(), tetdsr::serialFor, none));
   ASSERT_EQ(none.errors.size(), 1u);
   EXPECT_EQ(none.errors[0], "No cell can be rendered: none of the " +
-      std::to_string(own.Types.size()) + " input cells is a well-formed VTK_QUADRATIC_TETRA or "
-      "VTK_TETRA (" + std::to_string(own.Types.size()) + " of another type, 0 malformed).");
+      std::to_string(own.Types.size()) + " input cells is a well-formed tetrahedron of a type "
+      "TetDSR reads (VTK_TETRA, VTK_QUADRATIC_TETRA, and VTK_LAGRANGE_TETRAHEDRON or "
+      "VTK_BEZIER_TETRAHEDRON of order 1 to 4): " + std::to_string(own.Types.size()) +
+      " of another type, 0 of order above 4, 0 malformed.");
   EXPECT_TRUE(none.warnings.empty());
 }
 

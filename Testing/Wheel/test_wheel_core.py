@@ -80,7 +80,9 @@ def test_prepared_mesh_reads_vtk_dtypes_and_tells_what_it_skipped():
     types[[3, 7]] = VTK_HEXAHEDRON
     mesh, ready, messages = prepared(cell_types=types)
     assert ready and mesh.summary["unsupported"] == 2, mesh.summary
-    assert messages.warnings == ["Skipped 2 cells whose type is neither VTK_QUADRATIC_TETRA nor VTK_TETRA."], messages.warnings
+    assert messages.warnings == ["Skipped 2 cells of a type TetDSR does not read (it reads VTK_TETRA, "
+                                 "VTK_QUADRATIC_TETRA, and VTK_LAGRANGE_TETRAHEDRON or VTK_BEZIER_TETRAHEDRON "
+                                 "of order 1 to 4)."], messages.warnings
     _, ready, messages = prepared(field=np.zeros(5))
     assert not ready and messages.errors[-1].endswith("'r2' has 5 tuples for 125 points."), messages.errors
     short = reference.point_values(np.zeros((4, 3)), "speed", 1, "colour array", messages)

@@ -281,7 +281,8 @@ tetdsr::ArrayView CopyOf(const AnyArray& array, const char* what, std::vector<un
 
 bool Prepare(PyPreparedMesh& self, AnyArray points, AnyArray cellTypes, AnyArray offsets,
   AnyArray connectivity, AnyArray field, const std::string& fieldName, int component,
-  const tetdsr::TransverseTest& transverse, int threads, tetdsr::Messages& messages)
+  const tetdsr::TransverseTest& transverse, int threads, tetdsr::Messages& messages,
+  std::optional<AnyArray> rationalWeights)
 {
   if (tCasts > 0)
   {
@@ -292,7 +293,7 @@ bool Prepare(PyPreparedMesh& self, AnyArray points, AnyArray cellTypes, AnyArray
   ++self.Generation; // every Renderer made before refuses to cast from now on
   self.Surface.reset();
   self.SurfaceValues.clear();
-  std::vector<std::vector<unsigned char>> copies(5);
+  std::vector<std::vector<unsigned char>> copies(6);
   tetdsr::MeshArrays arrays;
   arrays.points = CopyOf(points, "points", copies[0]);
   arrays.cellTypes = CopyOf(cellTypes, "cell_types", copies[1]);
@@ -301,6 +302,11 @@ bool Prepare(PyPreparedMesh& self, AnyArray points, AnyArray cellTypes, AnyArray
   arrays.field = CopyOf(field, "field", copies[4]);
   arrays.field.name = fieldName;
   arrays.fieldComponent = component;
+  if (rationalWeights)
+  {
+    arrays.rationalWeights = CopyOf(*rationalWeights, "rational_weights", copies[5]);
+    arrays.rationalWeights.name = "RationalWeights";
+  }
   self.Copied = std::move(copies);
   nb::gil_scoped_release release;
   return self.Core.prepare(arrays, transverse, CellsFor(threads), messages);
@@ -484,6 +490,9 @@ nb::dict SummaryOf(const tetdsr::PreprocessSummary& summary)
   d["invalid_id"] = summary.invalidIdCells;
   d["unsupported"] = summary.unsupportedCells;
   d["malformed"] = summary.malformedCells;
+  d["order_too_high"] = summary.orderTooHighCells;
+  d["rational"] = summary.rationalCells;
+  d["higher_order"] = summary.higherOrderCells;
   return d;
 }
 
@@ -762,9 +771,11 @@ void BindMesh(nb::module_& m)
     .def("prepare", &Prepare, "points"_a, "cell_types"_a, "offsets"_a, "connectivity"_a,
       "field"_a, "field_name"_a = "", "component"_a = 0,
       "transverse"_a = tetdsr::TransverseTest(), "threads"_a = 0, "messages"_a,
+      "rational_weights"_a = nb::none(),
       "points: (n, 3) float32/float64; cell_types: (m,) uint8 VTK cell types; offsets: (m + 1,) "
       "and connectivity int32/int64; field: (n,) or (n, k) of any number type, `component` "
-      "contoured. False, with errors, when nothing can be rendered; warnings count skipped cells.")
+      "contoured; rational_weights: (n,) VTK's rational weights of Bezier cells, or None. False, "
+      "with errors, when nothing can be rendered; warnings count skipped cells.")
     .def(
       "reuse",
       [](const PyPreparedMesh& p, tetdsr::Messages& messages) {

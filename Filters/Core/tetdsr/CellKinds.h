@@ -2,7 +2,9 @@
 #pragma once
 
 #include "tetdsr/Cells.h"
+#include "tetdsr/CurvedHigherOrderTetCell.h"
 #include "tetdsr/CurvedTetCell.h"
+#include "tetdsr/HigherOrderTetCell.h"
 #include "tetdsr/LinearTetCell.h"
 #include "tetdsr/QuadraticTetCell.h"
 
@@ -20,6 +22,14 @@ decltype(auto) forKind(CellKind kind, Step&& step)
       return step(LinearTetCell{});
     case CellKind::CurvedTet:
       return step(CurvedTetCell{});
+    case CellKind::CubicTet:
+      return step(HigherOrderTetCell<3>{});
+    case CellKind::QuarticTet:
+      return step(HigherOrderTetCell<4>{});
+    case CellKind::CurvedCubicTet:
+      return step(CurvedHigherOrderTetCell<3>{});
+    case CellKind::CurvedQuarticTet:
+      return step(CurvedHigherOrderTetCell<4>{});
     case CellKind::QuadraticTet:
       break;
   }

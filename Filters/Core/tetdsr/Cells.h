@@ -12,14 +12,20 @@
 //   coordinates a point's barycentric coordinates, outside the cell too (the map's extension)
 //   interpolate a point array at barycentric coordinates (the cell's shape functions)
 //   gradient    the field's exact gradient at barycentric coordinates
-// The kinds (adding one: a file with these steps, a CellKind, a case in Scene's dispatch and in
-// nodeCount below):
-//   LinearTetCell.h     VTK_TETRA: 4 nodes, rendered as the exact quadratic it is
-//   QuadraticTetCell.h  VTK_QUADRATIC_TETRA with straight edges: an affine map, a quadratic field
-//   CurvedTetCell.h     VTK_QUADRATIC_TETRA with a mid-edge node off its edge: isoparametric
+// The kinds (adding one: a file with these steps, a CellKind, a case in forKind (CellKinds.h),
+// in kindOf and, for a new VTK type, in cellLayout below):
+//   LinearTetCell.h          order 1 (VTK_TETRA, and Lagrange or Bezier tetrahedra of 4 nodes):
+//                            rendered as the exact quadratic it is
+//   QuadraticTetCell.h       order 2 (VTK_QUADRATIC_TETRA, Lagrange or Bezier of 10 nodes) with
+//                            straight edges: an affine map, a quadratic field
+//   CurvedTetCell.h          order 2 with a mid-edge node off its edge: isoparametric
+//   HigherOrderTetCell.h     orders 3 and 4 (Lagrange or Bezier, 20 and 35 nodes), straight: an
+//                            affine map, a field of degree 3 or 4 along each ray
+//   CurvedHigherOrderTetCell.h  orders 3 and 4, curved: isoparametric
 #pragma once
 
 #include "tetdsr/Camera.h"
+#include "tetdsr/HigherOrderTet.h"
 #include "tetdsr/QuadraticTet.h"
 
 #include <glm/glm.hpp>
@@ -42,22 +48,22 @@ using NodeId = long long;
 enum VtkCellType : int
 {
   kVtkTetra = 10,
-  kVtkQuadraticTetra = 24
+  kVtkQuadraticTetra = 24,
+  kVtkLagrangeTetrahedron = 71,
+  kVtkBezierTetrahedron = 78
 };
 
 /// The kinds of cell, as validation classifies them.
 enum class CellKind : std::uint8_t
 {
-  LinearTet,    ///< LinearTetCell.h
-  QuadraticTet, ///< QuadraticTetCell.h (straight)
-  CurvedTet     ///< CurvedTetCell.h
+  LinearTet,              ///< LinearTetCell.h (order 1)
+  QuadraticTet,           ///< QuadraticTetCell.h (order 2, straight)
+  CurvedTet,              ///< CurvedTetCell.h (order 2, curved)
+  CubicTet,               ///< HigherOrderTetCell<3> (straight)
+  QuarticTet,             ///< HigherOrderTetCell<4> (straight)
+  CurvedCubicTet,         ///< CurvedHigherOrderTetCell<3>
+  CurvedQuarticTet        ///< CurvedHigherOrderTetCell<4>
 };
-
-/// The node ids a cell of a VTK type has; 0 for a type the core does not read.
-inline int nodeCount(int vtkType)
-{
-  return vtkType == kVtkQuadraticTetra ? 10 : vtkType == kVtkTetra ? 4 : 0;
-}
 
 /// Outcome bits of a cell's validation; Scene counts them (PreprocessSummary).
 enum CellStatus : std::uint16_t
@@ -71,12 +77,76 @@ enum CellStatus : std::uint16_t
   kOutOfScale = 64,
   kTangled = 128,
   kUnsupported = 256,
-  kMalformed = 512
+  kMalformed = 512,
+  kOrderTooHigh = 1024, ///< a Lagrange or Bezier tetrahedron of order above kMaxTetOrder
+  kRational = 2048,     ///< a Bezier tetrahedron whose rational weights differ within it
+  kHigherOrder = 4096   ///< valid, of order 3 or 4
 };
 
+/// How a cell's node ids are read: the order of its polynomials and whether its nodes are
+/// Bernstein control points (VTK_BEZIER_TETRAHEDRON) rather than nodal values.
+struct CellLayout
+{
+  int order = 0; ///< 1..kMaxTetOrder
+  bool bezier = false;
+  int nodes = 0; ///< latticeCount(order)
+};
+
+/// The layout of a cell of VTK type `vtkType` with `ids` node ids; 0 (kValid) if it can be read,
+/// else the status saying why not: kUnsupported (a type the core does not read), kMalformed (an
+/// id count that does not fit the type), kOrderTooHigh.
+inline std::uint16_t cellLayout(int vtkType, long long ids, CellLayout& layout)
+{
+  switch (vtkType)
+  {
+    case kVtkTetra:
+      layout = { 1, false, 4 };
+      return ids == 4 ? 0 : kMalformed;
+    case kVtkQuadraticTetra:
+      layout = { 2, false, 10 };
+      return ids == 10 ? 0 : kMalformed;
+    case kVtkLagrangeTetrahedron:
+    case kVtkBezierTetrahedron:
+    {
+      // VTK tells the order of these from the number of ids (vtkHigherOrderTetra).
+      const int order = tetOrderOf(ids);
+      if (order == 0)
+      {
+        return kMalformed;
+      }
+      if (order > kMaxTetOrder)
+      {
+        return kOrderTooHigh;
+      }
+      layout = { order, vtkType == kVtkBezierTetrahedron, latticeCount(order) };
+      return 0;
+    }
+    default:
+      return kUnsupported;
+  }
+}
+
+/// The kind of a valid cell of this layout, curved or not.
+inline CellKind kindOf(const CellLayout& layout, bool curved)
+{
+  switch (layout.order)
+  {
+    case 1:
+      return CellKind::LinearTet;
+    case 2:
+      return curved ? CellKind::CurvedTet : CellKind::QuadraticTet;
+    case 3:
+      return curved ? CellKind::CurvedCubicTet : CellKind::CubicTet;
+    default:
+      return curved ? CellKind::CurvedQuarticTet : CellKind::QuarticTet;
+  }
+}
+
 /// Every cell's nodes as the quadratic tetrahedron's ten, VTK_QUADRATIC_TETRA's order (vertices
-/// 0..3, then the mid-edge nodes of kEdgeVertices): a cell with fewer nodes (LinearTetCell) fills
-/// the rest from its own.
+/// 0..3, then the mid-edge nodes of kEdgeVertices), for the kinds of order 1 and 2: a cell with
+/// fewer nodes (LinearTetCell) fills the rest from its own, a Bezier cell's control points are
+/// converted to nodes. Cells of order 3 and 4 hold latticeCount(order) in Bezier layout
+/// (HigherOrderTet.h); arrays that hold any cell's have kMaxCellNodes.
 constexpr int kCellNodes = 10;
 
 /// How a cell is judged able to contain an iso-value (a "transverse" cell).
@@ -148,7 +218,8 @@ struct alignas(64) CellRecord
   {
     Quadratic, ///< straight, the field a quadratic (QuadraticTetCell)
     Constant,  ///< straight, the field constant to rounding (QuadraticTetCell)
-    Curved,    ///< isoparametric: solved from the mesh (CurvedTetCell)
+    Curved,    ///< isoparametric: solved from the mesh (CurvedTetCell, CurvedHigherOrderTetCell)
+    HigherOrder, ///< straight, order 3 or 4 (HigherOrderTetCell): the field read from the mesh
     Empty      ///< never hit (not a valid cell)
   };
   glm::dvec3 vertex0;
@@ -163,7 +234,9 @@ struct alignas(64) CellRecord
   double valueHi;
   std::uint32_t cellId;
   Kind kind;
+  std::uint8_t order; ///< the cell's order (HigherOrder records)
 };
+static_assert(sizeof(CellRecord) == 256, "a record is 4 cache lines");
 
 struct SurfaceHit
 {
@@ -196,11 +269,11 @@ inline double scaleFor(double largest)
   return std::ldexp(1.0, -std::clamp(std::ilogb(largest), -1020, 1020));
 }
 
-/// scaleFor the largest magnitude of a cell's nodal values.
-inline double unitScale(const double values[kCellNodes])
+/// scaleFor the largest magnitude of a cell's nodal values (its first `count`).
+inline double unitScale(const double values[], int count = kCellNodes)
 {
   double largest = 0.0;
-  for (int n = 0; n < kCellNodes; ++n)
+  for (int n = 0; n < count; ++n)
   {
     largest = std::max(largest, std::abs(values[n]));
   }

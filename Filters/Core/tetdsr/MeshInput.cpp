@@ -156,38 +156,63 @@ bool checkArrays(const MeshArrays& arrays, NodeId numberOfCells, Messages& messa
       nameOf(field), "' is out of range: it has ", field.components, " components."));
     return false;
   }
+  const ArrayView& weights = arrays.rationalWeights;
+  if (weights.data && (weights.tuples < numberOfPoints || weights.components != 1))
+  {
+    messages.errors.push_back(text("The rational weights array '", nameOf(weights), "' has ",
+      weights.tuples, " tuples of ", weights.components, " components for ", numberOfPoints,
+      " points: it needs one value per point."));
+    return false;
+  }
   return true;
 }
+
+/// The cell types the core reads, as messages list them.
+constexpr const char* kReadTypes = "VTK_TETRA, VTK_QUADRATIC_TETRA, and VTK_LAGRANGE_TETRAHEDRON "
+                                   "or VTK_BEZIER_TETRAHEDRON of order 1 to 4";
 
 /// The warnings for every kind of cell the scene skipped, then whether any cell is left.
 bool describeSkipped(const PreprocessSummary& summary, NodeId numberOfCells, NodeId numberOfPoints,
   const std::string& fieldName, Messages& messages)
 {
-  if (summary.unsupportedCells + summary.malformedCells == numberOfCells)
+  if (summary.unsupportedCells + summary.malformedCells + summary.orderTooHighCells == numberOfCells)
   {
     messages.errors.push_back(text("No cell can be rendered: none of the ", numberOfCells,
-      " input cells is a well-formed VTK_QUADRATIC_TETRA or VTK_TETRA (", summary.unsupportedCells,
-      " of another type, ", summary.malformedCells, " malformed)."));
+      " input cells is a well-formed tetrahedron of a type TetDSR reads (", kReadTypes, "): ",
+      summary.unsupportedCells, " of another type, ", summary.orderTooHighCells,
+      " of order above ", kMaxTetOrder, ", ", summary.malformedCells, " malformed."));
     return false;
   }
   std::vector<std::string>& warnings = messages.warnings;
   if (summary.unsupportedCells > 0)
   {
     warnings.push_back(text("Skipped ", summary.unsupportedCells,
-      " cells whose type is neither VTK_QUADRATIC_TETRA nor VTK_TETRA."));
+      " cells of a type TetDSR does not read (it reads ", kReadTypes, ")."));
+  }
+  if (summary.orderTooHighCells > 0)
+  {
+    warnings.push_back(text("Skipped ", summary.orderTooHighCells,
+      " VTK_LAGRANGE_TETRAHEDRON or VTK_BEZIER_TETRAHEDRON cells of order above ", kMaxTetOrder,
+      " (more than ", kMaxCellNodes, " nodes)."));
   }
   if (summary.malformedCells > 0)
   {
     warnings.push_back(text("Skipped ", summary.malformedCells,
-      " malformed cells: a number of node ids that does not match the type (10 for "
-      "VTK_QUADRATIC_TETRA, 4 for VTK_TETRA), or offsets out of order or past the end of the "
-      "connectivity array."));
+      " malformed cells: a number of node ids that does not fit the type (4 for VTK_TETRA, 10 "
+      "for VTK_QUADRATIC_TETRA, a tetrahedral number 4, 10, 20, 35, ... for Lagrange and Bezier "
+      "tetrahedra), or offsets out of order or past the end of the connectivity array."));
+  }
+  if (summary.rationalCells > 0)
+  {
+    warnings.push_back(text("Skipped ", summary.rationalCells,
+      " rational VTK_BEZIER_TETRAHEDRON cells (rational weights that differ within the cell, or "
+      "are not positive and finite): TetDSR renders polynomial Bezier cells only."));
   }
   if (summary.tangledCells > 0)
   {
     warnings.push_back(text("Skipped ", summary.tangledCells,
-      " tangled curved cells (mid-edge nodes so far off their edges that the cell folds: the "
-      "Jacobian determinant of its quadratic map changes sign or vanishes inside it)."));
+      " tangled curved cells (nodes so far off their straight places that the cell folds: the "
+      "Jacobian determinant of its map changes sign or vanishes inside it)."));
   }
   if (summary.degenerateCells > 0)
   {
@@ -204,7 +229,8 @@ bool describeSkipped(const PreprocessSummary& summary, NodeId numberOfCells, Nod
   if (summary.nonFiniteCells > 0)
   {
     warnings.push_back(text("Skipped ", summary.nonFiniteCells, " cells with NaN or Inf values of '",
-      fieldName, "' or coordinates at their nodes."));
+      fieldName, "' or coordinates at their nodes (or Lagrange nodes whose Bernstein "
+      "coefficients overflow double range)."));
   }
   if (summary.invalidIdCells > 0)
   {
@@ -247,6 +273,7 @@ struct PreparedMesh::Internals
   // Copies of what could not be viewed (another number type or layout).
   std::vector<double> Points;
   std::vector<double> Values;
+  std::vector<double> Weights;
   std::vector<NodeId> Offsets;
   std::vector<NodeId> Connectivity;
   NodeId NumberOfPoints = 0;
@@ -309,6 +336,10 @@ bool PreparedMesh::prepare(const MeshArrays& arrays, const TransverseTest& trans
   mesh.offsets = asIds(arrays.offsets, in.Offsets);
   mesh.connectivity = asIds(arrays.connectivity, in.Connectivity);
   mesh.connectivitySize = arrays.connectivity.tuples;
+  if (arrays.rationalWeights.data)
+  {
+    mesh.rationalWeights = asDoubles(arrays.rationalWeights, numberOfPoints, 0, 1, in.Weights);
+  }
   in.TheScene.reset(new Scene(mesh, parallelFor, transverse));
   if (!describeSkipped(
         in.TheScene->summary(), numberOfCells, numberOfPoints, nameOf(arrays.field), messages))

@@ -56,6 +56,9 @@ struct MeshArrays
   ArrayView connectivity; ///< Int32 or Int64: the cells' point ids, one after another
   ArrayView field;        ///< the scalar field: one tuple per point, any NumberType
   int fieldComponent = 0; ///< the component of `field` that is contoured
+  /// VTK's rational weights of Bezier cells (vtkPointData::GetRationalWeights): one value per
+  /// point, any NumberType; no data when the mesh has none.
+  ArrayView rationalWeights;
 };
 
 /// "The input mesh is empty ..." unless there are points and cells.

@@ -33,12 +33,13 @@ struct QuadraticTetCell
   /// The nodes its record is made from: the vertices (the map is affine).
   static constexpr int kRecordNodes = 4;
 
-  /// validate: size, volume and orientation of the cell's 10 finite nodes, and whether a
-  /// mid-edge node is off its edge (kCurved: the cell is then CurvedTetCell's). `pointRounding`
-  /// is the coordinates' relative rounding (2^-52 for double, 2^-23 for float).
-  static std::uint16_t validate(const glm::dvec3 nodes[kCellNodes], double pointRounding)
+  /// The checks of a straight cell's 4 vertices: size, volume and orientation (kValid, with
+  /// kInverted for a negative volume; or why not valid). Sets `curvedTolerance`: how far a node
+  /// may lie from where the affine map puts it before the cell is curved (kCurvedRoundings
+  /// roundings of the coordinates).
+  static std::uint16_t validateVertices(
+    const glm::dvec3 vertices[4], double pointRounding, double& curvedTolerance)
   {
-    const glm::dvec3* vertices = nodes;
     const double maxEdge = longestEdge(vertices);
     if (!(maxEdge >= kMinCellSize && maxEdge <= kMaxCellSize)) // also an overflowed (Inf) length
     {
@@ -53,11 +54,6 @@ struct QuadraticTetCell
     {
       return kDegenerate;
     }
-    std::uint16_t flags = kValid;
-    if (volume6 < 0.0)
-    {
-      flags |= kInverted;
-    }
     // Rounding is relative to the coordinates' magnitude (a float coordinate near 2.5e6 rounds
     // by 0.25), so it is measured against the larger of the cell's size and its distance from 0.
     double reach = maxEdge;
@@ -68,20 +64,40 @@ struct QuadraticTetCell
         reach = std::max(reach, std::abs(vertices[k][a]));
       }
     }
-    const double curvedTolerance = kCurvedRoundings * pointRounding * reach;
+    curvedTolerance = kCurvedRoundings * pointRounding * reach;
+    return static_cast<std::uint16_t>(volume6 < 0.0 ? kValid | kInverted : kValid);
+  }
+
+  /// Whether `node` lies farther than `tolerance` from `expected` (where the affine map puts it).
+  static bool offItsPlace(const glm::dvec3& node, const glm::dvec3& expected, double tolerance)
+  {
+    const glm::dvec3 offset = node - expected;
+    // Components within half the tolerance put the length within it (sqrt(3) / 2 < 1): the
+    // length is only needed for the rare others.
+    const double largest = std::max({ std::abs(offset.x), std::abs(offset.y), std::abs(offset.z) });
+    return largest > 0.5 * tolerance && glm::length(offset) > tolerance;
+  }
+
+  /// validate: size, volume and orientation of the cell's 10 finite nodes, and whether a
+  /// mid-edge node is off its edge (kCurved: the cell is then CurvedTetCell's). `pointRounding`
+  /// is the coordinates' relative rounding (2^-52 for double, 2^-23 for float).
+  static std::uint16_t validate(const glm::dvec3 nodes[kCellNodes], double pointRounding)
+  {
+    double curvedTolerance = 0.0;
+    const std::uint16_t flags = validateVertices(nodes, pointRounding, curvedTolerance);
+    if (!(flags & kValid))
+    {
+      return flags;
+    }
     for (int e = 0; e < 6; ++e)
     {
-      const glm::dvec3 offset =
-        nodes[4 + e] - 0.5 * (vertices[kEdgeVertices[e][0]] + vertices[kEdgeVertices[e][1]]);
-      // Components within half the tolerance put the length within it (sqrt(3) / 2 < 1): the
-      // length is only needed for the rare others.
-      const double largest = std::max({ std::abs(offset.x), std::abs(offset.y), std::abs(offset.z) });
-      if (largest > 0.5 * curvedTolerance && glm::length(offset) > curvedTolerance)
+      if (offItsPlace(nodes[4 + e], 0.5 * (nodes[kEdgeVertices[e][0]] + nodes[kEdgeVertices[e][1]]),
+            curvedTolerance))
       {
         return flags | kCurved;
       }
     }
-    return flags;
+    return static_cast<std::uint16_t>(flags);
   }
 
   /// valueBound: the transverse test's range of the field over the cell.
@@ -99,9 +115,20 @@ struct QuadraticTetCell
     return isFinite(lo) && isFinite(hi);
   }
 
-  /// record: the barycentric map and the Bernstein coefficients of the field (scaled by a power
-  /// of two), for a valid cell; `cell` keeps its id and value range.
-  static void record(const glm::dvec3 vertices[kCellNodes], const double nodeValues[kCellNodes], CellRecord& cell)
+  /// A Bezier cell's control points (or coefficients) of order 2 made the nodes (values) of
+  /// the quadratic tetrahedron, in place: a mid-edge node is the map's value at its edge's
+  /// midpoint, (b_aa + b_bb) / 4 + b_ab / 2.
+  template <typename T>
+  static void fromBezier(T nodes[kCellNodes])
+  {
+    for (int e = 0; e < 6; ++e)
+    {
+      nodes[4 + e] = 0.25 * (nodes[kEdgeVertices[e][0]] + nodes[kEdgeVertices[e][1]]) + 0.5 * nodes[4 + e];
+    }
+  }
+
+  /// The barycentric map of a valid cell's vertices into its record.
+  static void recordFrame(const glm::dvec3 vertices[4], CellRecord& cell)
   {
     TetFrame frame;
     if (!TetFrame::fromVertices(vertices, frame))
@@ -116,6 +143,13 @@ struct QuadraticTetCell
     {
       cell.gradient[k] = frame.gradient[k + 1];
     }
+  }
+
+  /// record: the barycentric map and the Bernstein coefficients of the field (scaled by a power
+  /// of two), for a valid cell; `cell` keeps its id and value range.
+  static void record(const glm::dvec3 vertices[kCellNodes], const double nodeValues[kCellNodes], CellRecord& cell)
+  {
+    recordFrame(vertices, cell);
     // Scale the field by a power of two (exact) so that its largest nodal magnitude is about 1:
     // the products in the quadratic's coefficients and its discriminant (field^2) then neither
     // overflow nor underflow, whatever the field's scale within double range.

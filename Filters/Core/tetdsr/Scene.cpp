@@ -2,6 +2,7 @@
 
 #include "tetdsr/CellKinds.h"
 #include "tetdsr/Hierarchy.h"
+#include "tetdsr/HigherOrderTetCell.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,6 +17,16 @@ namespace
 constexpr NodeId kChunkCells = 1 << 14;
 
 /// Whether no point id appears twice in a cell (a repeated one collapses it).
+/// The largest magnitude of a value or a point's coordinates.
+double magnitudeOf(double value)
+{
+  return std::abs(value);
+}
+double magnitudeOf(const glm::dvec3& point)
+{
+  return std::max({ std::abs(point.x), std::abs(point.y), std::abs(point.z) });
+}
+
 bool distinctIds(const NodeId* ids, int count)
 {
   for (int i = 0; i < count; ++i)
@@ -44,6 +55,9 @@ void count(std::uint16_t flags, PreprocessSummary& summary)
   summary.tangledCells += (flags & kTangled) != 0;
   summary.unsupportedCells += (flags & kUnsupported) != 0;
   summary.malformedCells += (flags & kMalformed) != 0;
+  summary.orderTooHighCells += (flags & kOrderTooHigh) != 0;
+  summary.rationalCells += (flags & kRational) != 0;
+  summary.higherOrderCells += (flags & kHigherOrder) != 0;
 }
 
 /// Adds counts to a total.
@@ -59,6 +73,9 @@ void add(const PreprocessSummary& part, PreprocessSummary& total)
   total.tangledCells += part.tangledCells;
   total.unsupportedCells += part.unsupportedCells;
   total.malformedCells += part.malformedCells;
+  total.orderTooHighCells += part.orderTooHighCells;
+  total.rationalCells += part.rationalCells;
+  total.higherOrderCells += part.higherOrderCells;
 }
 
 float roundDown(double x)
@@ -133,12 +150,12 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
   setSceneBox(lo, hi);
 }
 
-bool Scene::readable(NodeId cell) const
+bool Scene::layoutOf(NodeId cell, CellLayout& layout) const
 {
   const NodeId begin = Mesh_.offsets[cell];
-  const int count = nodeCount(Mesh_.cellTypes[cell]);
-  return count > 0 && begin >= 0 && Mesh_.offsets[cell + 1] - begin == count &&
-    Mesh_.offsets[cell + 1] <= Mesh_.connectivitySize;
+  const NodeId end = Mesh_.offsets[cell + 1];
+  return begin >= 0 && end >= begin && end <= Mesh_.connectivitySize &&
+    cellLayout(Mesh_.cellTypes[cell], end - begin, layout) == 0;
 }
 
 void Scene::forChunks(const ParallelFor& parallelFor,
@@ -322,7 +339,7 @@ BoxItem Scene::boxOf(const glm::dvec3& extentLo, const glm::dvec3& extentHi, dou
 
 BoxItem Scene::cellBox(NodeId cellId) const
 {
-  glm::dvec3 nodes[kCellNodes];
+  glm::dvec3 nodes[kMaxCellNodes];
   glm::dvec3 lo, hi;
   const bool asValidated = loadNodes(cellId, nodes) &&
     forKind(kindOf(cellId), [&](auto cell) { return decltype(cell)::extent(nodes, lo, hi); });
@@ -340,17 +357,22 @@ std::uint16_t Scene::validate(
 {
   // The type and offsets first: nothing of the cell is read before they are trusted.
   const int type = Mesh_.cellTypes[cell];
-  const int count = nodeCount(type);
-  if (count == 0)
+  CellLayout layout;
+  if (cellLayout(type, -1, layout) == kUnsupported)
   {
     return kUnsupported;
   }
   const NodeId begin = Mesh_.offsets[cell];
   const NodeId end = Mesh_.offsets[cell + 1];
-  if (begin < 0 || end > Mesh_.connectivitySize || end - begin != count)
+  if (!(begin >= 0 && end >= begin && end <= Mesh_.connectivitySize))
   {
     return kMalformed;
   }
+  if (const std::uint16_t unreadable = cellLayout(type, end - begin, layout))
+  {
+    return unreadable;
+  }
+  const int count = layout.nodes;
   const NodeId* ids = Mesh_.connectivity + begin;
   for (int n = 0; n < count; ++n)
   {
@@ -363,43 +385,65 @@ std::uint16_t Scene::validate(
   {
     return kDegenerate;
   }
-  // Every node's value and coordinates (a linear tet's completed: LinearTetCell).
-  glm::dvec3 nodes[kCellNodes];
-  double values[kCellNodes];
+  if (layout.bezier && Mesh_.rationalWeights && !polynomialWeights(ids, count))
+  {
+    return kRational;
+  }
+  // Every node's value and coordinates, as given.
+  glm::dvec3 nodes[kMaxCellNodes];
+  double values[kMaxCellNodes];
   for (int n = 0; n < count; ++n)
   {
     nodes[n] = glm::dvec3(Mesh_.points[3 * ids[n]], Mesh_.points[3 * ids[n] + 1], Mesh_.points[3 * ids[n] + 2]);
     values[n] = Mesh_.values[ids[n]];
-  }
-  if (count == LinearTetCell::kNodes)
-  {
-    LinearTetCell::complete(nodes);
-    LinearTetCell::complete(values);
-  }
-  for (int n = 0; n < kCellNodes; ++n)
-  {
-    if (!std::isfinite(values[n]) || (n < count && !isFinite(nodes[n])))
+    if (!std::isfinite(values[n]) || !isFinite(nodes[n]))
     {
       return kNonFinite;
     }
   }
-  // The kind's geometry checks: a quadratic tet found curved is the curved kind's.
-  std::uint16_t flags = type == kVtkTetra ? LinearTetCell::validate(nodes, Mesh_.pointRounding)
-                                          : QuadraticTetCell::validate(nodes, Mesh_.pointRounding);
+  // Orders 3 and 4 are checked on their nodes as given (where the affine map puts a node is
+  // where a Lagrange node or a Bezier control point sits), orders 1 and 2 on the quadratic
+  // tetrahedron's nodes that their steps take (toKindForm); a cell found curved is the curved
+  // kind's.
+  std::uint16_t flags = layout.order == 3 ? HigherOrderTetCell<3>::validate(nodes, Mesh_.pointRounding)
+    : layout.order == 4                   ? HigherOrderTetCell<4>::validate(nodes, Mesh_.pointRounding)
+                                          : 0;
+  toKindForm(layout, nodes);
+  toKindForm(layout, values);
+  if (layout.order <= 2)
+  {
+    flags = layout.order == 1 ? LinearTetCell::validate(nodes, Mesh_.pointRounding)
+                              : QuadraticTetCell::validate(nodes, Mesh_.pointRounding);
+  }
   if (!(flags & kValid))
   {
     return flags;
   }
-  const CellKind kind = type == kVtkTetra ? CellKind::LinearTet
-    : (flags & kCurved)                   ? CellKind::CurvedTet
-                                          : CellKind::QuadraticTet;
-  if (kind == CellKind::CurvedTet)
+  for (int n = 0; n < std::max(count, kCellNodes); ++n)
   {
-    flags = CurvedTetCell::validate(nodes, flags);
-    if (!(flags & kValid))
+    if (!std::isfinite(values[n]) || !isFinite(nodes[n]))
     {
-      return flags;
+      return kNonFinite; // a Lagrange cell's Bernstein coefficients beyond double range
     }
+  }
+  const CellKind kind = tetdsr::kindOf(layout, (flags & kCurved) != 0);
+  switch (kind)
+  {
+    case CellKind::CurvedTet:
+      flags = CurvedTetCell::validate(nodes, flags);
+      break;
+    case CellKind::CurvedCubicTet:
+      flags = CurvedHigherOrderTetCell<3>::validate(nodes, flags);
+      break;
+    case CellKind::CurvedQuarticTet:
+      flags = CurvedHigherOrderTetCell<4>::validate(nodes, flags);
+      break;
+    default:
+      break;
+  }
+  if (!(flags & kValid))
+  {
+    return flags;
   }
   // A curved cell's box (its control points') can be far larger than its vertices' edges: a
   // mid-edge node at 1e300 passes the size check and would give the scene an overflowing box.
@@ -414,18 +458,75 @@ std::uint16_t Scene::validate(
   forKind(kind, [&](auto cell) { decltype(cell)::valueBound(values, Transverse_, lo, hi); });
   validCell.valueLo = roundDown(lo);
   validCell.valueHi = roundUp(hi);
-  return flags;
+  return static_cast<std::uint16_t>(flags | (layout.order > 2 ? kHigherOrder : 0));
 }
 
-const NodeId* Scene::nodeIds(NodeId cellId) const
+bool Scene::polynomialWeights(const NodeId* ids, int count) const
 {
-  if (!readable(cellId))
+  // Equal weights cancel in the rational form: the cell is the polynomial one.
+  const double first = Mesh_.rationalWeights[ids[0]];
+  if (!(first > 0.0) || !std::isfinite(first))
+  {
+    return false;
+  }
+  for (int n = 1; n < count; ++n)
+  {
+    if (!(Mesh_.rationalWeights[ids[n]] == first))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+template <typename T>
+void Scene::toKindForm(const CellLayout& layout, T items[kMaxCellNodes])
+{
+  if (layout.order == 1)
+  {
+    LinearTetCell::complete(items);
+  }
+  else if (layout.order == 2 && layout.bezier)
+  {
+    QuadraticTetCell::fromBezier(items);
+  }
+  else if (layout.order >= 3 && !layout.bezier)
+  {
+    // Converted at a power of two's scale near 1 (exact), so that the conversion's sums (up to 35
+    // times the largest node's magnitude) overflow only where the coefficients themselves do.
+    double largest = 0.0;
+    for (int n = 0; n < layout.nodes; ++n)
+    {
+      largest = std::max(largest, magnitudeOf(items[n]));
+    }
+    const double scale = scaleFor(largest);
+    for (int n = 0; n < layout.nodes; ++n)
+    {
+      items[n] *= scale;
+    }
+    if (layout.order == 3)
+    {
+      HigherOrderTet<3>::toBezier(items);
+    }
+    else
+    {
+      HigherOrderTet<4>::toBezier(items);
+    }
+    for (int n = 0; n < layout.nodes; ++n)
+    {
+      items[n] /= scale;
+    }
+  }
+}
+
+const NodeId* Scene::nodeIds(NodeId cellId, CellLayout& layout) const
+{
+  if (!layoutOf(cellId, layout))
   {
     return nullptr;
   }
   const NodeId* ids = Mesh_.connectivity + Mesh_.offsets[cellId];
-  const int count = nodeCount(Mesh_.cellTypes[cellId]);
-  for (int n = 0; n < count; ++n)
+  for (int n = 0; n < layout.nodes; ++n)
   {
     if (ids[n] < 0 || ids[n] >= Mesh_.numberOfPoints)
     {
@@ -435,54 +536,51 @@ const NodeId* Scene::nodeIds(NodeId cellId) const
   return ids;
 }
 
-bool Scene::loadNodes(NodeId cellId, glm::dvec3 nodes[kCellNodes], int needed) const
+bool Scene::loadNodes(NodeId cellId, glm::dvec3 nodes[kMaxCellNodes], int needed) const
 {
-  const NodeId* ids = nodeIds(cellId);
-  return ids && loadNodes(cellId, ids, nodes, needed);
+  CellLayout layout;
+  const NodeId* ids = nodeIds(cellId, layout);
+  return ids && loadNodes(layout, ids, nodes, needed);
 }
 
-bool Scene::loadNodes(NodeId cellId, const NodeId* ids, glm::dvec3 nodes[kCellNodes], int needed) const
+bool Scene::loadNodes(const CellLayout& layout, const NodeId* ids, glm::dvec3 nodes[kMaxCellNodes], int needed) const
 {
-  const bool linear = Mesh_.cellTypes[cellId] == kVtkTetra;
-  const int count = std::min(needed, linear ? LinearTetCell::kNodes : kCellNodes);
+  const int count = std::min(needed, layout.nodes);
   for (int n = 0; n < count; ++n)
   {
     const double* p = Mesh_.points + 3 * ids[n];
     nodes[n] = glm::dvec3(p[0], p[1], p[2]);
   }
-  if (linear && needed > LinearTetCell::kNodes)
+  // The vertices are the same in every form; the rest as the kind's steps take them.
+  if (needed > 4)
   {
-    LinearTetCell::complete(nodes);
+    toKindForm(layout, nodes);
   }
   return true;
 }
 
-bool Scene::loadValues(NodeId cellId, double values[kCellNodes], const double* pointValues,
+bool Scene::loadValues(NodeId cellId, double values[kMaxCellNodes], const double* pointValues,
   int components, int component) const
 {
-  const NodeId* ids = nodeIds(cellId);
-  return ids && loadValues(cellId, ids, values, pointValues, components, component);
+  CellLayout layout;
+  const NodeId* ids = nodeIds(cellId, layout);
+  return ids && loadValues(layout, ids, values, pointValues, components, component);
 }
 
-bool Scene::loadValues(NodeId cellId, const NodeId* ids, double values[kCellNodes],
+bool Scene::loadValues(const CellLayout& layout, const NodeId* ids, double values[kMaxCellNodes],
   const double* pointValues, int components, int component) const
 {
-  const bool linear = Mesh_.cellTypes[cellId] == kVtkTetra;
-  const int count = linear ? LinearTetCell::kNodes : kCellNodes;
-  for (int n = 0; n < count; ++n)
+  for (int n = 0; n < layout.nodes; ++n)
   {
     values[n] = pointValues[components * ids[n] + component];
   }
-  if (linear)
-  {
-    LinearTetCell::complete(values);
-  }
+  toKindForm(layout, values);
   return true;
 }
 
 bool Scene::inCell(NodeId cellId, const glm::dvec3& point, double L[4]) const
 {
-  glm::dvec3 nodes[kCellNodes];
+  glm::dvec3 nodes[kMaxCellNodes];
   if (!loadNodes(cellId, nodes))
   {
     return false; // (edited since validation)
@@ -492,7 +590,7 @@ bool Scene::inCell(NodeId cellId, const glm::dvec3& point, double L[4]) const
 
 void Scene::cellCoordinates(NodeId cellId, const glm::dvec3& point, double L[4]) const
 {
-  glm::dvec3 nodes[kCellNodes];
+  glm::dvec3 nodes[kMaxCellNodes];
   if (!loadNodes(cellId, nodes))
   {
     std::fill(L, L + 4, std::numeric_limits<double>::quiet_NaN()); // (edited since validation)
@@ -504,25 +602,47 @@ void Scene::cellCoordinates(NodeId cellId, const glm::dvec3& point, double L[4])
 bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues,
   std::size_t first, std::size_t last, double tMin, double tLimit, SurfaceHit& hit) const
 {
-  glm::dvec3 nodes[kCellNodes];
-  double values[kCellNodes];
-  const NodeId* ids = nodeIds(cellId); // checked once for both reads
-  if (!ids || !loadNodes(cellId, ids, nodes) || !loadValues(cellId, ids, values, Mesh_.values))
+  glm::dvec3 nodes[kMaxCellNodes];
+  double values[kMaxCellNodes];
+  CellLayout layout;
+  const NodeId* ids = nodeIds(cellId, layout); // checked once for both reads
+  if (!ids || !loadNodes(layout, ids, nodes) || !loadValues(layout, ids, values, Mesh_.values))
   {
     return false; // (edited since validation)
   }
   bool certified = true;
-  if (!CurvedTetCell::intersect(
-        nodes, values, isoValues, first, last, ray, tMin, tLimit, hit, certified))
+  const bool found = layout.order == 2
+    ? CurvedTetCell::intersect(nodes, values, isoValues, first, last, ray, tMin, tLimit, hit, certified)
+    : layout.order == 3
+    ? CurvedHigherOrderTetCell<3>::intersect(nodes, values, isoValues, first, last, ray, tMin, tLimit, hit, certified)
+    : CurvedHigherOrderTetCell<4>::intersect(nodes, values, isoValues, first, last, ray, tMin, tLimit, hit, certified);
+  if (!found)
   {
     return false;
   }
-  if (!certified)
-  {
-    UncertifiedHits_.fetch_add(1, std::memory_order_relaxed);
-  }
+  countUncertified(certified);
   hit.cellId = cellId;
   return true;
+}
+
+bool Scene::intersectHigherOrderCell(const CellRecord& cell, const Ray& ray,
+  const IsoValues& isoValues, std::size_t first, std::size_t last, double tMin, double tLimit,
+  SurfaceHit& hit) const
+{
+  double values[kMaxCellNodes];
+  if (!loadValues(cell.cellId, values, Mesh_.values))
+  {
+    return false; // (edited since validation)
+  }
+  bool certified = true;
+  const bool found = cell.order == 3
+    ? HigherOrderTetCell<3>::intersect(cell, values, ray, isoValues, first, last, tMin, tLimit, hit, certified)
+    : HigherOrderTetCell<4>::intersect(cell, values, ray, isoValues, first, last, tMin, tLimit, hit, certified);
+  if (found)
+  {
+    countUncertified(certified);
+  }
+  return found;
 }
 
 NodeId Scene::uncertifiedHits() const
@@ -534,14 +654,14 @@ void Scene::prepareCell(NodeId cellId, CellRecord& cell) const
 {
   cell.cellId = static_cast<std::uint32_t>(cellId);
   cell.kind = CellRecord::Kind::Empty;
-  double values[kCellNodes];
+  double values[kMaxCellNodes];
   if (!loadValues(cellId, values, Mesh_.values))
   {
     return; // edited since validation: an empty record, never hit
   }
   forKind(kindOf(cellId), [&](auto kind) {
     using Kind = decltype(kind);
-    glm::dvec3 nodes[kCellNodes];
+    glm::dvec3 nodes[kMaxCellNodes];
     loadNodes(cellId, nodes, Kind::kRecordNodes); // only what the record is made from
     // The range the transverse test gives (which iso-values the cell can hold).
     Kind::valueBound(values, Transverse_, cell.valueLo, cell.valueHi);
@@ -559,7 +679,7 @@ std::size_t Scene::memoryBytes() const
 double Scene::interpolate(NodeId cellId, const glm::dvec3& point, const double* pointValues,
   int components, int component) const
 {
-  double values[kCellNodes];
+  double values[kMaxCellNodes];
   if (!loadValues(cellId, values, pointValues, components, component))
   {
     return std::numeric_limits<double>::quiet_NaN(); // (edited since validation)
@@ -571,8 +691,8 @@ double Scene::interpolate(NodeId cellId, const glm::dvec3& point, const double* 
 
 double Scene::cellSize(NodeId cellId) const
 {
-  glm::dvec3 nodes[kCellNodes];
-  return loadNodes(cellId, nodes) ? longestEdge(nodes) : 0.0; // (0: edited since validation)
+  glm::dvec3 nodes[kMaxCellNodes];
+  return loadNodes(cellId, nodes, 4) ? longestEdge(nodes) : 0.0; // (0: edited since validation)
 }
 
 bool Scene::locate(const glm::dvec3& point, NodeId& cellId) const
@@ -642,23 +762,23 @@ void Scene::computeNodalGradients()
   double largest = 0.0;
   for (const ValidCell& valid : ValidCells_)
   {
-    double values[kCellNodes];
-    if (!loadValues(valid.id, values, Mesh_.values))
+    double values[kMaxCellNodes];
+    CellLayout layout;
+    if (!nodeIds(valid.id, layout) || !loadValues(valid.id, values, Mesh_.values))
     {
       continue; // (edited since validation)
     }
-    for (const double value : values)
-    {
-      largest = std::max(largest, std::abs(value));
-    }
+    largest = std::max(largest, bernstein::magnitude(values, std::max(layout.nodes, kCellNodes)));
   }
   const double scale = scaleFor(largest);
   for (const ValidCell& valid : ValidCells_)
   {
     const std::uint32_t cell = valid.id;
-    glm::dvec3 nodes[kCellNodes];
-    double values[kCellNodes];
-    if (!loadNodes(cell, nodes) || !loadValues(cell, values, Mesh_.values))
+    CellLayout layout;
+    const NodeId* ids = nodeIds(cell, layout);
+    glm::dvec3 nodes[kMaxCellNodes];
+    double values[kMaxCellNodes];
+    if (!ids || !loadNodes(layout, ids, nodes) || !loadValues(layout, ids, values, Mesh_.values))
     {
       continue; // (edited since validation)
     }
@@ -667,20 +787,12 @@ void Scene::computeNodalGradients()
       value *= scale;
     }
     const CellKind kind = kindOf(cell);
-    // A linear tet's mid-edge "nodes" are not points of the mesh: only its vertices count.
-    const int ownNodes = kind == CellKind::LinearTet ? LinearTetCell::kNodes : kCellNodes;
-    const NodeId* ids = nodeIds(cell);
-    for (int n = 0; n < ownNodes; ++n)
+    // The cell's own nodes (a linear tet's completed mid-edge "nodes" are not points of the
+    // mesh), each at its barycentric point.
+    for (int n = 0; n < layout.nodes; ++n)
     {
-      double L[4] = { 0.0, 0.0, 0.0, 0.0 };
-      if (n < 4)
-      {
-        L[n] = 1.0;
-      }
-      else
-      {
-        L[kEdgeVertices[n - 4][0]] = L[kEdgeVertices[n - 4][1]] = 0.5;
-      }
+      double L[4];
+      nodePoint(layout, n, L);
       sum[static_cast<std::size_t>(ids[n])] +=
         forKind(kind, [&](auto cell) { return decltype(cell)::gradient(nodes, values, L); });
       ++count[static_cast<std::size_t>(ids[n])];
@@ -696,30 +808,77 @@ void Scene::computeNodalGradients()
   NodalGradients_ = std::move(sum);
 }
 
+void Scene::nodePoint(const CellLayout& layout, int n, double L[4])
+{
+  switch (layout.order)
+  {
+    case 3:
+      HigherOrderTet<3>::nodePoint(n, L);
+      return;
+    case 4:
+      HigherOrderTet<4>::nodePoint(n, L);
+      return;
+    default:
+      // Orders 1 and 2: VTK_QUADRATIC_TETRA's nodes (the vertices, then the mid-edge nodes).
+      std::fill(L, L + 4, 0.0);
+      if (n < 4)
+      {
+        L[n] = 1.0;
+      }
+      else
+      {
+        L[kEdgeVertices[n - 4][0]] = L[kEdgeVertices[n - 4][1]] = 0.5;
+      }
+  }
+}
+
 glm::dvec3 Scene::interpolateNodalGradient(NodeId cellId, const glm::dvec3& point) const
 {
   double L[4];
   cellCoordinates(cellId, point, L);
-  const NodeId* ids = nodeIds(cellId);
+  CellLayout layout;
+  const NodeId* ids = nodeIds(cellId, layout);
   if (!ids || static_cast<NodeId>(NodalGradients_.size()) != Mesh_.numberOfPoints)
   {
     return glm::dvec3(0.0); // (edited since validation)
   }
-  const bool linear = kindOf(cellId) == CellKind::LinearTet;
-  glm::dvec3 gradient(0.0);
-  for (int k = 0; k < 4; ++k)
+  // The nodal gradients as nodal values of a field of the cell's order (a linear tet's mid-edge
+  // ones the means of their edges': LinearTetCell::complete), interpolated with its shape
+  // functions.
+  glm::dvec3 nodal[kMaxCellNodes];
+  for (int n = 0; n < layout.nodes; ++n)
   {
-    gradient += (L[k] * (2.0 * L[k] - 1.0)) * NodalGradients_[static_cast<std::size_t>(ids[k])];
+    nodal[n] = NodalGradients_[static_cast<std::size_t>(ids[n])];
   }
-  for (int e = 0; e < 6; ++e)
+  if (layout.order <= 2)
   {
-    const int a = kEdgeVertices[e][0], b = kEdgeVertices[e][1];
-    // A linear tet's mid-edge gradient: the mean of its edge's ends (LinearTetCell::complete).
-    const glm::dvec3 mid = linear
-      ? 0.5 * (NodalGradients_[static_cast<std::size_t>(ids[a])] +
-                NodalGradients_[static_cast<std::size_t>(ids[b])])
-      : NodalGradients_[static_cast<std::size_t>(ids[4 + e])];
-    gradient += (4.0 * L[a] * L[b]) * mid;
+    if (layout.order == 1)
+    {
+      LinearTetCell::complete(nodal);
+    }
+    glm::dvec3 gradient(0.0);
+    for (int k = 0; k < 4; ++k)
+    {
+      gradient += (L[k] * (2.0 * L[k] - 1.0)) * nodal[k];
+    }
+    for (int e = 0; e < 6; ++e)
+    {
+      gradient += (4.0 * L[kEdgeVertices[e][0]] * L[kEdgeVertices[e][1]]) * nodal[4 + e];
+    }
+    return gradient;
+  }
+  const CellLayout lagrange{ layout.order, false, layout.nodes };
+  toKindForm(lagrange, nodal);
+  glm::dvec3 gradient(0.0);
+  for (int a = 0; a < 3; ++a)
+  {
+    double component[kMaxCellNodes];
+    for (int n = 0; n < layout.nodes; ++n)
+    {
+      component[n] = nodal[n][a];
+    }
+    gradient[a] = layout.order == 3 ? HigherOrderTetCell<3>::interpolate(component, L)
+                                    : HigherOrderTetCell<4>::interpolate(component, L);
   }
   return gradient;
 }

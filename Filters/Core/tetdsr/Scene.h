@@ -5,6 +5,7 @@
 
 #include "tetdsr/Camera.h"
 #include "tetdsr/Cells.h"
+#include "tetdsr/HigherOrderTet.h"
 #include "tetdsr/QuadraticTetCell.h"
 
 #include <glm/glm.hpp>
@@ -35,6 +36,8 @@ struct MeshView
   const NodeId* connectivity = nullptr;    ///< connectivitySize point ids
   NodeId connectivitySize = 0;
   const double* values = nullptr; ///< one scalar per point (numberOfPoints entries)
+  /// VTK's "RationalWeights" of Bezier cells, one per point; null when the mesh has none.
+  const double* rationalWeights = nullptr;
   /// The relative rounding of the coordinates as given (2^-52 for double, 2^-23 for float): a
   /// mid-edge node farther from its edge's midpoint than 64 times this, relative to the larger of
   /// the cell's longest edge and its coordinates' magnitude, makes the cell curved
@@ -95,6 +98,10 @@ struct PreprocessSummary
   /// a number of ids that does not match the type, or offsets out of order or past the end of
   /// the connectivity
   NodeId malformedCells = 0;
+  NodeId orderTooHighCells = 0; ///< a Lagrange or Bezier tetrahedron of order above kMaxTetOrder
+  NodeId rationalCells = 0; ///< a Bezier tetrahedron whose rational weights differ within it
+  /// valid, of order 3 or 4 (HigherOrderTetCell, CurvedHigherOrderTetCell)
+  NodeId higherOrderCells = 0;
 };
 
 class Hierarchy;
@@ -181,17 +188,14 @@ public:
   /// The kind of a valid cell, as validation classified it.
   CellKind kindOf(NodeId cellId) const
   {
-    if (Mesh_.cellTypes[cellId] == kVtkTetra)
-    {
-      return CellKind::LinearTet;
-    }
-    return !Curved_.empty() && Curved_[static_cast<std::size_t>(cellId)] != 0
-      ? CellKind::CurvedTet
-      : CellKind::QuadraticTet;
+    CellLayout layout;
+    layoutOf(cellId, layout);
+    return tetdsr::kindOf(layout, !Curved_.empty() && Curved_[static_cast<std::size_t>(cellId)] != 0);
   }
 
-  /// Rays whose hit in a curved cell was accepted at the subdivision limit without a Krawczyk
-  /// certificate (tangent or near-tangent roots), since the scene was built. Counted, not
+  /// Rays whose hit was accepted without a certificate (in a curved cell: at the subdivision limit
+  /// without a Krawczyk test; in a straight cell of order 3 or 4: a root that does not separate
+  /// from its neighbour, a tangent one), since the scene was built. Counted, not
   /// guaranteed; thread-safe.
   NodeId uncertifiedHits() const;
 
@@ -222,8 +226,14 @@ private:
   void keepValidCells(const FillLaterVector<std::uint16_t>& status);
   /// The box around every valid cell (box units), padded.
   void setSceneBox(const glm::dvec3& lo, const glm::dvec3& hi);
-  /// Whether a cell's type and offsets can be trusted to read its ids (validate counts the rest).
-  bool readable(NodeId cellId) const;
+  /// Whether a cell's type and offsets can be trusted to read its ids (validate counts the rest),
+  /// and how they are read.
+  bool layoutOf(NodeId cellId, CellLayout& layout) const;
+  bool readable(NodeId cellId) const
+  {
+    CellLayout layout;
+    return layoutOf(cellId, layout);
+  }
   /// Runs body(chunk, begin, end) over fixed chunks of cells through parallelFor.
   void forChunks(const ParallelFor& parallelFor,
     const std::function<void(NodeId chunk, NodeId begin, NodeId end)>& body) const;
@@ -233,24 +243,46 @@ private:
   /// place after validation (VTK's contract says Modified(), numpy makes it easy to forget): every
   /// later read goes through here, so such an edit gives a stale or missing cell, never a read out
   /// of bounds. A few comparisons per read; the rays' hot path reads records, not the mesh.
-  const NodeId* nodeIds(NodeId cellId) const;
-  /// A cell's first `needed` of its 10 node positions (a linear tet completed: LinearTetCell);
-  /// false if its ids were edited out of range (nodeIds).
-  bool loadNodes(NodeId cellId, glm::dvec3 nodes[kCellNodes], int needed = kCellNodes) const;
-  /// A point array's values at a cell's 10 nodes (a linear tet's completed); false as loadNodes.
-  bool loadValues(NodeId cellId, double values[kCellNodes], const double* pointValues,
+  const NodeId* nodeIds(NodeId cellId, CellLayout& layout) const;
+  /// A cell's node positions as its kind's steps take them (Cells.h, kCellNodes: 10 for orders
+  /// 1 and 2, a linear tet completed and a Bezier cell's control points made nodes; Bezier layout
+  /// for orders 3 and 4), or only its first `needed` (its vertices, for 4); false if its ids were
+  /// edited out of range (nodeIds).
+  bool loadNodes(NodeId cellId, glm::dvec3 nodes[kMaxCellNodes], int needed = kMaxCellNodes) const;
+  /// A point array's values at a cell's nodes, in the same form; false as loadNodes.
+  bool loadValues(NodeId cellId, double values[kMaxCellNodes], const double* pointValues,
     int components = 1, int component = 0) const;
   /// The same with ids already checked by nodeIds (one check for several reads).
-  bool loadNodes(NodeId cellId, const NodeId* ids, glm::dvec3 nodes[kCellNodes],
-    int needed = kCellNodes) const;
-  bool loadValues(NodeId cellId, const NodeId* ids, double values[kCellNodes],
+  bool loadNodes(const CellLayout& layout, const NodeId* ids, glm::dvec3 nodes[kMaxCellNodes],
+    int needed = kMaxCellNodes) const;
+  bool loadValues(const CellLayout& layout, const NodeId* ids, double values[kMaxCellNodes],
     const double* pointValues, int components = 1, int component = 0) const;
+  /// A cell's nodes (points or values) as read, in place made as its kind's steps take them:
+  /// a linear tet completed, an order-2 Bezier cell's control points made nodes, an order 3-4
+  /// Lagrange cell's nodes made Bernstein coefficients (Bezier layout).
+  template <typename T>
+  static void toKindForm(const CellLayout& layout, T items[kMaxCellNodes]);
+  /// The barycentric point of node n of a cell of this layout.
+  static void nodePoint(const CellLayout& layout, int n, double L[4]);
+  /// Whether a Bezier cell's rational weights are equal (and positive): the polynomial cell.
+  bool polynomialWeights(const NodeId* ids, int count) const;
   /// The barycentric coordinates of `point` in a valid cell (the kind's coordinates step).
   void cellCoordinates(NodeId cellId, const glm::dvec3& point, double L[4]) const;
   /// Whether `point` lies in a valid cell (within kBarycentricTolerance), and where.
   bool inCell(NodeId cellId, const glm::dvec3& point, double L[4]) const;
   bool intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues,
     std::size_t first, std::size_t last, double tMin, double tLimit, SurfaceHit& hit) const;
+  /// A straight cell of order 3 or 4: its field's coefficients read from the mesh.
+  bool intersectHigherOrderCell(const CellRecord& cell, const Ray& ray, const IsoValues& isoValues,
+    std::size_t first, std::size_t last, double tMin, double tLimit, SurfaceHit& hit) const;
+  /// Counts a hit accepted without a certificate.
+  void countUncertified(bool certified) const
+  {
+    if (!certified)
+    {
+      UncertifiedHits_.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
   /// Checks a cell: its type, offsets and ids, its values, then its kind's validate step; for a
   /// valid one, fills its entry and its extent (the kind's). CellStatus bits.
   std::uint16_t validate(
@@ -286,6 +318,10 @@ inline bool Scene::intersectCell(const CellRecord& cell, const Ray& ray, const I
   if (cell.kind == CellRecord::Kind::Curved)
   {
     return intersectCurvedCell(cell.cellId, ray, isoValues, first, last, tMin, tLimit, hit);
+  }
+  if (cell.kind == CellRecord::Kind::HigherOrder)
+  {
+    return intersectHigherOrderCell(cell, ray, isoValues, first, last, tMin, tLimit, hit);
   }
   return QuadraticTetCell::intersect(cell, ray, isoValues, first, last, tMin, tLimit, hit);
 }

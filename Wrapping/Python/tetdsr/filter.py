@@ -97,7 +97,8 @@ def _stamp(grid, scalars, component, transverse):
     cells = grid.GetCells()
     parts = [grid, points, points.GetData() if points else None, cells,
              cells.GetOffsetsArray() if cells else None,
-             cells.GetConnectivityArray() if cells else None, _cell_types(grid), scalars]
+             cells.GetConnectivityArray() if cells else None, _cell_types(grid), scalars,
+             grid.GetPointData().GetRationalWeights()]
     return tuple((part, part.GetMTime() if part is not None else 0) for part in parts) + (
         component, transverse)
 
@@ -177,7 +178,8 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         self._prepared_stamp = None  # what it was prepared from
         self._counts = dict.fromkeys(
             ("Rendered", "Inverted", "Curved", "Degenerate", "Tangled", "NonFinite", "InvalidId",
-             "Unsupported", "Malformed", "OutOfScale", "UncertifiedHits"), 0)
+             "Unsupported", "Malformed", "OrderTooHigh", "Rational", "HigherOrder", "OutOfScale",
+             "UncertifiedHits"), 0)
         # The contour values are an object of their own: their edits must reach this filter.
         self._observe(self._contour_values)
 
@@ -565,6 +567,15 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
     def GetNumberOfMalformedCells(self):
         return self._counts["Malformed"]
 
+    def GetNumberOfOrderTooHighCells(self):
+        return self._counts["OrderTooHigh"]
+
+    def GetNumberOfRationalCells(self):
+        return self._counts["Rational"]
+
+    def GetNumberOfHigherOrderCells(self):
+        return self._counts["HigherOrder"]
+
     def GetNumberOfOutOfScaleCells(self):
         return self._counts["OutOfScale"]
 
@@ -630,13 +641,15 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         transverse.mode = _core.TransverseMode(s["TransverseTest"])
         transverse.widening = s["NodalRangeWidening"]
         cells = grid.GetCells()
+        weights = grid.GetPointData().GetRationalWeights()
         prepared = _core.PreparedMesh()
         self._prepared, self._prepared_stamp = prepared, stamp
         ready = prepared.prepare(
             _as_numpy(grid.GetPoints().GetData()), _as_numpy(_cell_types(grid)),
             _as_numpy(cells.GetOffsetsArray()), _as_numpy(cells.GetConnectivityArray()),
             _as_numpy(scalars), field_name=scalars.GetName() or "", component=component,
-            transverse=transverse, threads=s["NumberOfThreads"], messages=messages)
+            transverse=transverse, threads=s["NumberOfThreads"], messages=messages,
+            rational_weights=_as_numpy(weights) if weights is not None else None)
         return prepared if ready else None
 
     def _core_camera(self, prepared, aspect):
@@ -713,7 +726,8 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
                               ("Degenerate", "degenerate"), ("Tangled", "tangled"),
                               ("OutOfScale", "out_of_scale"), ("NonFinite", "non_finite"),
                               ("InvalidId", "invalid_id"), ("Unsupported", "unsupported"),
-                              ("Malformed", "malformed")):
+                              ("Malformed", "malformed"), ("OrderTooHigh", "order_too_high"),
+                              ("Rational", "rational"), ("HigherOrder", "higher_order")):
             counts[key] = summary[core_key]
         color_values = None
         if prepared is not None and color_array is not None:
