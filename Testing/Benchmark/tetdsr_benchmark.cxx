@@ -11,6 +11,10 @@
 //   tetdsr-benchmark --options <image size> <lattice n>
 //   (re-render time of colouring by an array, clipping, capping and translucent iso-values
 //   against the plain image; prints a Markdown table)
+//   tetdsr-benchmark --orders <image size> <lattice n>
+//   (the same lattice as tetrahedra of orders 1 to 4, VTK_LAGRANGE_TETRAHEDRON and
+//   VTK_BEZIER_TETRAHEDRON: preprocessing, memory and rays per second per order; prints a
+//   Markdown table)
 #include "vtkActor.h"
 #include "vtkCamera.h"
 #include "vtkCellType.h"
@@ -34,6 +38,7 @@
 #include "vtkXMLUnstructuredGridWriter.h"
 
 #include "BenchmarkLattice.h"
+#include "tetdsr/HigherOrderTet.h"
 #include "tetdsr/QuadraticTet.h"
 
 #include <chrono>
@@ -299,6 +304,177 @@ int AppearanceOptions(int size, int n)
   return EXIT_SUCCESS;
 }
 
+namespace
+{
+/// The lattice's n^3 cubes as straight tetrahedra of order P (VTK_LAGRANGE_TETRAHEDRON, or
+/// VTK_BEZIER_TETRAHEDRON with the field's Bernstein coefficients), nodes shared on the lattice
+/// of P steps per cube edge, with the "wave" field (smooth, not a polynomial) at the nodes.
+template <int P>
+vtkSmartPointer<vtkUnstructuredGrid> MakeOrderMesh(int n, int type)
+{
+  const int m = P * n + 1;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(m) * m * m);
+  vtkNew<vtkDoubleArray> wave;
+  wave->SetName("wave");
+  wave->SetNumberOfTuples(points->GetNumberOfPoints());
+  auto waveAt = [](double x, double y, double z) {
+    return std::sin(7.0 * x) * std::cos(5.0 * y) + std::sin(6.0 * z + 1.0);
+  };
+  for (int k = 0; k < m; ++k)
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i)
+      {
+        const vtkIdType id = i + static_cast<vtkIdType>(m) * (j + static_cast<vtkIdType>(m) * k);
+        const double x = i / (m - 1.0), y = j / (m - 1.0), z = k / (m - 1.0);
+        points->SetPoint(id, x, y, z);
+        wave->SetValue(id, waveAt(x, y, z));
+      }
+  const int permutations[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 },
+    { 2, 0, 1 }, { 2, 1, 0 } };
+  const bool odd[6] = { false, true, true, false, false, true };
+  constexpr int kNodes = tetdsr::HigherOrderTet<P>::kNodes;
+  vtkNew<vtkCellArray> cells;
+  std::vector<vtkIdType> ids(kNodes);
+  // A Bezier cell's non-vertex control points are points of their own (coefficients, not
+  // values of the field): appended after the lattice's.
+  std::vector<double> nodal(kNodes);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        for (int p = 0; p < 6; ++p)
+        {
+          int v[4][3];
+          v[0][0] = P * i, v[0][1] = P * j, v[0][2] = P * k;
+          for (int s = 0; s < 3; ++s)
+          {
+            for (int a = 0; a < 3; ++a)
+              v[s + 1][a] = v[s][a];
+            v[s + 1][permutations[p][s]] += P;
+          }
+          if (odd[p])
+            for (int a = 0; a < 3; ++a)
+              std::swap(v[1][a], v[2][a]);
+          for (int node = 0; node < kNodes; ++node)
+          {
+            double L[4];
+            tetdsr::HigherOrderTet<P>::nodePoint(node, L);
+            int key[3];
+            for (int a = 0; a < 3; ++a)
+            {
+              double sum = 0.0;
+              for (int q = 0; q < 4; ++q)
+                sum += L[q] * v[q][a];
+              key[a] = static_cast<int>(std::lround(sum));
+            }
+            ids[node] = key[0] + static_cast<vtkIdType>(m) * (key[1] + static_cast<vtkIdType>(m) * key[2]);
+            nodal[node] = wave->GetValue(ids[node]);
+          }
+          if (type == VTK_BEZIER_TETRAHEDRON)
+          {
+            tetdsr::HigherOrderTet<P>::toBezier(nodal.data());
+            for (int node = 4; node < kNodes; ++node)
+            {
+              double x[3];
+              points->GetPoint(ids[node], x);
+              ids[node] = points->InsertNextPoint(x);
+              wave->InsertNextValue(nodal[node]);
+            }
+          }
+          cells->InsertNextCell(kNodes, ids.data());
+        }
+  auto mesh = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  mesh->SetPoints(points);
+  mesh->GetPointData()->AddArray(wave);
+  mesh->SetCells(type, cells);
+  return mesh;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> MakeOrderMesh(int n, int order, int type)
+{
+  switch (order)
+  {
+    case 1:
+      return MakeOrderMesh<1>(n, type);
+    case 2:
+      return MakeOrderMesh<2>(n, type);
+    case 3:
+      return MakeOrderMesh<3>(n, type);
+    default:
+      return MakeOrderMesh<4>(n, type);
+  }
+}
+} // namespace
+
+/// Per order: preprocessing (1-pixel image), its memory, a first frame, a camera move (best of
+/// 3) and its rays per second, and vtkContourFilter's time, on the wave field at iso 0.3.
+int Orders(int size, int n)
+{
+  std::printf("| cells | type | order | nodes/cell | mesh MB | preprocess s | kept MB | first frame s | camera move s | M rays/s | contour s | triangles |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  struct Row
+  {
+    int type;
+    int order;
+    const char* name;
+  };
+  const Row rows[] = { { VTK_QUADRATIC_TETRA, 2, "VTK_QUADRATIC_TETRA" },
+    { VTK_LAGRANGE_TETRAHEDRON, 1, "Lagrange" }, { VTK_LAGRANGE_TETRAHEDRON, 2, "Lagrange" },
+    { VTK_LAGRANGE_TETRAHEDRON, 3, "Lagrange" }, { VTK_LAGRANGE_TETRAHEDRON, 4, "Lagrange" },
+    { VTK_BEZIER_TETRAHEDRON, 3, "Bezier" }, { VTK_BEZIER_TETRAHEDRON, 4, "Bezier" } };
+  for (const Row& row : rows)
+  {
+    vtkSmartPointer<vtkUnstructuredGrid> mesh =
+      MakeOrderMesh(n, row.order, row.type == VTK_QUADRATIC_TETRA ? VTK_LAGRANGE_TETRAHEDRON : row.type);
+    if (row.type == VTK_QUADRATIC_TETRA)
+    {
+      // The same 10 nodes in the same order: only the type differs.
+      vtkUnsignedCharArray* types = mesh->GetCellTypesArray();
+      for (vtkIdType c = 0; c < types->GetNumberOfTuples(); ++c)
+        types->SetValue(c, VTK_QUADRATIC_TETRA);
+    }
+    vtkNew<vtkCamera> camera;
+    SetCamera(camera);
+    double preprocess, kept;
+    {
+      vtkNew<vtkDirectSurfaceRayCaster> caster;
+      caster->SetInputData(mesh);
+      caster->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
+      caster->SetValue(0, 0.3);
+      caster->SetCamera(camera);
+      caster->SetImageSize(1, 1);
+      preprocess = Seconds([&] { caster->Update(); });
+      kept = caster->GetPreprocessedBytes() / 1e6;
+    }
+    vtkNew<vtkDirectSurfaceRayCaster> caster;
+    caster->SetInputData(mesh);
+    caster->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
+    caster->SetValue(0, 0.3);
+    caster->SetCamera(camera);
+    caster->SetImageSize(size, size);
+    const double first = Seconds([&] { caster->Update(); });
+    double cameraMove = std::numeric_limits<double>::infinity();
+    for (int repeat = 0; repeat < 3; ++repeat)
+    {
+      camera->Azimuth(repeat % 2 ? -10.0 : 10.0);
+      cameraMove = std::min(cameraMove, Seconds([&] { caster->Update(); }));
+    }
+    vtkNew<vtkContourFilter> contour;
+    contour->SetInputData(mesh);
+    contour->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
+    contour->SetValue(0, 0.3);
+    const double contourTime = Seconds([&] { contour->Update(); });
+    std::printf("| %lld | %s | %d | %d | %.1f | %.3f | %.1f | %.3f | %.3f | %.2f | %.3f | %lld |\n",
+      static_cast<long long>(mesh->GetNumberOfCells()), row.name, row.order,
+      tetdsr::latticeCount(row.order), 1024.0 * mesh->GetActualMemorySize() / 1e6, preprocess, kept,
+      first, cameraMove, size * double(size) / cameraMove / 1e6, contourTime,
+      static_cast<long long>(contour->GetOutput()->GetNumberOfCells()));
+    std::fflush(stdout);
+  }
+  return EXIT_SUCCESS;
+}
+
 int main(int argc, char* argv[])
 {
   if (argc == 4 && std::string(argv[1]) == "--normals")
@@ -308,6 +484,10 @@ int main(int argc, char* argv[])
   if (argc == 4 && std::string(argv[1]) == "--options")
   {
     return AppearanceOptions(std::atoi(argv[2]), std::atoi(argv[3]));
+  }
+  if (argc == 4 && std::string(argv[1]) == "--orders")
+  {
+    return Orders(std::atoi(argv[2]), std::atoi(argv[3]));
   }
   if (argc < 4)
   {

@@ -6,7 +6,7 @@
 //   valueBound  the transverse test's range of the field over the cell (which iso-values it holds)
 //   extent      a box around every point of the cell
 //   record      what a ray test needs, computed once per transverse cell (CellRecord), from its
-//               first kRecordNodes nodes
+//               first kRecordNodes nodes; with kRecordCoefficients more numbers kept beside it
 //   intersect   the first crossing of an iso-value along a ray, within [tMin, tLimit]
 //   contains    whether a point lies in the cell, and its barycentric coordinates there
 //   coordinates a point's barycentric coordinates, outside the cell too (the map's extension)
@@ -226,9 +226,15 @@ struct alignas(64) CellRecord
   glm::dvec3 vertex1;
   glm::dvec3 centroidOffset; ///< centroid - vertex0
   glm::dvec3 gradient[3];    ///< grad L_1, L_2, L_3 (grad L_0 is minus their sum)
-  /// Bernstein coefficients of the field times `scale`: B_00, B_11, B_22, B_33, then B_ab of
-  /// the edges in mid-edge node order.
-  double form[10];
+  union
+  {
+    /// Bernstein coefficients of the field times `scale`: B_00, B_11, B_22, B_33, then B_ab of
+    /// the edges in mid-edge node order (Quadratic and Constant records).
+    double form[10];
+    /// A HigherOrder record's: latticeCount(order) Bernstein coefficients of the field times
+    /// `scale`, in TetBernstein.h's canonical order, kept beside the records (SurfaceIndex).
+    const double* coefficients;
+  };
   double scale; ///< a power of two bringing the largest nodal magnitude near 1
   double valueLo; ///< the transverse test's range: which iso-values the cell can hold
   double valueHi;

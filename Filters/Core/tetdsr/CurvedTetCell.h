@@ -61,10 +61,11 @@ struct CurvedTetCell
 
   /// The nodes its record is made from: none (the ray test reads them from the mesh).
   static constexpr int kRecordNodes = 0;
+  static constexpr int kRecordCoefficients = 0;
 
   /// record: only the kind (the cell is solved from the mesh: its nodes and values are read
   /// for each ray test); `cell` keeps its id and value range.
-  static void record(const glm::dvec3[kCellNodes], const double[kCellNodes], CellRecord& cell)
+  static void record(const glm::dvec3[kCellNodes], const double[kCellNodes], CellRecord& cell, double* = nullptr)
   {
     cell.kind = CellRecord::Kind::Curved;
   }

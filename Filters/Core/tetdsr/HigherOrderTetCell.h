@@ -26,6 +26,8 @@ struct HigherOrderTetCell
   static constexpr int kNodes = latticeCount(P);
   /// The nodes its record is made from: the vertices (the map is affine).
   static constexpr int kRecordNodes = 4;
+  /// The coefficients its record keeps beside it (record).
+  static constexpr int kRecordCoefficients = kNodes;
 
   /// validate, on the cell's nodes as given (VTK order; Lagrange nodes or Bezier control points:
   /// both sit at alpha_n / P under an affine map): QuadraticTetCell's vertex checks, then kCurved
@@ -64,9 +66,12 @@ struct HigherOrderTetCell
     return QuadraticTetCell::extent(nodes, lo, hi);
   }
 
-  /// record: the barycentric frame (as QuadraticTetCell's) and the field's scale; a field
-  /// constant to rounding is recorded as QuadraticTetCell's constant record.
-  static void record(const glm::dvec3 vertices[], const double values[], CellRecord& cell)
+  /// record: the barycentric frame (as QuadraticTetCell's) and the field's coefficients, scaled
+  /// by a power of two and in canonical order, into `coefficients` (kNodes of them, kept beside
+  /// the record: CellRecord::coefficients); a field constant to rounding is recorded as
+  /// QuadraticTetCell's constant record.
+  static void record(const glm::dvec3 vertices[], const double values[], CellRecord& cell,
+    double* coefficients)
   {
     QuadraticTetCell::recordFrame(vertices, cell);
     cell.scale = unitScale(values, kNodes);
@@ -81,15 +86,21 @@ struct HigherOrderTetCell
       cell.kind = CellRecord::Kind::Constant;
       return;
     }
+    HigherOrderTet<P>::toLattice(values, coefficients);
+    for (int k = 0; k < kNodes; ++k)
+    {
+      coefficients[k] *= cell.scale;
+    }
+    cell.coefficients = coefficients;
     cell.kind = CellRecord::Kind::HigherOrder;
   }
 
   /// intersect: the first crossing along the ray, with tMin <= t <= tLimit, of one of the
-  /// iso-values sorted()[first, last), given the field's coefficients (Bezier layout).
-  /// `certified` is false for a tangent root accepted without a sign change.
-  static bool intersect(const CellRecord& cell, const double values[], const Ray& ray,
-    const IsoValues& isoValues, std::size_t first, std::size_t last, double tMin, double tLimit,
-    SurfaceHit& hit, bool& certified)
+  /// iso-values sorted()[first, last). `certified` is false for a tangent root accepted without
+  /// a sign change.
+  static bool intersect(const CellRecord& cell, const Ray& ray, const IsoValues& isoValues,
+    std::size_t first, std::size_t last, double tMin, double tLimit, SurfaceHit& hit,
+    bool& certified)
   {
     using namespace quadratic_tet_detail;
     TetFrame frame;
@@ -109,12 +120,7 @@ struct HigherOrderTetCell
     }
     // The field (scaled by a power of two) along the stretch [sEntry, sExit]: Bernstein
     // coefficients on [0, 1] of u = (s - sEntry) / (sExit - sEntry).
-    double c[kNodes];
-    HigherOrderTet<P>::toLattice(values, c);
-    for (double& coefficient : c)
-    {
-      coefficient *= cell.scale;
-    }
+    const double* c = cell.coefficients;
     double entry[4], exit[4];
     for (int k = 0; k < 4; ++k)
     {

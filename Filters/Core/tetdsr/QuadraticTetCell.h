@@ -32,6 +32,8 @@ struct QuadraticTetCell
   static constexpr double kCurvedRoundings = 64.0;
   /// The nodes its record is made from: the vertices (the map is affine).
   static constexpr int kRecordNodes = 4;
+  /// The coefficients its record keeps beside it: none (they fit in the record).
+  static constexpr int kRecordCoefficients = 0;
 
   /// The checks of a straight cell's 4 vertices: size, volume and orientation (kValid, with
   /// kInverted for a negative volume; or why not valid). Sets `curvedTolerance`: how far a node
@@ -146,8 +148,10 @@ struct QuadraticTetCell
   }
 
   /// record: the barycentric map and the Bernstein coefficients of the field (scaled by a power
-  /// of two), for a valid cell; `cell` keeps its id and value range.
-  static void record(const glm::dvec3 vertices[kCellNodes], const double nodeValues[kCellNodes], CellRecord& cell)
+  /// of two), for a valid cell; `cell` keeps its id and value range. (No coefficients kept
+  /// beside it: kRecordCoefficients.)
+  static void record(const glm::dvec3 vertices[kCellNodes], const double nodeValues[kCellNodes],
+    CellRecord& cell, double* = nullptr)
   {
     recordFrame(vertices, cell);
     // Scale the field by a power of two (exact) so that its largest nodal magnitude is about 1:

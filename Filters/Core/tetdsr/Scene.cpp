@@ -625,32 +625,17 @@ bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& 
   return true;
 }
 
-bool Scene::intersectHigherOrderCell(const CellRecord& cell, const Ray& ray,
-  const IsoValues& isoValues, std::size_t first, std::size_t last, double tMin, double tLimit,
-  SurfaceHit& hit) const
-{
-  double values[kMaxCellNodes];
-  if (!loadValues(cell.cellId, values, Mesh_.values))
-  {
-    return false; // (edited since validation)
-  }
-  bool certified = true;
-  const bool found = cell.order == 3
-    ? HigherOrderTetCell<3>::intersect(cell, values, ray, isoValues, first, last, tMin, tLimit, hit, certified)
-    : HigherOrderTetCell<4>::intersect(cell, values, ray, isoValues, first, last, tMin, tLimit, hit, certified);
-  if (found)
-  {
-    countUncertified(certified);
-  }
-  return found;
-}
-
 NodeId Scene::uncertifiedHits() const
 {
   return UncertifiedHits_.load(std::memory_order_relaxed);
 }
 
-void Scene::prepareCell(NodeId cellId, CellRecord& cell) const
+int Scene::recordCoefficients(NodeId cellId) const
+{
+  return forKind(kindOf(cellId), [](auto kind) { return decltype(kind)::kRecordCoefficients; });
+}
+
+void Scene::prepareCell(NodeId cellId, CellRecord& cell, double* coefficients) const
 {
   cell.cellId = static_cast<std::uint32_t>(cellId);
   cell.kind = CellRecord::Kind::Empty;
@@ -665,7 +650,7 @@ void Scene::prepareCell(NodeId cellId, CellRecord& cell) const
     loadNodes(cellId, nodes, Kind::kRecordNodes); // only what the record is made from
     // The range the transverse test gives (which iso-values the cell can hold).
     Kind::valueBound(values, Transverse_, cell.valueLo, cell.valueHi);
-    Kind::record(nodes, values, cell);
+    Kind::record(nodes, values, cell, coefficients);
   });
 }
 

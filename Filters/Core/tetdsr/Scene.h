@@ -6,6 +6,7 @@
 #include "tetdsr/Camera.h"
 #include "tetdsr/Cells.h"
 #include "tetdsr/HigherOrderTet.h"
+#include "tetdsr/HigherOrderTetCell.h"
 #include "tetdsr/QuadraticTetCell.h"
 
 #include <glm/glm.hpp>
@@ -134,8 +135,11 @@ public:
 
   const PreprocessSummary& summary() const { return Summary_; }
 
-  /// The record step of a valid cell's kind: what its ray test needs, computed once.
-  void prepareCell(NodeId cellId, CellRecord& cell) const;
+  /// The record step of a valid cell's kind: what its ray test needs, computed once; the
+  /// recordCoefficients(cellId) numbers it keeps beside the record go to `coefficients`.
+  void prepareCell(NodeId cellId, CellRecord& cell, double* coefficients = nullptr) const;
+  /// How many numbers a valid cell's record keeps beside it (kRecordCoefficients of its kind).
+  int recordCoefficients(NodeId cellId) const;
 
   /// The first crossing along the ray, with tMin <= t <= tLimit, of one of the iso-values in
   /// one prepared cell; false if there is none there. Dispatches to the record's kind.
@@ -272,9 +276,6 @@ private:
   bool inCell(NodeId cellId, const glm::dvec3& point, double L[4]) const;
   bool intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues,
     std::size_t first, std::size_t last, double tMin, double tLimit, SurfaceHit& hit) const;
-  /// A straight cell of order 3 or 4: its field's coefficients read from the mesh.
-  bool intersectHigherOrderCell(const CellRecord& cell, const Ray& ray, const IsoValues& isoValues,
-    std::size_t first, std::size_t last, double tMin, double tLimit, SurfaceHit& hit) const;
   /// Counts a hit accepted without a certificate.
   void countUncertified(bool certified) const
   {
@@ -321,7 +322,15 @@ inline bool Scene::intersectCell(const CellRecord& cell, const Ray& ray, const I
   }
   if (cell.kind == CellRecord::Kind::HigherOrder)
   {
-    return intersectHigherOrderCell(cell, ray, isoValues, first, last, tMin, tLimit, hit);
+    bool certified = true;
+    const bool found = cell.order == 3
+      ? HigherOrderTetCell<3>::intersect(cell, ray, isoValues, first, last, tMin, tLimit, hit, certified)
+      : HigherOrderTetCell<4>::intersect(cell, ray, isoValues, first, last, tMin, tLimit, hit, certified);
+    if (found)
+    {
+      countUncertified(certified);
+    }
+    return found;
   }
   return QuadraticTetCell::intersect(cell, ray, isoValues, first, last, tMin, tLimit, hit);
 }

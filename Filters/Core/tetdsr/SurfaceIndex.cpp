@@ -61,10 +61,18 @@ SurfaceIndex::SurfaceIndex(const Scene& scene, const IsoValues& isoValues,
   built->hierarchy.build(std::move(boxes), parallelFor);
   const std::vector<std::uint32_t>& order = built->hierarchy.ids();
   built->records.resize(keepRecords ? order.size() : 0);
+  // Where each record's coefficients go (most kinds keep none).
+  std::vector<std::size_t> coefficientsAt(built->records.size() + 1, 0);
+  for (std::size_t k = 0; k < built->records.size(); ++k)
+  {
+    coefficientsAt[k + 1] = coefficientsAt[k] + static_cast<std::size_t>(scene.recordCoefficients(order[k]));
+  }
+  built->coefficients.resize(coefficientsAt.back());
   parallelFor(static_cast<NodeId>(built->records.size()), [&](NodeId begin, NodeId end) {
     for (NodeId k = begin; k < end; ++k)
     {
-      scene.prepareCell(order[static_cast<std::size_t>(k)], built->records[static_cast<std::size_t>(k)]);
+      const auto at = static_cast<std::size_t>(k);
+      scene.prepareCell(order[at], built->records[at], built->coefficients.data() + coefficientsAt[at]);
     }
   });
   built->selection = std::move(selection);
@@ -87,9 +95,10 @@ __attribute__((flatten)) bool SurfaceIndex::firstHit(
     for (std::uint32_t k = first; k < first + count; ++k)
     {
       CellRecord made;
+      double madeCoefficients[kMaxCellNodes];
       if (records.empty())
       {
-        Scene_.prepareCell(ids[k], made); // beyond the record limit: made as needed
+        Scene_.prepareCell(ids[k], made, madeCoefficients); // beyond the record limit: made as needed
       }
       if (Scene_.intersectCell(records.empty() ? made : records[k], ray, IsoValues_, tMin, limit, hit))
       {

@@ -44,12 +44,14 @@ public:
   /// Whether records are kept (see the constructor).
   bool keepsRecords() const { return !Cells_->records.empty() || Cells_->selection.empty(); }
 
-  /// Bytes this index keeps: per transverse cell a 256-byte record (within the limit), 8 bytes
-  /// of selection and hierarchy order, and about 40 bytes of hierarchy nodes (128 bytes per node
-  /// of up to 4 leaves).
+  /// Bytes this index keeps: per transverse cell a 256-byte record (within the limit; for cells
+  /// of order 3 and 4 also 160 and 280 bytes of coefficients), 8 bytes of selection and
+  /// hierarchy order, and about 40 bytes of hierarchy nodes (128 bytes per node of up to 4
+  /// leaves).
   std::size_t memoryBytes() const
   {
     return Cells_->hierarchy.memoryBytes() + Cells_->records.capacity() * sizeof(CellRecord) +
+      Cells_->coefficients.capacity() * sizeof(double) +
       Cells_->selection.capacity() * sizeof(std::uint32_t);
   }
 
@@ -60,6 +62,8 @@ private:
     std::vector<std::uint32_t> selection; ///< cell ids, ascending
     Hierarchy hierarchy;
     FillLaterVector<CellRecord> records; ///< in the hierarchy's leaf order; or none
+    /// The numbers records keep beside them (cells of order 3 and 4: their field's coefficients)
+    FillLaterVector<double> coefficients;
   };
   const Scene& Scene_;
   IsoValues IsoValues_;

@@ -229,20 +229,50 @@ inline double partials(const double* c, const double L[4], double d[4], int vari
   }
 }
 
+namespace detail
+{
+/// The blossoms f[P^(D - k), Q^k] of a polynomial already given `taken` arguments (its degree
+/// D left, its coefficients in `c`), k counted from `first`: de Casteljau steps at P and at Q
+/// arranged as a triangle, each intermediate shared by the two blossoms that need it (the
+/// polynomial reduced at P^a Q^b is one array for any order of the steps).
+template <int Total, int D>
+inline void segmentLevel(const double* const* level, const double P[4], const double Q[4], double* out)
+{
+  constexpr int count = Total - D + 1; // arrays at this level
+  if constexpr (D == 0)
+  {
+    for (int k = 0; k < count; ++k)
+    {
+      out[k] = level[k][0];
+    }
+  }
+  else
+  {
+    // count arrays of degree D (the polynomial reduced at P^(count - 1 - k) Q^k) give count + 1
+    // arrays of degree D - 1: the first reduced at P once more, the others at Q.
+    double next[count + 1][latticeCount(D - 1)];
+    const double* nextLevel[count + 1];
+    step<D>(level[0], P, next[0]);
+    for (int k = 0; k < count; ++k)
+    {
+      step<D>(level[k], Q, next[k + 1]);
+    }
+    for (int k = 0; k <= count; ++k)
+    {
+      nextLevel[k] = next[k];
+    }
+    segmentLevel<Total, D - 1>(nextLevel, P, Q, out);
+  }
+}
+} // namespace detail
+
 /// The univariate Bernstein coefficients on [0, 1] of f along the segment from P to Q:
 /// out[k] = f[P^(D - k), Q^k].
 template <int D>
 inline void onSegment(const double* c, const double P[4], const double Q[4], double out[D + 1])
 {
-  double points[D > 0 ? D : 1][4];
-  for (int k = 0; k <= D; ++k)
-  {
-    for (int j = 0; j < D; ++j)
-    {
-      std::copy(j < D - k ? P : Q, (j < D - k ? P : Q) + 4, points[j]);
-    }
-    out[k] = blossom<D>(c, points);
-  }
+  const double* level[1] = { c };
+  detail::segmentLevel<D, D>(level, P, Q, out);
 }
 
 namespace detail
@@ -387,13 +417,32 @@ inline double evaluateBernstein(const double b[D + 1], double u)
   return work[0];
 }
 
-/// The root in [lo, hi] of f, whose values at lo and hi differ in sign (or are zero): the
-/// bracket is kept and halved by secant steps (Illinois variant) or, when those stall, by
-/// bisection, until it holds no double between its ends.
+/// f(u) and f'(u) for univariate Bernstein coefficients b[0..D] on [0, 1]: de Casteljau down to
+/// the two values a, c of degree 1, then f = (1 - u) a + u c and f' = D (c - a).
+template <int D>
+inline void evaluateBernsteinWithDerivative(const double b[D + 1], double u, double& f, double& derivative)
+{
+  double work[D + 1];
+  std::copy(b, b + D + 1, work);
+  for (int level = D; level > 1; --level)
+  {
+    for (int k = 0; k < level; ++k)
+    {
+      work[k] = (1.0 - u) * work[k] + u * work[k + 1];
+    }
+  }
+  f = (1.0 - u) * work[0] + u * work[1];
+  derivative = D * (work[1] - work[0]);
+}
+
+/// The root in [lo, hi] of f, whose values at lo and hi differ in sign (or are zero): Newton's
+/// method kept inside the bracket, which each step's sign narrows; a step leaving it, or two
+/// steps that did not halve it, bisect instead. Converged when a step moves by a few ulps (the
+/// root to rounding of f's evaluation) or the bracket holds no double between its ends.
 template <int D>
 double refineBernsteinRoot(const double b[D + 1], double lo, double hi)
 {
-  double fLo = evaluateBernstein<D>(b, lo), fHi = evaluateBernstein<D>(b, hi);
+  const double fLo = evaluateBernstein<D>(b, lo), fHi = evaluateBernstein<D>(b, hi);
   if (fLo == 0.0)
   {
     return lo;
@@ -402,47 +451,43 @@ double refineBernsteinRoot(const double b[D + 1], double lo, double hi)
   {
     return hi;
   }
-  int side = 0;
-  for (int iteration = 0; iteration < 200; ++iteration)
+  const bool negativeAtLo = fLo < 0.0;
+  // The secant of the ends as the first iterate.
+  double x = lo + fLo * (lo - hi) / (fHi - fLo);
+  if (!(x > lo && x < hi))
   {
-    const double mid = 0.5 * (lo + hi);
-    if (!(mid > lo && mid < hi))
-    {
-      break; // adjacent doubles
-    }
-    // A secant point inside the bracket, or the middle every third step (guaranteed halving).
-    double x = iteration % 3 == 2 ? mid : lo + fLo * (lo - hi) / (fHi - fLo);
-    if (!(x > lo && x < hi))
-    {
-      x = mid;
-    }
-    const double fx = evaluateBernstein<D>(b, x);
-    if (fx == 0.0)
+    x = 0.5 * (lo + hi);
+  }
+  double widthBefore = hi - lo;
+  for (int iteration = 0; iteration < 128; ++iteration)
+  {
+    double f, derivative;
+    evaluateBernsteinWithDerivative<D>(b, x, f, derivative);
+    if (f == 0.0)
     {
       return x;
     }
-    if ((fx < 0.0) == (fLo < 0.0))
+    ((f < 0.0) == negativeAtLo ? lo : hi) = x;
+    double next = x - f / derivative;
+    if (!(next > lo && next < hi) || (iteration % 2 == 1 && hi - lo > 0.5 * widthBefore))
     {
-      lo = x;
-      fLo = fx;
-      if (side == -1)
-      {
-        fHi *= 0.5; // Illinois: the stale end's value halved
-      }
-      side = -1;
+      next = 0.5 * (lo + hi);
     }
-    else
+    if (iteration % 2 == 1)
     {
-      hi = x;
-      fHi = fx;
-      if (side == 1)
-      {
-        fLo *= 0.5;
-      }
-      side = 1;
+      widthBefore = hi - lo;
     }
+    if (!(next > lo && next < hi))
+    {
+      return x; // the bracket holds no double between its ends
+    }
+    if (std::abs(next - x) <= 4.0 * std::numeric_limits<double>::epsilon() * std::abs(x))
+    {
+      return next;
+    }
+    x = next;
   }
-  return std::abs(fLo) <= std::abs(fHi) ? lo : hi;
+  return x;
 }
 
 /// Certified first root on [0, 1] of a univariate polynomial of degree D given by its Bernstein
