@@ -35,7 +35,7 @@ import zlib
 
 import numpy as np
 
-VTK_TETRA, VTK_HEXAHEDRON, VTK_QUADRATIC_TETRA = 10, 12, 24
+VTK_TETRA, VTK_HEXAHEDRON, VTK_QUADRATIC_TETRA, VTK_LAGRANGE_TETRAHEDRON = 10, 12, 24, 71
 # Node pairs of the six mid-edge nodes of a VTK quadratic tet (nodes 4..9).
 MID_EDGES = np.array([(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)])
 HUGE_ID = 2 ** 62
@@ -783,9 +783,12 @@ def invalid_cells(V, grid, field):
         largest[c] = ids.max() if len(ids) else -1
         inside = ids[(ids >= 0) & (ids < npts)]
         varying[c] = len(inside) > 0 and np.ptp(values[inside]) > 0
-        if types[c] not in (VTK_QUADRATIC_TETRA, VTK_TETRA):
+        # A Lagrange tetrahedron is read with 4 or 10 ids (orders 1, 2: the fuzzer's cells have no
+        # more) as the linear or quadratic tet with the same nodes.
+        if types[c] not in (VTK_QUADRATIC_TETRA, VTK_TETRA, VTK_LAGRANGE_TETRAHEDRON):
             reasons[c] = UNSUPPORTED
-        elif len(ids) != (10 if types[c] == VTK_QUADRATIC_TETRA else 4):
+        elif (len(ids) not in (4, 10) if types[c] == VTK_LAGRANGE_TETRAHEDRON
+              else len(ids) != (10 if types[c] == VTK_QUADRATIC_TETRA else 4)):
             reasons[c] = MALFORMED
         elif np.any((ids < 0) | (ids >= npts)):
             reasons[c] = INVALID_ID

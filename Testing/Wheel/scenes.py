@@ -10,7 +10,8 @@ import sys
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
 from vtkmodules.vtkCommonCore import vtkPoints
-from vtkmodules.vtkCommonDataModel import (VTK_HEXAHEDRON, VTK_QUADRATIC_TETRA, VTK_TETRA,
+from vtkmodules.vtkCommonDataModel import (VTK_BEZIER_TETRAHEDRON, VTK_HEXAHEDRON,
+                                           VTK_LAGRANGE_TETRAHEDRON, VTK_QUADRATIC_TETRA, VTK_TETRA,
                                            vtkCellArray, vtkPlane, vtkUnstructuredGrid)
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 from vtkmodules.vtkRenderingCore import vtkCamera
@@ -127,6 +128,27 @@ def mixed_cells(cls, data):
     return _caster(cls, mesh, [0.0], cam, (150, 150)), (mesh, cam), mesh.GetLength()
 
 
+def higher_order(cls, data, vtk_type, order):
+    """A straight Lagrange or Bezier grid (higher_order_grids.py): the order-4 torus, or the order-3
+    cubic coloured by a cubic array and cut by a capped plane."""
+    import higher_order_grids as hog
+    field = hog.torus() if order == 4 else hog.cubic_blob()
+    mesh = hog.grid(2, vtk_type, order, {"f": field.value, "colour": lambda x: x[..., 0] ** 3 - x[..., 1] * x[..., 2]})
+    cam = camera((1.7, 1.35, 2.5), (0.5, 0.5, 0.5), view_angle=24.0)
+    caster = _caster(cls, mesh, [field.iso], cam, (160, 120))
+    keep = (mesh, cam)
+    if order == 3:
+        caster.ColorByArrayOn()
+        caster.SetInputArrayToProcess(1, 0, 0, 0, "colour")
+        plane = vtkPlane()
+        plane.SetOrigin(0.5, 0.5, 0.55)
+        plane.SetNormal(0.2, 0.1, -1.0)
+        caster.AddClippingPlane(plane)
+        caster.SetCapping(1)  # CAP_BELOW_ISO_VALUE
+        keep += (plane,)
+    return caster, keep, mesh.GetLength()
+
+
 SCENES = {
     "cube_perspective": lambda cls, data: cube(cls, data, False),
     "cube_parallel": lambda cls, data: cube(cls, data, True),
@@ -134,6 +156,8 @@ SCENES = {
     "quadric_lattice": quadric_lattice,
     "flow": flow,
     "mixed_cells": mixed_cells,
+    "lagrange_torus": lambda cls, data: higher_order(cls, data, VTK_LAGRANGE_TETRAHEDRON, 4),
+    "bezier_cubic": lambda cls, data: higher_order(cls, data, VTK_BEZIER_TETRAHEDRON, 3),
 }
 OUTPUTS = ("Colors", "Depth", "Normals", "CellId", "ColorValues")
 
