@@ -1,13 +1,15 @@
 /**
  * @class   vtkDirectSurfaceRayCaster
- * @brief   ray cast the exact isosurface of a quadratic tetrahedral field into an image
+ * @brief   ray cast the exact isosurface of a higher-order tetrahedral field into an image
  *
  * vtkDirectSurfaceRayCaster renders isosurfaces of a point scalar field on a
- * vtkUnstructuredGrid of VTK_QUADRATIC_TETRA cells by direct surface rendering
- * (Simpson, "An efficient, high quality method for rendering irregular, quadratic,
- * volume data"): one ray per pixel, the field along the ray inside each cell taken in
- * closed form as a quadratic, its first root with the stable quadratic formula, the
- * normal from the analytic gradient. Cells are pruned by rigorous Bernstein bounds of
+ * vtkUnstructuredGrid of tetrahedra (VTK_TETRA, VTK_QUADRATIC_TETRA, and
+ * VTK_LAGRANGE_TETRAHEDRON / VTK_BEZIER_TETRAHEDRON of orders 1 to 4, mixed freely) by direct
+ * surface rendering (Simpson, "An efficient, high quality method for rendering irregular,
+ * quadratic, volume data"): one ray per pixel, the field along the ray inside each straight cell
+ * taken exactly (in closed form as a quadratic for order 2, its first root with the stable
+ * quadratic formula; for orders 3 and 4 in Bernstein form, its first root isolated by sign
+ * changes and refined to rounding), the normal from the analytic gradient. Cells are pruned by rigorous Bernstein bounds of
  * the field, so no cell whose field reaches an iso-value is ever skipped (unlike
  * vtkContourFilter, which contours 8 linear sub-tets per cell and misses surfaces that
  * do not straddle nodal values).
@@ -26,8 +28,9 @@
  * Pixel (i, j), point id i + j*width, is the ray through the pixel centre, j = 0 at the bottom.
  *
  * The closed form above is that of a straight-sided cell; curved cells are rendered exactly too
- * (see the warning below). VTK_TETRA cells are rendered as exact (linear) quadratics; other cell
- * types, cells of zero volume or with repeated node ids, and cells with NaN/Inf values or
+ * (see the warning below). VTK_TETRA cells are rendered as exact (linear) quadratics; rational
+ * Bezier cells (RationalWeights that differ within a cell), Lagrange and Bezier tetrahedra of
+ * order above 4, other cell types, cells of zero volume or with repeated node ids, and cells with NaN/Inf values or
  * coordinates are skipped with a warning giving their count. Inverted cells are rendered like
  * positive ones.
  *
@@ -45,8 +48,9 @@
  * processes in the order of their nearest crossing. CellId counts the cells of the processes'
  * pieces one after another in process order (the numbering of a .pvtu read whole).
  *
- * @warning Curved cells (a mid-edge node off its edge's midpoint by more than rounding) are
- * rendered exactly, as the image of the reference tet under their quadratic map, by a subdivision
+ * @warning Curved cells (a node off where the affine map of the vertices puts it by more than
+ * rounding) are rendered exactly, as the image of the reference tet under their map of degree 2
+ * to 4, by a subdivision
  * solver rather than the quadratic formula: slower, and a hit at a tangent or near-tangent root
  * is accepted without a certificate (NumberOfUncertifiedHits counts them); curved cells that fold
  * (tangled) are skipped with a warning. Distributed, three results are the serial ones only up to
@@ -171,7 +175,7 @@ public:
     /// that contains it (point location through the acceleration structure).
     CENTRAL_DIFFERENCES = 1,
     /// Gradients at the nodes (mean of the exact gradients of the cells around each node,
-    /// computed once per mesh and array) interpolated with the quadratic shape functions.
+    /// computed once per mesh and array) interpolated with the cell's own shape functions.
     NODAL_INTERPOLATION = 2,
     /// Normals from the depth image's differences (the paper's "Z-buffer" shading).
     DEPTH_BUFFER = 3
@@ -210,7 +214,7 @@ public:
   ///@{
   /**
    * Colour the surfaces by a second point array (default off), interpolated at each hit with
-   * the hit cell's quadratic shape functions and mapped through LookupTable. The array is input
+   * the hit cell's own shape functions (of its order) and mapped through LookupTable. The array is input
    * array 1: SetInputArrayToProcess(1, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, name).
    * ColorArrayComponent picks a component; -1 (default) is the magnitude of the interpolated
    * vector (for one component, the value itself). ColorRange is the range of values spread over

@@ -1,12 +1,13 @@
 /**
  * @class   vtkDirectSurfaceMapper
- * @brief   Renders the exact isosurfaces of a quadratic tetrahedral field into a render window.
+ * @brief   Renders the exact isosurfaces of a higher-order tetrahedral field into a render window.
  *
- * A vtkMapper for a vtkUnstructuredGrid of VTK_QUADRATIC_TETRA (and VTK_TETRA) cells, or a
+ * A vtkMapper for a vtkUnstructuredGrid of tetrahedra (VTK_TETRA, VTK_QUADRATIC_TETRA, Lagrange
+ * and Bezier tetrahedra of orders 1 to 4), or a
  * composite dataset of them. On each render it takes the renderer's active camera and the
  * viewport's tiled size and origin, builds one ray per pixel from the inverse of the camera's
  * composite projection (so explicit and tiled projections work), ray casts the exact isosurface
- * of the quadratic field (the same core and adapter as vtkDirectSurfaceRayCaster), and draws
+ * of the polynomial field (the same core and adapter as vtkDirectSurfaceRayCaster), and draws
  * colour and window depth (0.5 z_ndc + 0.5 of each exact hit, through gl_FragDepth) with a
  * full-screen quad in the opaque pass: it composites by depth with every other prop.
  *

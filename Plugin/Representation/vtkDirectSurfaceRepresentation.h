@@ -1,6 +1,6 @@
 /**
  * @class   vtkDirectSurfaceRepresentation
- * @brief   ParaView's "Direct Surface" representation: exact isosurfaces of quadratic tetrahedra
+ * @brief   ParaView's "Direct Surface" representation: exact isosurfaces of higher-order tetrahedra
  *
  * The representation behind "Direct Surface" in ParaView's representation drop-down for
  * unstructured grids and composite datasets of them. It hands its input, untouched, to a

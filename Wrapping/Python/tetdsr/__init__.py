@@ -1,4 +1,4 @@
-"""TetDSR: exact isosurfaces of quadratic tetrahedral fields by ray casting (the pip build).
+"""TetDSR: exact isosurfaces of higher-order tetrahedral fields by ray casting (the pip build).
 
 `tetdsr._core` is the VTK-free core. The VTK faces are imported on first use, so that
 `import tetdsr` needs no VTK:

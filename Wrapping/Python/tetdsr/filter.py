@@ -133,7 +133,7 @@ def _same_stamp(a, b):
 
 
 class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
-    """Ray casts the exact isosurface of a quadratic tetrahedral field into an image.
+    """Ray casts the exact isosurface of a higher-order tetrahedral field into an image.
 
     The interface of the C++ vtkDirectSurfaceRayCaster: input array 0 is the field
     (SetInputArrayToProcess, default the active point scalars), iso-values as vtkContourFilter
