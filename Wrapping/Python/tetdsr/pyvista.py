@@ -262,7 +262,8 @@ def add_isosurface(plotter, grid, value, scalars=None, *, color="white", colors=
                    normal_mode="exact", threads=0, interactive_scale=0.25):
     """Adds the exact isosurface(s) `value` (a number or a list) of the point array `scalars`
     (default: the active scalars) of `grid` (a pyvista.UnstructuredGrid of tetrahedra of orders 1
-    to 4: linear, quadratic, Lagrange, Bezier) to `plotter`, seen with its camera at its renderer's size. Returns a DirectSurface.
+    to 4: linear, quadratic, Lagrange, Bezier) to `plotter`, seen with its camera at its
+    renderer's size. Returns a DirectSurface.
 
     color / colors: the surfaces' colour, or one per iso-value; opacities: one per iso-value
     (translucent nested surfaces); color_by: a point array interpolated on the surface and mapped
