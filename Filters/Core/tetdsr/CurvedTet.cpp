@@ -1,5 +1,7 @@
 #include "tetdsr/CurvedTet.h"
 
+#include "tetdsr/HigherOrderTet.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -19,6 +21,14 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 /// 8 eps of the form's largest coefficient M. Within 64 eps M of 0 (that, with a margin of 8 for
 /// the rounding the coefficients bring from their own evaluation) a coefficient proves no sign.
 constexpr double kBlossomRounding = 64.0 * kEpsilon;
+/// For a form of degree D its coefficients on a piece are D nested sums (de Casteljau steps), so
+/// the rounding grows with D: kBlossomRounding scaled by D / 2 (exactly kBlossomRounding for the
+/// quadratic; 128 eps for degree 4, 6 roundings of at most 4 eps each in a step of 4 products).
+template <class Form>
+constexpr double blossomRounding()
+{
+  return kBlossomRounding * (Form::kDegree / 2.0);
+}
 /// The Krawczyk operator's bounds are widened by this relative margin for their own rounding (sums
 /// of at most 3 products, a few eps each where J is well conditioned, as where a test is tried).
 /// A margin far below 1 costs no proving power, so it is a million times that.
@@ -79,6 +89,16 @@ struct Piece
   int levelLo = 0, levelHi = 1; ///< candidate levels [levelLo, levelHi) (Levels)
 };
 
+// The forms' operations, one overload per kind of form: BernsteinForm (quadratic, blossoms at
+// pairs of vertices) and PolynomialForm<D> (degree D, TetBernstein.h). SimplexSearch and the
+// rest are written once over them.
+
+template <int D>
+constexpr int coefficientsOn(int n)
+{
+  return n == 3 ? latticeCount(D) : faceLatticeCount(D);
+}
+
 template <int n>
 double magnitude(const BernsteinForm& form)
 {
@@ -128,6 +148,56 @@ void coefficientRange(const BernsteinForm& form, const Piece& piece, double& lo,
   }
 }
 
+template <int n, int D>
+double magnitude(const PolynomialForm<D>& form)
+{
+  return bernstein::magnitude(form.c, coefficientsOn<D>(n));
+}
+
+/// Min and max of the form's Bernstein coefficients on the piece (its blossom at the vertices).
+template <int n, int D>
+void coefficientRange(const PolynomialForm<D>& form, const Piece& piece, double& lo, double& hi)
+{
+  double onPiece[PolynomialForm<D>::kCount];
+  bernstein::onSubSimplex<D>(form.c, piece.V, n, onPiece);
+  bernstein::range(onPiece, coefficientsOn<D>(n), lo, hi);
+}
+
+/// The form's value at L.
+template <int n>
+double valueAt(const BernsteinForm& form, const double L[4])
+{
+  return form.bilinear<n>(L, L);
+}
+
+template <int n, int D>
+double valueAt(const PolynomialForm<D>& form, const double L[4])
+{
+  return bernstein::evaluate<D>(form.c, L, n + 1);
+}
+
+/// sum += weight * form (coefficients 0..n).
+template <int n>
+void addScaled(BernsteinForm& sum, double weight, const BernsteinForm& form)
+{
+  for (int a = 0; a <= n; ++a)
+  {
+    for (int b = 0; b <= n; ++b)
+    {
+      sum.b[a][b] += weight * form.b[a][b];
+    }
+  }
+}
+
+template <int n, int D>
+void addScaled(PolynomialForm<D>& sum, double weight, const PolynomialForm<D>& form)
+{
+  for (int a = 0; a < coefficientsOn<D>(n); ++a)
+  {
+    sum.c[a] += weight * form.c[a];
+  }
+}
+
 /// (B L)_j - (B L)_0 for j = 1..n, times 2: the derivative along y_j = L_j (L_0 = 1 - sum y).
 template <int n>
 void formGradient(const BernsteinForm& form, const double L[4], double g[3])
@@ -144,6 +214,18 @@ void formGradient(const BernsteinForm& form, const double L[4], double g[3])
   for (int j = 1; j <= n; ++j)
   {
     g[j - 1] = 2.0 * (bl[j] - bl[0]);
+  }
+}
+
+/// df/dL_j - df/dL_0 for j = 1..n: the derivative along y_j = L_j (L_0 = 1 - sum y).
+template <int n, int D>
+void formGradient(const PolynomialForm<D>& form, const double L[4], double g[3])
+{
+  double d[4];
+  bernstein::partials<D>(form.c, L, d, n + 1);
+  for (int j = 1; j <= n; ++j)
+  {
+    g[j - 1] = d[j] - d[0];
   }
 }
 
@@ -187,12 +269,12 @@ struct Linearisation
 };
 
 /// F, J and J^-1 at L; false (inverse unset) where J is singular to rounding.
-template <int n>
-bool linearise(const BernsteinForm* equations, const double L[4], Linearisation& at)
+template <int n, class Form>
+bool linearise(const Form* equations, const double L[4], Linearisation& at)
 {
   for (int k = 0; k < n; ++k)
   {
-    at.F[k] = equations[k].bilinear<n>(L, L);
+    at.F[k] = valueAt<n>(equations[k], L);
     formGradient<n>(equations[k], L, at.J[k]);
   }
   return invert<n>(at.J, at.inverse);
@@ -200,8 +282,8 @@ bool linearise(const BernsteinForm* equations, const double L[4], Linearisation&
 
 /// Newton's method on the equations from L (in place). Converged when a step moves no coordinate
 /// by more than a few ulps; false if it does not converge (or leaves double range).
-template <int n>
-bool newton(const BernsteinForm* equations, double L[4])
+template <int n, class Form>
+bool newton(const Form* equations, double L[4])
 {
   for (int iteration = 0; iteration < kNewtonIterations; ++iteration)
   {
@@ -236,6 +318,69 @@ bool newton(const BernsteinForm* equations, double L[4])
   return false; // oscillating at rounding level: the last iterate is as good as any, but unproven
 }
 
+/// R[j - 1] bounds |dF/dy_j (y) - dF/dy_j (m)| over the box m +- r (in y), for one equation F.
+/// A quadratic's dF/dy_j is affine in y with slope a_ji: the bound is exact.
+template <int n>
+void jacobianDeviation(const BernsteinForm& form, const double*, const double r[3], const double*,
+  double R[3])
+{
+  const auto& b = form.b;
+  for (int j = 1; j <= n; ++j)
+  {
+    double sum = 0.0;
+    for (int i = 1; i <= n; ++i)
+    {
+      const double slope = 2.0 * ((b[j][i] - b[0][i]) - (b[j][0] - b[0][0]));
+      sum += std::abs(slope) * r[i - 1];
+    }
+    R[j - 1] = sum;
+  }
+}
+
+/// For degree D, dF/dy_j is a polynomial of degree D - 1 (bernstein::derivative along
+/// L_j - L_0), bounded by its Bernstein coefficients on a simplex holding the box: vertices
+/// m - r and m - r + 2 n r_i e_i (in y; the box's corner simplex scaled n-fold: its points
+/// z = y - (m - r) with sum_i z_i / (2 n r_i) <= 1 include every z_i <= 2 r_i). `Jm` is dF/dy at m
+/// (the Krawczyk operator's own, from linearise): R = max(hi - Jm, Jm - lo).
+template <int n, int D>
+void jacobianDeviation(const PolynomialForm<D>& form, const double m[4], const double r[3],
+  const double Jm[3], double R[3])
+{
+  double V[4][4] = {};
+  double weight = 0.0; // the largest sum |L_k| of a vertex: how much a step can amplify rounding
+  for (int v = 0; v <= n; ++v)
+  {
+    double sum = 0.0;
+    for (int i = 1; i <= n; ++i)
+    {
+      V[v][i] = m[i] - r[i - 1] + (v == i ? 2.0 * n * r[i - 1] : 0.0);
+      sum += V[v][i];
+    }
+    V[v][0] = 1.0 - sum;
+    double absolute = 0.0;
+    for (int k = 0; k <= n; ++k)
+    {
+      absolute += std::abs(V[v][k]);
+    }
+    weight = std::max(weight, absolute);
+  }
+  // The sub-simplex coefficients' rounding: D - 1 steps, each amplifying by at most `weight`,
+  // of coefficients whose own rounding is one subtraction: blossomRounding's argument, with
+  // the weights no longer summing to 1.
+  const double amplification = std::pow(weight, D - 1);
+  for (int j = 1; j <= n; ++j)
+  {
+    double derivative[latticeCount(D - 1)], onBox[latticeCount(D - 1)];
+    bernstein::derivative<D>(form.c, j, 0, derivative);
+    bernstein::onSubSimplex<D - 1>(derivative, V, n, onBox);
+    double lo, hi;
+    bernstein::range(onBox, coefficientsOn<D - 1>(n), lo, hi);
+    const double pad = blossomRounding<PolynomialForm<D>>() * amplification *
+      bernstein::magnitude(derivative, coefficientsOn<D - 1>(n));
+    R[j - 1] = std::max(hi - Jm[j - 1], Jm[j - 1] - lo) + pad;
+  }
+}
+
 enum class Krawczyk
 {
   Unique,  ///< exactly one root in the box
@@ -247,8 +392,8 @@ enum class Krawczyk
 /// (coordinates y_1..y_n), Y = J(m)^-1: every root in X lies in K(X); K(X) inside X proves
 /// exactly one root in X, K(X) disjoint from X proves none. Evaluated in double, its bounds
 /// widened by kKrawczykMargin.
-template <int n>
-Krawczyk krawczyk(const BernsteinForm* equations, const double m[4], const double r[3],
+template <int n, class Form>
+Krawczyk krawczyk(const Form* equations, const double m[4], const double r[3],
   double image[3][2], const Linearisation* centre = nullptr)
 {
   // F(m), J(m) and Y = J(m)^-1: given, or computed here.
@@ -264,21 +409,11 @@ Krawczyk krawczyk(const BernsteinForm* equations, const double m[4], const doubl
   const auto& F = at.F;
   const auto& J = at.J;
   const auto& Y = at.inverse;
-  // R[k][j] bounds |J_kj(y) - J_kj(m)| over the box: J_kj is affine in y with slope a_kji.
+  // R[k][j] bounds |J_kj(y) - J_kj(m)| over the box.
   double R[3][3];
   for (int k = 0; k < n; ++k)
   {
-    const auto& b = equations[k].b;
-    for (int j = 1; j <= n; ++j)
-    {
-      double sum = 0.0;
-      for (int i = 1; i <= n; ++i)
-      {
-        const double slope = 2.0 * ((b[j][i] - b[0][i]) - (b[j][0] - b[0][0]));
-        sum += std::abs(slope) * r[i - 1];
-      }
-      R[k][j - 1] = sum;
-    }
+    jacobianDeviation<n>(equations[k], m, r, J[k], R[k]);
   }
   bool inside = true;
   for (int i = 0; i < n; ++i)
@@ -389,8 +524,8 @@ void centreOf(const Piece& piece, double m[4], double* r = nullptr)
 }
 
 /// Pushes the two halves, the one whose centre has the smaller objective last (popped first).
-template <int n>
-void pushNearerLast(Piece* stack, int& top, const Piece children[2], const BernsteinForm* objective)
+template <int n, class Form>
+void pushNearerLast(Piece* stack, int& top, const Piece children[2], const Form* objective)
 {
   int nearer = 0;
   if (objective)
@@ -398,8 +533,7 @@ void pushNearerLast(Piece* stack, int& top, const Piece children[2], const Berns
     double centre[2][4];
     centreOf<n>(children[0], centre[0]);
     centreOf<n>(children[1], centre[1]);
-    nearer = objective->bilinear<n>(centre[1], centre[1]) <
-      objective->bilinear<n>(centre[0], centre[0]);
+    nearer = valueAt<n>(*objective, centre[1]) < valueAt<n>(*objective, centre[0]);
   }
   stack[top++] = children[1 - nearer];
   stack[top++] = children[nearer];
@@ -450,8 +584,8 @@ double shrinkToImage(double m[4], double r[3], const double image[3][2])
 /// Interval Newton on the box m +- r (shrunk in place): the Krawczyk test, and while it decides
 /// nothing the box shrunk to its image, for at most `rounds` rounds and while that helps
 /// (quadratically, near a simple root). `centre`, if given, is the linearisation at m.
-template <int n>
-Krawczyk contract(const BernsteinForm* equations, double m[4], double r[3], int rounds,
+template <int n, class Form>
+Krawczyk contract(const Form* equations, double m[4], double r[3], int rounds,
   const Linearisation* centre)
 {
   Krawczyk test = Krawczyk::Unknown;
@@ -469,11 +603,11 @@ Krawczyk contract(const BernsteinForm* equations, double m[4], double r[3], int 
 
 /// One solveOnSimplex: a depth-first subdivision of the reference simplex, nearer child first,
 /// each piece put through visit()'s stages.
-template <int n>
+template <int n, class Form>
 class SimplexSearch
 {
 public:
-  SimplexSearch(const BernsteinForm* given, const BernsteinForm* objective, double lo, double hi,
+  SimplexSearch(const Form* given, const Form* objective, double lo, double hi,
     double tolerance, const SolveLimits& limits, const Levels& levels, SimplexRoot& root)
     : Given_(given)
     , Objective_(objective)
@@ -491,10 +625,10 @@ public:
     for (int k = 0; k < n; ++k)
     {
       Equations_[k] = given[k];
-      Pad_[k] = kBlossomRounding * magnitude<n>(Equations_[k]);
+      Pad_[k] = blossomRounding<Form>() * magnitude<n>(Equations_[k]);
     }
     LevelPad_ = Pad_[n - 1];
-    ObjectivePad_ = objective ? kBlossomRounding * magnitude<n>(*objective) : 0.0;
+    ObjectivePad_ = objective ? blossomRounding<Form>() * magnitude<n>(*objective) : 0.0;
   }
 
   /// Runs the subdivision; true if a root was kept. `pieces`, if given, gets the pieces visited.
@@ -688,17 +822,11 @@ private:
     promising = true;
     for (int i = 0; i < n; ++i)
     {
-      BernsteinForm combined{};
+      Form combined{};
       double combinedPad = 0.0;
       for (int k = 0; k < n; ++k)
       {
-        for (int a = 0; a <= n; ++a)
-        {
-          for (int b = 0; b <= n; ++b)
-          {
-            combined.b[a][b] += centre.inverse[i][k] * Equations_[k].b[a][b];
-          }
-        }
+        addScaled<n>(combined, centre.inverse[i][k], Equations_[k]);
         combinedPad += std::abs(centre.inverse[i][k]) * Pad_[k];
       }
       double cLo, cHi;
@@ -706,7 +834,7 @@ private:
       // The equations' pads carried through Y, twice: the second copy covers forming the
       // combination (at most 3 eps of sum |Y_ik| M_k, far below one pad); then the combined
       // form's own blossom rounding.
-      combinedPad = 2.0 * combinedPad + kBlossomRounding * magnitude<n>(combined);
+      combinedPad = 2.0 * combinedPad + blossomRounding<Form>() * magnitude<n>(combined);
       if (cLo > combinedPad || cHi < -combinedPad)
       {
         return true;
@@ -766,7 +894,7 @@ private:
   /// Keeps L (a root of the current level inside the simplex) if it is the nearest so far.
   bool keep(const double L[4], bool certified)
   {
-    const double value = Objective_ ? Objective_->bilinear<n>(L, L) : 0.0;
+    const double value = Objective_ ? valueAt<n>(*Objective_, L) : 0.0;
     if (Objective_ && !(value >= Lo_ && value <= Best_))
     {
       return false;
@@ -789,7 +917,7 @@ private:
     if (level != CurrentLevel_)
     {
       Equations_[n - 1] = Given_[n - 1].minus(Levels_.values[level] * Levels_.scale);
-      Pad_[n - 1] = kBlossomRounding * magnitude<n>(Equations_[n - 1]);
+      Pad_[n - 1] = blossomRounding<Form>() * magnitude<n>(Equations_[n - 1]);
       CurrentLevel_ = level;
     }
   }
@@ -802,8 +930,8 @@ private:
     pushNearerLast<n>(Stack_, Top_, children, Objective_);
   }
 
-  const BernsteinForm* Given_;
-  const BernsteinForm* Objective_;
+  const Form* Given_;
+  const Form* Objective_;
   const double Lo_; ///< the window's start (its end: Best_)
   const double Tolerance_;
   const Levels& Levels_;
@@ -812,7 +940,7 @@ private:
   const int MaxDepth_;
   const int MaxPieces_;
   /// The equations being solved; with levels, the last is the given form minus the current level.
-  BernsteinForm Equations_[3];
+  Form Equations_[3];
   double Pad_[3]; ///< per equation: its coefficients within this of 0 prove no sign
   double LevelPad_;    ///< the field's pad, for the level partition
   double ObjectivePad_;
@@ -827,14 +955,22 @@ private:
 };
 } // namespace
 
-bool solveOnSimplex(int n, const BernsteinForm* equations, const BernsteinForm* objective,
-  double lo, double hi, double tolerance, SimplexRoot& root, const SolveLimits& limits, int* pieces,
-  const Levels& levels)
+template <class Form>
+bool solveOnSimplex(int n, const Form* equations, const typename NotDeduced<Form>::type* objective,
+  double lo, double hi,
+  double tolerance, SimplexRoot& root, const SolveLimits& limits, int* pieces, const Levels& levels)
 {
   return n == 2
-    ? SimplexSearch<2>(equations, objective, lo, hi, tolerance, limits, levels, root).run(pieces)
-    : SimplexSearch<3>(equations, objective, lo, hi, tolerance, limits, levels, root).run(pieces);
+    ? SimplexSearch<2, Form>(equations, objective, lo, hi, tolerance, limits, levels, root).run(pieces)
+    : SimplexSearch<3, Form>(equations, objective, lo, hi, tolerance, limits, levels, root).run(pieces);
 }
+
+template bool solveOnSimplex(int, const BernsteinForm*, const BernsteinForm*, double, double,
+  double, SimplexRoot&, const SolveLimits&, int*, const Levels&);
+template bool solveOnSimplex(int, const PolynomialForm<3>*, const PolynomialForm<3>*, double,
+  double, double, SimplexRoot&, const SolveLimits&, int*, const Levels&);
+template bool solveOnSimplex(int, const PolynomialForm<4>*, const PolynomialForm<4>*, double,
+  double, double, SimplexRoot&, const SolveLimits&, int*, const Levels&);
 
 CurvedGeometry CurvedGeometry::fromNodes(const glm::dvec3 nodes[10], double scale)
 {
@@ -926,7 +1062,96 @@ void CurvedGeometry::box(glm::dvec3& lo, glm::dvec3& hi) const
   hi = origin + hi / scale;
 }
 
-glm::dvec3 curvedGradient(const CurvedGeometry& geometry, const BernsteinForm& field,
+glm::dvec3 CurvedGeometry::centroid() const
+{
+  glm::dvec3 centroid(0.0);
+  for (int i = 0; i < 4; ++i)
+  {
+    for (int j = 0; j < 4; ++j)
+    {
+      centroid += control[i][j] / 16.0;
+    }
+  }
+  return centroid;
+}
+
+template <int P>
+IsoparametricGeometry<P> IsoparametricGeometry<P>::fromNodes(const glm::dvec3* nodes, double scale)
+{
+  IsoparametricGeometry g;
+  g.origin = nodes[0];
+  g.scale = scale;
+  for (int node = 0; node < kCount; ++node)
+  {
+    const glm::dvec3 local = (nodes[node] - nodes[0]) * scale;
+    const int at = HigherOrderTet<P>::kLatticeOfNode[node];
+    for (int k = 0; k < 3; ++k)
+    {
+      g.control[k].c[at] = local[k];
+    }
+  }
+  return g;
+}
+
+template <int P>
+glm::dvec3 IsoparametricGeometry<P>::position(const double L[4]) const
+{
+  return { bernstein::evaluate<P>(control[0].c, L), bernstein::evaluate<P>(control[1].c, L),
+    bernstein::evaluate<P>(control[2].c, L) };
+}
+
+template <int P>
+glm::dmat3 IsoparametricGeometry<P>::jacobian(const double L[4]) const
+{
+  glm::dmat3 J;
+  for (int k = 0; k < 3; ++k)
+  {
+    double g[3];
+    formGradient<3>(control[k], L, g);
+    for (int j = 0; j < 3; ++j)
+    {
+      J[j][k] = g[j]; // glm is column-major: column j is dX/dy_j
+    }
+  }
+  return J;
+}
+
+template <int P>
+PolynomialForm<P> IsoparametricGeometry<P>::component(const glm::dvec3& axis, double offset) const
+{
+  Form form;
+  for (int a = 0; a < kCount; ++a)
+  {
+    form.c[a] = axis.x * control[0].c[a] + axis.y * control[1].c[a] + axis.z * control[2].c[a] - offset;
+  }
+  return form;
+}
+
+template <int P>
+void IsoparametricGeometry<P>::pointEquations(const glm::dvec3& target, Form equations[3]) const
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    equations[k] = control[k].minus(target[k]);
+  }
+}
+
+template <int P>
+glm::dvec3 IsoparametricGeometry<P>::centroid() const
+{
+  glm::dvec3 centroid(0.0);
+  for (int a = 0; a < kCount; ++a)
+  {
+    centroid += glm::dvec3(control[0].c[a], control[1].c[a], control[2].c[a]) / double(kCount);
+  }
+  return centroid;
+}
+
+template struct IsoparametricGeometry<3>;
+template struct IsoparametricGeometry<4>;
+
+template <class Geometry>
+glm::dvec3 curvedGradient(const Geometry& geometry, const typename Geometry::Form& field,
   const double L[4])
 {
   double g[3];
@@ -940,6 +1165,12 @@ glm::dvec3 curvedGradient(const CurvedGeometry& geometry, const BernsteinForm& f
   // grad_y f = J^T grad_X f.
   return glm::inverse(glm::transpose(J)) * glm::dvec3(g[0], g[1], g[2]);
 }
+
+template glm::dvec3 curvedGradient(const CurvedGeometry&, const BernsteinForm&, const double[4]);
+template glm::dvec3 curvedGradient(
+  const IsoparametricGeometry<3>&, const PolynomialForm<3>&, const double[4]);
+template glm::dvec3 curvedGradient(
+  const IsoparametricGeometry<4>&, const PolynomialForm<4>&, const double[4]);
 
 namespace
 {
@@ -969,29 +1200,33 @@ double determinantBlossom(const CurvedGeometry& g, const double* U, const double
   }
   return sum / 6.0;
 }
-} // namespace
 
-JacobianSign jacobianSign(const CurvedGeometry& geometry)
+/// det J of the quadratic cell on a piece: its coefficients there are blossoms at the piece's
+/// vertices (computed for each piece), its corner values the blossoms at one vertex thrice.
+struct QuadraticDeterminant
 {
-  // The bisection depth: 5 halvings of every edge (3 levels halve a piece), 1/32 of the cell.
-  constexpr int kMaxDepth = 15;
-  Piece stack[kMaxDepth + 2];
-  int top = 0;
-  Piece& first = stack[top++];
-  for (int i = 0; i < 4; ++i)
+  using Piece = tetdsr::Piece;
+  const CurvedGeometry& geometry;
+
+  Piece whole() const
   {
-    for (int j = 0; j < 4; ++j)
+    Piece first;
+    for (int i = 0; i < 4; ++i)
     {
-      first.V[i][j] = i == j ? 1.0 : 0.0;
+      for (int j = 0; j < 4; ++j)
+      {
+        first.V[i][j] = i == j ? 1.0 : 0.0;
+      }
     }
+    first.depth = 0;
+    return first;
   }
-  first.depth = 0;
-  double tolerance = -1.0; // relative to the whole cell's coefficients
-  int sign = 0;
-  while (top > 0)
+
+  void bound(const Piece& piece, double& lo, double& hi, double& largest) const
   {
-    const Piece piece = stack[--top];
-    double lo = kInfinity, hi = -kInfinity, largest = 0.0;
+    lo = kInfinity;
+    hi = -kInfinity;
+    largest = 0.0;
     for (int a = 0; a < 4; ++a)
     {
       for (int b = a; b < 4; ++b)
@@ -1006,6 +1241,153 @@ JacobianSign jacobianSign(const CurvedGeometry& geometry)
         }
       }
     }
+  }
+
+  void corners(const Piece& piece, double& lo, double& hi) const
+  {
+    lo = kInfinity;
+    hi = -kInfinity;
+    for (int a = 0; a < 4; ++a)
+    {
+      const double value = determinantBlossom(geometry, piece.V[a], piece.V[a], piece.V[a]);
+      lo = std::min(lo, value);
+      hi = std::max(hi, value);
+    }
+  }
+
+  void split(const Piece& piece, Piece children[2]) const { bisect<3>(piece, children); }
+};
+
+/// det J of a cell of order P, a polynomial of degree K = 3 (P - 1): its coefficients on the
+/// whole cell from the columns' (bernstein::derivative) products, det = c_1 . (c_2 x c_3); on a
+/// piece carried down the bisection (bernstein::bisect at the piece's longest edge, its vertices
+/// kept alongside to find that edge). Its corner values are the coefficients K e_k.
+template <int P>
+struct PolynomialDeterminant
+{
+  static constexpr int K = 3 * (P - 1);
+  static constexpr int kCount = latticeCount(K);
+  struct Piece
+  {
+    double c[kCount];
+    double V[4][4];
+    int depth;
+  };
+  const IsoparametricGeometry<P>& geometry;
+
+  Piece whole() const
+  {
+    constexpr int kColumn = latticeCount(P - 1), kPair = latticeCount(2 * (P - 1));
+    double column[3][3][kColumn]; // [j][coordinate]: d X_coordinate / d y_j
+    for (int j = 0; j < 3; ++j)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        bernstein::derivative<P>(geometry.control[k].c, j + 1, 0, column[j][k]);
+      }
+    }
+    // (c_2 x c_3)_k = c_2[k + 1] c_3[k + 2] - c_2[k + 2] c_3[k + 1], then its dot with c_1.
+    Piece first{};
+    for (int k = 0; k < 3; ++k)
+    {
+      double plus[kPair], minus[kPair], cross[kPair], term[kCount];
+      bernstein::multiply<P - 1, P - 1>(column[1][(k + 1) % 3], column[2][(k + 2) % 3], plus);
+      bernstein::multiply<P - 1, P - 1>(column[1][(k + 2) % 3], column[2][(k + 1) % 3], minus);
+      for (int a = 0; a < kPair; ++a)
+      {
+        cross[a] = plus[a] - minus[a];
+      }
+      bernstein::multiply<P - 1, 2 * (P - 1)>(column[0][k], cross, term);
+      for (int a = 0; a < kCount; ++a)
+      {
+        first.c[a] += term[a];
+      }
+    }
+    for (int i = 0; i < 4; ++i)
+    {
+      for (int j = 0; j < 4; ++j)
+      {
+        first.V[i][j] = i == j ? 1.0 : 0.0;
+      }
+    }
+    first.depth = 0;
+    return first;
+  }
+
+  void bound(const Piece& piece, double& lo, double& hi, double& largest) const
+  {
+    bernstein::range(piece.c, kCount, lo, hi);
+    largest = bernstein::magnitude(piece.c, kCount);
+  }
+
+  void corners(const Piece& piece, double& lo, double& hi) const
+  {
+    lo = kInfinity;
+    hi = -kInfinity;
+    for (int k = 0; k < 4; ++k)
+    {
+      const double value = piece.c[latticeIndex(K, k == 1 ? K : 0, k == 2 ? K : 0, k == 3 ? K : 0)];
+      lo = std::min(lo, value);
+      hi = std::max(hi, value);
+    }
+  }
+
+  void split(const Piece& piece, Piece children[2]) const
+  {
+    int ea = 0, eb = 1;
+    double longest = -1.0;
+    for (int a = 0; a < 4; ++a)
+    {
+      for (int b = a + 1; b < 4; ++b)
+      {
+        double length = 0.0;
+        for (int i = 0; i < 4; ++i)
+        {
+          const double d = piece.V[a][i] - piece.V[b][i];
+          length += d * d;
+        }
+        if (length > longest)
+        {
+          longest = length;
+          ea = a;
+          eb = b;
+        }
+      }
+    }
+    bernstein::bisect<K>(piece.c, ea, eb, children[0].c, children[1].c);
+    for (int side = 0; side < 2; ++side)
+    {
+      std::copy(&piece.V[0][0], &piece.V[0][0] + 16, &children[side].V[0][0]);
+      children[side].depth = piece.depth + 1;
+    }
+    for (int i = 0; i < 4; ++i)
+    {
+      const double mid = 0.5 * (piece.V[ea][i] + piece.V[eb][i]);
+      children[0].V[eb][i] = mid; // keeps vertex ea
+      children[1].V[ea][i] = mid;
+    }
+  }
+};
+
+/// The sign of det J over the cell by subdivision of `determinant`'s pieces: a piece whose
+/// coefficients have one sign (beyond the tolerance) has it throughout; corner values (values of
+/// det J) of opposite signs, or one near zero, prove a change.
+template <class Determinant>
+JacobianSign signBySubdivision(const Determinant& determinant)
+{
+  using DeterminantPiece = typename Determinant::Piece;
+  // The bisection depth: 5 halvings of every edge (3 levels halve a piece), 1/32 of the cell.
+  constexpr int kMaxDepth = 15;
+  DeterminantPiece stack[kMaxDepth + 2];
+  int top = 0;
+  stack[top++] = determinant.whole();
+  double tolerance = -1.0; // relative to the whole cell's coefficients
+  int sign = 0;
+  while (top > 0)
+  {
+    const DeterminantPiece piece = stack[--top];
+    double lo, hi, largest;
+    determinant.bound(piece, lo, hi, largest);
     if (!std::isfinite(lo) || !std::isfinite(hi))
     {
       return JacobianSign::Changes;
@@ -1025,13 +1407,8 @@ JacobianSign jacobianSign(const CurvedGeometry& geometry)
       continue;
     }
     // Values at the corners are values of det J: opposite signs (or a zero) prove a change.
-    double cornerLo = kInfinity, cornerHi = -kInfinity;
-    for (int a = 0; a < 4; ++a)
-    {
-      const double value = determinantBlossom(geometry, piece.V[a], piece.V[a], piece.V[a]);
-      cornerLo = std::min(cornerLo, value);
-      cornerHi = std::max(cornerHi, value);
-    }
+    double cornerLo, cornerHi;
+    determinant.corners(piece, cornerLo, cornerHi);
     if (cornerLo <= tolerance && cornerHi >= -tolerance)
     {
       return JacobianSign::Changes;
@@ -1040,19 +1417,39 @@ JacobianSign jacobianSign(const CurvedGeometry& geometry)
     {
       return JacobianSign::Changes;
     }
-    Piece children[2];
-    bisect<3>(piece, children);
+    DeterminantPiece children[2];
+    determinant.split(piece, children);
     stack[top++] = children[0];
     stack[top++] = children[1];
   }
   return sign > 0 ? JacobianSign::Positive : JacobianSign::Negative;
 }
+} // namespace
 
-bool inverseNewton(const CurvedGeometry& geometry, const glm::dvec3& target, double L[4])
+JacobianSign jacobianSign(const CurvedGeometry& geometry)
 {
-  BernsteinForm equations[3];
+  return signBySubdivision(QuadraticDeterminant{ geometry });
+}
+
+template <int P>
+JacobianSign jacobianSign(const IsoparametricGeometry<P>& geometry)
+{
+  return signBySubdivision(PolynomialDeterminant<P>{ geometry });
+}
+
+template JacobianSign jacobianSign(const IsoparametricGeometry<3>&);
+template JacobianSign jacobianSign(const IsoparametricGeometry<4>&);
+
+template <class Geometry>
+bool inverseNewton(const Geometry& geometry, const glm::dvec3& target, double L[4])
+{
+  typename Geometry::Form equations[3];
   geometry.pointEquations(target, equations);
   return newton<3>(equations, L);
 }
+
+template bool inverseNewton(const CurvedGeometry&, const glm::dvec3&, double[4]);
+template bool inverseNewton(const IsoparametricGeometry<3>&, const glm::dvec3&, double[4]);
+template bool inverseNewton(const IsoparametricGeometry<4>&, const glm::dvec3&, double[4]);
 
 } // namespace tetdsr
