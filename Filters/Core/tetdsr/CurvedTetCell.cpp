@@ -60,34 +60,12 @@ bool CurvedTetCell::extent(const glm::dvec3 nodes[kCellNodes], glm::dvec3& lo, g
 
 bool CurvedTetCell::contains(const glm::dvec3 nodes[kCellNodes], const glm::dvec3& point, double L[4])
 {
-  const CurvedGeometry geometry = localGeometry(nodes);
-  BernsteinForm equations[3];
-  geometry.pointEquations((point - geometry.origin) * geometry.scale, equations);
-  SimplexRoot root;
-  if (!solveOnSimplex(3, equations, nullptr, 0.0, 0.0, kBarycentricTolerance, root))
-  {
-    return false;
-  }
-  std::copy(root.L, root.L + 4, L);
-  return true;
+  return isoparametric::contains(localGeometry(nodes), point, L);
 }
 
 void CurvedTetCell::coordinates(const glm::dvec3 nodes[kCellNodes], const glm::dvec3& point, double L[4])
 {
-  if (contains(nodes, point, L))
-  {
-    return;
-  }
-  // Outside: the extension of the map, from the straight tet's guess.
-  TetFrame frame;
-  TetFrame::fromVertices(nodes, frame);
-  frame.barycentricOfOffsets(point - nodes[0], point - nodes[1], L);
-  const CurvedGeometry geometry = localGeometry(nodes);
-  double guess[4] = { L[0], L[1], L[2], L[3] };
-  if (inverseNewton(geometry, (point - geometry.origin) * geometry.scale, guess))
-  {
-    std::copy(guess, guess + 4, L);
-  }
+  isoparametric::coordinates(localGeometry(nodes), nodes, point, L);
 }
 
 glm::dvec3 CurvedTetCell::gradient(

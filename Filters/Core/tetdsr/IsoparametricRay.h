@@ -165,5 +165,45 @@ bool intersect(const Geometry& geometry, const typename Geometry::Form& field, d
   return true;
 }
 
+/// The cell seam's contains: whether the world `point` lies in the cell (within
+/// kBarycentricTolerance), and the barycentric coordinates of its preimage there.
+template <class Geometry>
+bool contains(const Geometry& geometry, const glm::dvec3& point, double L[4])
+{
+  typename Geometry::Form equations[3];
+  geometry.pointEquations((point - geometry.origin) * geometry.scale, equations);
+  SimplexRoot root;
+  if (!solveOnSimplex(3, equations, nullptr, 0.0, 0.0, kBarycentricTolerance, root))
+  {
+    return false;
+  }
+  std::copy(root.L, root.L + 4, L);
+  return true;
+}
+
+/// The cell seam's coordinates: inside the cell as contains finds them; outside, those of the
+/// map's polynomial extension as far as Newton finds it from the guess of the straight tet on
+/// the cell's `vertices` (its centre if they are coplanar).
+template <class Geometry>
+void coordinates(const Geometry& geometry, const glm::dvec3 vertices[4], const glm::dvec3& point,
+  double L[4])
+{
+  if (contains(geometry, point, L))
+  {
+    return;
+  }
+  TetFrame frame;
+  double guess[4] = { 0.25, 0.25, 0.25, 0.25 };
+  if (TetFrame::fromVertices(vertices, frame))
+  {
+    frame.barycentricOfOffsets(point - vertices[0], point - vertices[1], guess);
+  }
+  std::copy(guess, guess + 4, L);
+  if (inverseNewton(geometry, (point - geometry.origin) * geometry.scale, guess))
+  {
+    std::copy(guess, guess + 4, L);
+  }
+}
+
 } // namespace isoparametric
 } // namespace tetdsr
