@@ -9,6 +9,7 @@
 // Jacobian, exact residual), a linear field's isosurface is the plane a . x = c, and a field's
 // crossings along a ray are found by dense sampling of f(x^-1(o + t d)) and bisection.
 #include "tetdsr/CurvedHigherOrderTetCell.h"
+#include "tetdsr/CurvedTetCell.h"
 #include "tetdsr/HigherOrderTet.h"
 #include "tetdsr/QuadraticTet.h"
 
@@ -549,7 +550,65 @@ void locationAndGradient(double eps)
     EXPECT_LT(glm::length(map(found) - y), 1e-12) << "expected the map's extension's preimage";
   }
 }
+/// A quadratic map and field written at order P (degree-elevated, exactly): the same cell as the
+/// 10-node curved tet, so the same hits as CurvedTetCell's.
+template <int P>
+void sameAsQuadratic(int rays, unsigned seed)
+{
+  const Map map = [](const double L[4]) {
+    const glm::dvec3 x = affine(L);
+    return glm::dvec3(x.x + 0.5 * x.y * x.y, x.y + 0.5 * x.z * x.z, x.z);
+  };
+  const Field field = [&](const double L[4]) {
+    const glm::dvec3 q = affine(L) - glm::dvec3(0.5, 0.4, 0.3);
+    return glm::dot(q, q);
+  };
+  const Cell<P> cell(map, field);
+  glm::dvec3 quadraticNodes[10];
+  double quadraticValues[10];
+  for (int n = 0; n < 10; ++n)
+  {
+    double L[4] = { 0.0, 0.0, 0.0, 0.0 };
+    if (n < 4)
+      L[n] = 1.0;
+    else
+      L[tetdsr::kEdgeVertices[n - 4][0]] = L[tetdsr::kEdgeVertices[n - 4][1]] = 0.5;
+    quadraticNodes[n] = map(L);
+    quadraticValues[n] = field(L);
+  }
+  std::mt19937 random(seed);
+  int hits = 0, wrong = 0;
+  for (int r = 0; r < rays; ++r)
+  {
+    const tetdsr::Ray ray = rayThroughCell(map, random);
+    const tetdsr::IsoValues iso({ 0.05 + 0.02 * (r % 5) });
+    tetdsr::SurfaceHit expected, got;
+    bool certified;
+    const bool quadratic = tetdsr::CurvedTetCell::intersect(
+      quadraticNodes, quadraticValues, iso, 0, 1, ray, 0.0, 1e30, expected, certified);
+    const bool found = tetdsr::CurvedHigherOrderTetCell<P>::intersect(
+      cell.nodes, cell.values, iso, 0, 1, ray, 0.0, 1e30, got, certified);
+    if (found != quadratic || (found && (std::abs(got.t - expected.t) > 1e-12 ||
+                                          glm::length(got.gradient - expected.gradient) >
+                                            1e-10 * glm::length(expected.gradient))))
+    {
+      ++wrong;
+      std::printf("  P %d ray %d: expected %s t %.17g (the quadratic cell's), got %s t %.17g\n", P,
+        r, quadratic ? "hit" : "none", expected.t, found ? "hit" : "none", got.t);
+    }
+    hits += found;
+  }
+  std::printf("P %d as the quadratic cell: %d rays, %d hits\n", P, rays, hits);
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GT(hits, rays / 4);
+}
 } // namespace
+
+TEST(CurvedHigherOrderTet, DegreeElevatedQuadraticCellAsCurvedTetCell)
+{
+  sameAsQuadratic<3>(300, 9);
+  sameAsQuadratic<4>(300, 10);
+}
 
 TEST(CurvedHigherOrderTet, PlaneAgainstRayPlaneIntersection)
 {

@@ -163,7 +163,7 @@ struct CurvedGeometry
 /// The geometry of a curved tetrahedron of order P (VTK_LAGRANGE_TETRAHEDRON or
 /// VTK_BEZIER_TETRAHEDRON, as Bernstein control points: HigherOrderTet.h's "Bezier layout") in
 /// local coordinates X = (x - origin) * scale, origin its vertex 0 and scale a power of two near
-/// 1 / its size: CurvedGeometry's steps for a map of degree P.
+/// 1 / its size: CurvedGeometry's steps for a map of degree P (instantiated for P = 3 and 4).
 template <int P>
 struct IsoparametricGeometry
 {

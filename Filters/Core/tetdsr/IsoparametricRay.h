@@ -1,8 +1,8 @@
-// A ray against an isoparametric cell, whatever its order: the ray's equations in the cell's
-// reference coordinates, their solve (solveOnSimplex) and the hit made of the root. One template
-// over the cell's geometry (CurvedGeometry for VTK_QUADRATIC_TETRA, IsoparametricGeometry<P> for
-// the Lagrange and Bezier tetrahedra of order P, CurvedTet.h), used by CurvedTetCell and
-// CurvedHigherOrderTetCell.
+// The cell seam's intersect, contains and coordinates for an isoparametric cell, whatever its
+// order: the ray's (or the point's) equations in the cell's reference coordinates, their solve
+// (solveOnSimplex) and the hit made of the root. Templates over the cell's geometry
+// (CurvedGeometry for VTK_QUADRATIC_TETRA, IsoparametricGeometry<P> for the Lagrange and Bezier
+// tetrahedra of order P, CurvedTet.h), used by CurvedTetCell and CurvedHigherOrderTetCell.
 //
 // In local coordinates X (the geometry's frame) a ray o + T d (T the local depth) meets the
 // isosurface f = c where
