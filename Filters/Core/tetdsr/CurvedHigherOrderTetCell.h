@@ -54,12 +54,14 @@ struct CurvedHigherOrderTetCell
   /// barycentric L.
   static glm::dvec3 gradient(const glm::dvec3* nodes, const double* values, const double L[4]);
 
-  /// The nodes its record is made from: none (the ray test reads them from the mesh).
+  /// The nodes its record is made from, and the coefficients it keeps beside it: none (the ray
+  /// test reads the nodes and values from the mesh).
   static constexpr int kRecordNodes = 0;
+  static constexpr int kRecordCoefficients = 0;
 
   /// record: only the kind (the cell is solved from the mesh); `cell` keeps its id and value
   /// range.
-  static void record(const glm::dvec3*, const double*, CellRecord& cell)
+  static void record(const glm::dvec3*, const double*, CellRecord& cell, double* = nullptr)
   {
     cell.kind = CellRecord::Kind::Curved;
   }
