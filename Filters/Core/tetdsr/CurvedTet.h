@@ -22,12 +22,12 @@
 //
 // The same holds for the isoparametric tetrahedra of order P (Lagrange and Bezier cells, P = 3,
 // 4): their map and field are polynomials of degree P in L (PolynomialForm<P>, coefficients in
-// TetBernstein.h's canonical order), a sub-simplex's coefficients are the blossom at its vertices
-// (bernstein::onSubSimplex), and only the Krawczyk test's R changes: the Jacobian is then not
-// affine, and R is bounded by the Bernstein range of its entries (degree P - 1) over a simplex
-// containing the box. solveOnSimplex, jacobianSign, curvedGradient and inverseNewton are each one
-// template over the form (BernsteinForm or PolynomialForm<P>) and its geometry (CurvedGeometry or
-// IsoparametricGeometry<P>).
+// TetBernstein.h's canonical order), a sub-simplex's coefficients are carried down the bisection
+// (bernstein::bisect), and only the Krawczyk test's R changes: the Jacobian is then not affine,
+// and R is bounded by the Bernstein range of its entries (degree P - 1) over a simplex holding the
+// box. solveOnSimplex, curvedGradient and inverseNewton are each one template over the form
+// (BernsteinForm or PolynomialForm<P>) and its geometry (CurvedGeometry or
+// IsoparametricGeometry<P>); jacobianSign's subdivision is one template over det J's pieces.
 #pragma once
 
 #include "tetdsr/QuadraticTet.h"
