@@ -33,6 +33,7 @@ inline constexpr std::array<std::array<int, 2>, 6> kEdgeVertices = {
 /// map and the equations of a ray (CurvedTet.h).
 struct BernsteinForm
 {
+  static constexpr int kDegree = 2;
   double b[4][4];
 
   /// @param nodeValues the field at the 10 nodes, VTK order.

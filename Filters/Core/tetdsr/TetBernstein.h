@@ -68,6 +68,8 @@ struct Lattice
     std::int8_t alpha[kCount > 0 ? kCount : 1][4];
     std::uint16_t raise[latticeCount(D - 1) > 0 ? latticeCount(D - 1) : 1][4];
     double multinomial[kCount > 0 ? kCount : 1]; ///< D! / (a_0! a_1! a_2! a_3!)
+    /// latticeIndex(D, 0, a2, a3) at [a3][a2]: the position of (.., a1, a2, a3) is this + a1.
+    std::uint16_t rowStart[D + 1][D + 1];
   };
 
   static constexpr Tables makeTables()
@@ -97,6 +99,7 @@ struct Lattice
           }
           t.multinomial[at] = m;
         }
+        t.rowStart[a3][a2] = static_cast<std::uint16_t>(latticeIndex(D, 0, a2, a3));
       }
     }
     for (int b3 = 0; b3 <= D - 1; ++b3)
@@ -378,6 +381,13 @@ template <int D>
 inline void bisect(const double* c, int a, int b, double* keepA, double* keepB)
 {
   const auto& t = Lattice<D>::kTables;
+  // 2^-copies, exactly (the same as ldexp's scaling, without its call).
+  double halves[D + 1];
+  halves[0] = 1.0;
+  for (int copies = 1; copies <= D; ++copies)
+  {
+    halves[copies] = 0.5 * halves[copies - 1];
+  }
   for (int k = 0; k < latticeCount(D); ++k)
   {
     for (int side = 0; side < 2; ++side)
@@ -389,12 +399,12 @@ inline void bisect(const double* c, int a, int b, double* keepA, double* keepB)
       double sum = 0.0, binomial = 1.0;
       for (int j = 0; j <= copies; ++j)
       {
-        sum += binomial * c[latticeIndex(D, beta[1], beta[2], beta[3])];
+        sum += binomial * c[t.rowStart[beta[3]][beta[2]] + beta[1]];
         binomial = binomial * (copies - j) / (j + 1);
         --beta[from];
         ++beta[to];
       }
-      (side == 0 ? keepA : keepB)[k] = std::ldexp(sum, -copies);
+      (side == 0 ? keepA : keepB)[k] = sum * halves[copies];
     }
   }
 }
