@@ -310,7 +310,7 @@ namespace
 /// VTK_BEZIER_TETRAHEDRON with the field's Bernstein coefficients), nodes shared on the lattice
 /// of P steps per cube edge, with the "wave" field (smooth, not a polynomial) at the nodes.
 template <int P>
-vtkSmartPointer<vtkUnstructuredGrid> MakeOrderMesh(int n, int type)
+vtkSmartPointer<vtkUnstructuredGrid> MakeOrderMesh(int n, int type, bool curved)
 {
   const int m = P * n + 1;
   vtkNew<vtkPoints> points;
@@ -327,7 +327,18 @@ vtkSmartPointer<vtkUnstructuredGrid> MakeOrderMesh(int n, int type)
       for (int i = 0; i < m; ++i)
       {
         const vtkIdType id = i + static_cast<vtkIdType>(m) * (j + static_cast<vtkIdType>(m) * k);
-        const double x = i / (m - 1.0), y = j / (m - 1.0), z = k / (m - 1.0);
+        double x = i / (m - 1.0), y = j / (m - 1.0), z = k / (m - 1.0);
+        if (curved)
+        {
+          // Every cell bent (nodes off their straight places by up to 0.1 of a cube; the phase
+          // keeps the bend from vanishing at the nodes of any order): the isoparametric path for
+          // every cell.
+          const double bend = 0.1 / n;
+          const double dx = bend * std::sin(2.0 * vtkMath::Pi() * n * y + 0.5);
+          const double dy = bend * std::sin(2.0 * vtkMath::Pi() * n * z + 0.5);
+          const double dz = bend * std::sin(2.0 * vtkMath::Pi() * n * x + 0.5);
+          x += dx, y += dy, z += dz;
+        }
         points->SetPoint(id, x, y, z);
         wave->SetValue(id, waveAt(x, y, z));
       }
@@ -391,42 +402,47 @@ vtkSmartPointer<vtkUnstructuredGrid> MakeOrderMesh(int n, int type)
   return mesh;
 }
 
-vtkSmartPointer<vtkUnstructuredGrid> MakeOrderMesh(int n, int order, int type)
+vtkSmartPointer<vtkUnstructuredGrid> MakeOrderMesh(int n, int order, int type, bool curved)
 {
   switch (order)
   {
     case 1:
-      return MakeOrderMesh<1>(n, type);
+      return MakeOrderMesh<1>(n, type, curved);
     case 2:
-      return MakeOrderMesh<2>(n, type);
+      return MakeOrderMesh<2>(n, type, curved);
     case 3:
-      return MakeOrderMesh<3>(n, type);
+      return MakeOrderMesh<3>(n, type, curved);
     default:
-      return MakeOrderMesh<4>(n, type);
+      return MakeOrderMesh<4>(n, type, curved);
   }
 }
 } // namespace
 
 /// Per order: preprocessing (1-pixel image), its memory, a first frame, a camera move (best of
-/// 3) and its rays per second, and vtkContourFilter's time, on the wave field at iso 0.3.
+/// 3) and its rays per second, and vtkContourFilter's time, on the wave field at iso 0.3; straight
+/// cells at size x size, curved ones (every node bent) at size / 4 (each of their ray tests is a
+/// subdivision solve).
 int Orders(int size, int n)
 {
-  std::printf("| cells | type | order | nodes/cell | mesh MB | preprocess s | kept MB | first frame s | camera move s | M rays/s | contour s | triangles |\n"
-              "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| cells | type | order | shape | nodes/cell | mesh MB | preprocess s | kept MB | image | first frame s | camera move s | M rays/s | contour s | triangles |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   struct Row
   {
     int type;
     int order;
+    bool curved;
     const char* name;
   };
-  const Row rows[] = { { VTK_QUADRATIC_TETRA, 2, "VTK_QUADRATIC_TETRA" },
-    { VTK_LAGRANGE_TETRAHEDRON, 1, "Lagrange" }, { VTK_LAGRANGE_TETRAHEDRON, 2, "Lagrange" },
-    { VTK_LAGRANGE_TETRAHEDRON, 3, "Lagrange" }, { VTK_LAGRANGE_TETRAHEDRON, 4, "Lagrange" },
-    { VTK_BEZIER_TETRAHEDRON, 3, "Bezier" }, { VTK_BEZIER_TETRAHEDRON, 4, "Bezier" } };
+  const Row rows[] = { { VTK_QUADRATIC_TETRA, 2, false, "VTK_QUADRATIC_TETRA" },
+    { VTK_LAGRANGE_TETRAHEDRON, 1, false, "Lagrange" }, { VTK_LAGRANGE_TETRAHEDRON, 2, false, "Lagrange" },
+    { VTK_LAGRANGE_TETRAHEDRON, 3, false, "Lagrange" }, { VTK_LAGRANGE_TETRAHEDRON, 4, false, "Lagrange" },
+    { VTK_BEZIER_TETRAHEDRON, 3, false, "Bezier" }, { VTK_BEZIER_TETRAHEDRON, 4, false, "Bezier" },
+    { VTK_QUADRATIC_TETRA, 2, true, "VTK_QUADRATIC_TETRA" },
+    { VTK_LAGRANGE_TETRAHEDRON, 3, true, "Lagrange" }, { VTK_LAGRANGE_TETRAHEDRON, 4, true, "Lagrange" } };
   for (const Row& row : rows)
   {
-    vtkSmartPointer<vtkUnstructuredGrid> mesh =
-      MakeOrderMesh(n, row.order, row.type == VTK_QUADRATIC_TETRA ? VTK_LAGRANGE_TETRAHEDRON : row.type);
+    vtkSmartPointer<vtkUnstructuredGrid> mesh = MakeOrderMesh(
+      n, row.order, row.type == VTK_QUADRATIC_TETRA ? VTK_LAGRANGE_TETRAHEDRON : row.type, row.curved);
     if (row.type == VTK_QUADRATIC_TETRA)
     {
       // The same 10 nodes in the same order: only the type differs.
@@ -434,9 +450,11 @@ int Orders(int size, int n)
       for (vtkIdType c = 0; c < types->GetNumberOfTuples(); ++c)
         types->SetValue(c, VTK_QUADRATIC_TETRA);
     }
+    const int image = row.curved ? size / 4 : size;
     vtkNew<vtkCamera> camera;
     SetCamera(camera);
     double preprocess, kept;
+    vtkIdType curvedCells;
     {
       vtkNew<vtkDirectSurfaceRayCaster> caster;
       caster->SetInputData(mesh);
@@ -446,13 +464,14 @@ int Orders(int size, int n)
       caster->SetImageSize(1, 1);
       preprocess = Seconds([&] { caster->Update(); });
       kept = caster->GetPreprocessedBytes() / 1e6;
+      curvedCells = caster->GetNumberOfCurvedCells();
     }
     vtkNew<vtkDirectSurfaceRayCaster> caster;
     caster->SetInputData(mesh);
     caster->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
     caster->SetValue(0, 0.3);
     caster->SetCamera(camera);
-    caster->SetImageSize(size, size);
+    caster->SetImageSize(image, image);
     const double first = Seconds([&] { caster->Update(); });
     double cameraMove = std::numeric_limits<double>::infinity();
     for (int repeat = 0; repeat < 3; ++repeat)
@@ -465,10 +484,11 @@ int Orders(int size, int n)
     contour->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
     contour->SetValue(0, 0.3);
     const double contourTime = Seconds([&] { contour->Update(); });
-    std::printf("| %lld | %s | %d | %d | %.1f | %.3f | %.1f | %.3f | %.3f | %.2f | %.3f | %lld |\n",
+    std::printf("| %lld | %s | %d | %s (%lld curved) | %d | %.1f | %.3f | %.1f | %d^2 | %.3f | %.3f | %.3f | %.3f | %lld |\n",
       static_cast<long long>(mesh->GetNumberOfCells()), row.name, row.order,
+      row.curved ? "curved" : "straight", static_cast<long long>(curvedCells),
       tetdsr::latticeCount(row.order), 1024.0 * mesh->GetActualMemorySize() / 1e6, preprocess, kept,
-      first, cameraMove, size * double(size) / cameraMove / 1e6, contourTime,
+      image, first, cameraMove, image * double(image) / cameraMove / 1e6, contourTime,
       static_cast<long long>(contour->GetOutput()->GetNumberOfCells()));
     std::fflush(stdout);
   }
