@@ -167,7 +167,7 @@ class HostileInput(unittest.TestCase):
         for scale in (1e-103, 1e120):  # outside: skipped with a message naming the limit
             run = Run(one_tet(points=NODES * scale))
             self.assertEqual(run.caster.GetNumberOfOutOfScaleCells(), 1)
-            self.assertTrue(run.said("longest edge is outside [1e-100, 1e+100]"), run.errors + run.warnings)
+            self.assertTrue(run.said("longest edge or box is outside [1e-100, 1e+100]"), run.errors + run.warnings)
 
     def test_connectivity_edited_in_place(self):
         grid = one_tet()

@@ -222,15 +222,15 @@ bool describeSkipped(const PreprocessSummary& summary, NodeId numberOfCells, Nod
   }
   if (summary.outOfScaleCells > 0)
   {
-    warnings.push_back(text("Skipped ", summary.outOfScaleCells, " cells whose longest edge is outside [",
+    warnings.push_back(text("Skipped ", summary.outOfScaleCells, " cells whose longest edge or box is outside [",
       QuadraticTetCell::kMinCellSize, ", ", QuadraticTetCell::kMaxCellSize,
-      "]: their volumes would underflow or overflow double precision."));
+      "], or whose Bernstein coefficients (made from Lagrange nodes) leave double range: their "
+      "volumes or coefficients would underflow or overflow double precision."));
   }
   if (summary.nonFiniteCells > 0)
   {
     warnings.push_back(text("Skipped ", summary.nonFiniteCells, " cells with NaN or Inf values of '",
-      fieldName, "' or coordinates at their nodes (or Lagrange nodes whose Bernstein "
-      "coefficients overflow double range)."));
+      fieldName, "' or coordinates at their nodes."));
   }
   if (summary.invalidIdCells > 0)
   {

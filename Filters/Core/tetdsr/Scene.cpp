@@ -423,7 +423,7 @@ std::uint16_t Scene::validate(
   {
     if (!std::isfinite(values[n]) || !isFinite(nodes[n]))
     {
-      return kNonFinite; // a Lagrange cell's Bernstein coefficients beyond double range
+      return kOutOfScale; // a Lagrange cell's Bernstein coefficients beyond double range
     }
   }
   const CellKind kind = tetdsr::kindOf(layout, (flags & kCurved) != 0);
