@@ -74,23 +74,11 @@ struct HigherOrderLattice
   }
 };
 
-/// The barycentric point of node n of a cell of order P in VTK order.
+/// The barycentric point of node n of a cell of order P in VTK order (the core's table, checked
+/// against VTK's cells by Testing/Cxx/TestHigherOrderNodeOrder).
 inline void nodeBarycentric(int order, int n, double L[4])
 {
-  switch (order)
-  {
-    case 1:
-      tetdsr::HigherOrderTet<1>::nodePoint(n, L);
-      break;
-    case 2:
-      tetdsr::HigherOrderTet<2>::nodePoint(n, L);
-      break;
-    case 3:
-      tetdsr::HigherOrderTet<3>::nodePoint(n, L);
-      break;
-    default:
-      tetdsr::HigherOrderTet<4>::nodePoint(n, L);
-  }
+  tetdsr::tetNodePoint(order, n, L);
 }
 
 /// The Bernstein coefficients (VTK order) of the polynomial of degree `order` with these nodal

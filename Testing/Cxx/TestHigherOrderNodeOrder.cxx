@@ -31,20 +31,7 @@ namespace
 /// The barycentric point of node n of a cell of order p, from the core.
 void corePoint(int p, int n, double L[4])
 {
-  switch (p)
-  {
-    case 1:
-      tetdsr::HigherOrderTet<1>::nodePoint(n, L);
-      break;
-    case 2:
-      tetdsr::HigherOrderTet<2>::nodePoint(n, L);
-      break;
-    case 3:
-      tetdsr::HigherOrderTet<3>::nodePoint(n, L);
-      break;
-    default:
-      tetdsr::HigherOrderTet<4>::nodePoint(n, L);
-  }
+  tetdsr::tetNodePoint(p, n, L);
 }
 
 /// VTK's cell of order p with nodes at its own parametric coordinates (the unit tetrahedron).

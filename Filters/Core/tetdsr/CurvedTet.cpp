@@ -134,6 +134,19 @@ struct PieceOf : Carry
   double V[4][4];
   int depth;
   int levelLo = 0, levelHi = 1; ///< candidate levels [levelLo, levelHi) (Levels)
+
+  /// Makes this the whole reference simplex (its vertices the unit points), at depth 0.
+  void makeWhole()
+  {
+    for (int i = 0; i < 4; ++i)
+    {
+      for (int j = 0; j < 4; ++j)
+      {
+        V[i][j] = i == j ? 1.0 : 0.0;
+      }
+    }
+    depth = 0;
+  }
 };
 
 /// A solve's pieces carry, for PolynomialForm<D>, the coefficients of its n equations (the
@@ -750,14 +763,7 @@ public:
   bool run(int* pieces)
   {
     Piece& first = Stack_[Top_++];
-    for (int i = 0; i <= n; ++i)
-    {
-      for (int j = 0; j <= n; ++j)
-      {
-        first.V[i][j] = i == j ? 1.0 : 0.0;
-      }
-    }
-    first.depth = 0;
+    first.makeWhole();
     first.levelLo = 0;
     first.levelHi = MultiLevel_ ? Levels_.count : 1;
     carryWhole<n>(first, Given_, Objective_);
@@ -1334,14 +1340,7 @@ struct QuadraticDeterminant
   Piece whole() const
   {
     Piece first;
-    for (int i = 0; i < 4; ++i)
-    {
-      for (int j = 0; j < 4; ++j)
-      {
-        first.V[i][j] = i == j ? 1.0 : 0.0;
-      }
-    }
-    first.depth = 0;
+    first.makeWhole();
     return first;
   }
 
@@ -1420,14 +1419,7 @@ struct PolynomialDeterminant
         first.c[0][a] += term[a];
       }
     }
-    for (int i = 0; i < 4; ++i)
-    {
-      for (int j = 0; j < 4; ++j)
-      {
-        first.V[i][j] = i == j ? 1.0 : 0.0;
-      }
-    }
-    first.depth = 0;
+    first.makeWhole();
     return first;
   }
 

@@ -228,4 +228,24 @@ struct HigherOrderTet
   }
 };
 
+/// The barycentric point of VTK node n of a tetrahedron of order 1..kMaxTetOrder (for order 2,
+/// VTK_QUADRATIC_TETRA's node order too: its edge (0,2) is the Lagrange cell's (2,0)).
+inline void tetNodePoint(int order, int n, double L[4])
+{
+  switch (order)
+  {
+    case 1:
+      HigherOrderTet<1>::nodePoint(n, L);
+      return;
+    case 2:
+      HigherOrderTet<2>::nodePoint(n, L);
+      return;
+    case 3:
+      HigherOrderTet<3>::nodePoint(n, L);
+      return;
+    default:
+      HigherOrderTet<4>::nodePoint(n, L);
+  }
+}
+
 } // namespace tetdsr

@@ -102,19 +102,10 @@ struct HigherOrderTetCell
     std::size_t first, std::size_t last, double tMin, double tLimit, SurfaceHit& hit,
     bool& certified)
   {
-    using namespace quadratic_tet_detail;
-    TetFrame frame;
-    for (int k = 0; k < 3; ++k)
-    {
-      frame.gradient[k + 1] = cell.gradient[k];
-    }
-    frame.gradient[0] = -(frame.gradient[1] + frame.gradient[2] + frame.gradient[3]);
     // The ray in the cell's barycentric coordinates, re-origined near its centroid, clipped.
-    double L[4], dL[4];
-    const double tCentre = localRay(cell, frame, ray, L, dL);
-    double sEntry = tMin - tCentre;
-    double sExit = tLimit - tCentre;
-    if (!clipToCell(L, dL, sEntry, sExit))
+    TetFrame frame;
+    double L[4], dL[4], tCentre, sEntry, sExit;
+    if (!quadratic_tet_detail::rayInCell(cell, ray, tMin, tLimit, frame, L, dL, tCentre, sEntry, sExit))
     {
       return false;
     }

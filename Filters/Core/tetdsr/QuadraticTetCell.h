@@ -267,6 +267,23 @@ inline bool clipToCell(const double L[4], const double dL[4], double& sEntry, do
   return sEntry <= sExit;
 }
 
+/// A straight cell's ray test up to its field: the barycentric frame from the record, the ray
+/// there (localRay: L(s) = L + s dL, t = tCentre + s) and its stretch [sEntry, sExit] inside the
+/// cell within [tMin, tLimit] (clipToCell); false if the ray misses the cell there.
+inline bool rayInCell(const CellRecord& cell, const Ray& ray, double tMin, double tLimit,
+  TetFrame& frame, double L[4], double dL[4], double& tCentre, double& sEntry, double& sExit)
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    frame.gradient[k + 1] = cell.gradient[k];
+  }
+  frame.gradient[0] = -(frame.gradient[1] + frame.gradient[2] + frame.gradient[3]);
+  tCentre = localRay(cell, frame, ray, L, dL);
+  sEntry = tMin - tCentre;
+  sExit = tLimit - tCentre;
+  return clipToCell(L, dL, sEntry, sExit);
+}
+
 /// The record's Bernstein coefficients as the symmetric form.
 inline BernsteinForm formOf(const CellRecord& cell)
 {
@@ -376,16 +393,8 @@ inline bool QuadraticTetCell::intersect(const CellRecord& cell, const Ray& ray,
 {
   using namespace quadratic_tet_detail;
   TetFrame frame;
-  for (int k = 0; k < 3; ++k)
-  {
-    frame.gradient[k + 1] = cell.gradient[k];
-  }
-  frame.gradient[0] = -(frame.gradient[1] + frame.gradient[2] + frame.gradient[3]);
-  double L[4], dL[4];
-  const double tCentre = localRay(cell, frame, ray, L, dL);
-  double sEntry = tMin - tCentre;
-  double sExit = tLimit - tCentre;
-  if (!clipToCell(L, dL, sEntry, sExit))
+  double L[4], dL[4], tCentre, sEntry, sExit;
+  if (!rayInCell(cell, ray, tMin, tLimit, frame, L, dL, tCentre, sEntry, sExit))
   {
     return false;
   }

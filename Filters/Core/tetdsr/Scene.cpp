@@ -777,7 +777,7 @@ void Scene::computeNodalGradients()
     for (int n = 0; n < layout.nodes; ++n)
     {
       double L[4];
-      nodePoint(layout, n, L);
+      tetNodePoint(layout.order, n, L);
       sum[static_cast<std::size_t>(ids[n])] +=
         forKind(kind, [&](auto cell) { return decltype(cell)::gradient(nodes, values, L); });
       ++count[static_cast<std::size_t>(ids[n])];
@@ -791,30 +791,6 @@ void Scene::computeNodalGradients()
     }
   }
   NodalGradients_ = std::move(sum);
-}
-
-void Scene::nodePoint(const CellLayout& layout, int n, double L[4])
-{
-  switch (layout.order)
-  {
-    case 3:
-      HigherOrderTet<3>::nodePoint(n, L);
-      return;
-    case 4:
-      HigherOrderTet<4>::nodePoint(n, L);
-      return;
-    default:
-      // Orders 1 and 2: VTK_QUADRATIC_TETRA's nodes (the vertices, then the mid-edge nodes).
-      std::fill(L, L + 4, 0.0);
-      if (n < 4)
-      {
-        L[n] = 1.0;
-      }
-      else
-      {
-        L[kEdgeVertices[n - 4][0]] = L[kEdgeVertices[n - 4][1]] = 0.5;
-      }
-  }
 }
 
 glm::dvec3 Scene::interpolateNodalGradient(NodeId cellId, const glm::dvec3& point) const

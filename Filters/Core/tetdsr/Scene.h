@@ -266,8 +266,6 @@ private:
   /// Lagrange cell's nodes made Bernstein coefficients (Bezier layout).
   template <typename T>
   static void toKindForm(const CellLayout& layout, T items[kMaxCellNodes]);
-  /// The barycentric point of node n of a cell of this layout.
-  static void nodePoint(const CellLayout& layout, int n, double L[4]);
   /// Whether a Bezier cell's rational weights are equal (and positive): the polynomial cell.
   bool polynomialWeights(const NodeId* ids, int count) const;
   /// The barycentric coordinates of `point` in a valid cell (the kind's coordinates step).
