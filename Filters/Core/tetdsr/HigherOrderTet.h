@@ -20,8 +20,10 @@
 
 #include "tetdsr/TetBernstein.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 
 namespace tetdsr
 {
@@ -133,6 +135,63 @@ struct HigherOrderTet
     }
   }
 
+  /// The Bernstein polynomial of canonical position `at` at L: multinomial * prod L_k^alpha_k.
+  static double basisAt(int at, const double L[4])
+  {
+    const auto& alpha = Lattice<P>::kTables.alpha[at];
+    double value = Lattice<P>::kTables.multinomial[at];
+    for (int k = 0; k < 4; ++k)
+    {
+      value *= std::pow(L[k], alpha[k]);
+    }
+    return value;
+  }
+
+  /// The inverse of a kNodes x kNodes matrix: [a | I] reduced to [I | a^-1] by Gauss-Jordan
+  /// elimination with partial pivoting (rows whose pivot column is already 0 are left alone, so
+  /// a unit row stays exact).
+  static void invert(const double a[kNodes][kNodes], double inverse[kNodes][kNodes])
+  {
+    double m[kNodes][2 * kNodes];
+    for (int r = 0; r < kNodes; ++r)
+    {
+      for (int c = 0; c < kNodes; ++c)
+      {
+        m[r][c] = a[r][c];
+        m[r][kNodes + c] = r == c ? 1.0 : 0.0;
+      }
+    }
+    for (int col = 0; col < kNodes; ++col)
+    {
+      int pivot = col;
+      for (int r = col + 1; r < kNodes; ++r)
+      {
+        pivot = std::abs(m[r][col]) > std::abs(m[pivot][col]) ? r : pivot;
+      }
+      std::swap(m[col], m[pivot]);
+      const double p = m[col][col];
+      for (double& entry : m[col])
+      {
+        entry /= p;
+      }
+      for (int r = 0; r < kNodes; ++r)
+      {
+        if (r != col && m[r][col] != 0.0)
+        {
+          const double factor = m[r][col];
+          for (int c = 0; c < 2 * kNodes; ++c)
+          {
+            m[r][c] -= factor * m[col][c];
+          }
+        }
+      }
+    }
+    for (int r = 0; r < kNodes; ++r)
+    {
+      std::copy(m[r] + kNodes, m[r] + 2 * kNodes, inverse[r]);
+    }
+  }
+
   /// The matrix taking a Lagrange cell's nodal values (VTK order) to its Bernstein coefficients
   /// (VTK order): the inverse of B_b(alpha_a / P), computed once.
   struct Conversion
@@ -142,68 +201,21 @@ struct HigherOrderTet
 
   static const Conversion& lagrangeToBezier()
   {
+    // B is well conditioned (condition numbers 2.9, 6.7, 15 for P = 2, 3, 4): Gauss-Jordan with
+    // partial pivoting inverts it to rounding.
     static const Conversion conversion = [] {
-      // [B | I] reduced to [I | B^-1] by Gauss-Jordan with partial pivoting (B is well
-      // conditioned: condition numbers 2.9, 6.7, 15 for P = 2, 3, 4).
-      double a[kNodes][2 * kNodes];
+      Conversion basisAtNodes, inverse;
       for (int row = 0; row < kNodes; ++row)
       {
         double L[4];
         nodePoint(row, L);
         for (int col = 0; col < kNodes; ++col)
         {
-          // B_{alpha_col}(L) = multinomial * prod L_k^alpha_k
-          const int at = kLatticeOfNode[col];
-          const auto& alpha = Lattice<P>::kTables.alpha[at];
-          double value = Lattice<P>::kTables.multinomial[at];
-          for (int k = 0; k < 4; ++k)
-          {
-            value *= std::pow(L[k], alpha[k]);
-          }
-          a[row][col] = value;
-          a[row][kNodes + col] = row == col ? 1.0 : 0.0;
+          basisAtNodes.m[row][col] = basisAt(kLatticeOfNode[col], L);
         }
       }
-      for (int col = 0; col < kNodes; ++col)
-      {
-        int pivot = col;
-        for (int r = col + 1; r < kNodes; ++r)
-        {
-          if (std::abs(a[r][col]) > std::abs(a[pivot][col]))
-          {
-            pivot = r;
-          }
-        }
-        for (int c = 0; c < 2 * kNodes; ++c)
-        {
-          std::swap(a[col][c], a[pivot][c]);
-        }
-        const double p = a[col][col];
-        for (int c = 0; c < 2 * kNodes; ++c)
-        {
-          a[col][c] /= p;
-        }
-        for (int r = 0; r < kNodes; ++r)
-        {
-          if (r != col && a[r][col] != 0.0)
-          {
-            const double factor = a[r][col];
-            for (int c = 0; c < 2 * kNodes; ++c)
-            {
-              a[r][c] -= factor * a[col][c];
-            }
-          }
-        }
-      }
-      Conversion result;
-      for (int r = 0; r < kNodes; ++r)
-      {
-        for (int c = 0; c < kNodes; ++c)
-        {
-          result.m[r][c] = a[r][kNodes + c];
-        }
-      }
-      return result;
+      invert(basisAtNodes.m, inverse.m);
+      return inverse;
     }();
     return conversion;
   }

@@ -355,9 +355,40 @@ BoxItem Scene::cellBox(NodeId cellId) const
 std::uint16_t Scene::validate(
   NodeId cell, ValidCell& validCell, glm::dvec3& extentLo, glm::dvec3& extentHi) const
 {
+  CellLayout layout;
+  const NodeId* ids = nullptr;
+  if (const std::uint16_t unreadable = checkIds(cell, layout, ids))
+  {
+    return unreadable;
+  }
+  glm::dvec3 nodes[kMaxCellNodes];
+  double values[kMaxCellNodes];
+  std::uint16_t flags = checkNodes(layout, ids, nodes, values);
+  if (!(flags & kValid))
+  {
+    return flags;
+  }
+  // A curved cell's box (its control points') can be far larger than its vertices' edges: a
+  // mid-edge node at 1e300 passes the size check and would give the scene an overflowing box.
+  const CellKind kind = tetdsr::kindOf(layout, (flags & kCurved) != 0);
+  if (!forKind(kind, [&](auto cell) { return decltype(cell)::extent(nodes, extentLo, extentHi); }) ||
+    !(std::max({ extentHi.x - extentLo.x, extentHi.y - extentLo.y, extentHi.z - extentLo.z }) <=
+      QuadraticTetCell::kMaxCellSize))
+  {
+    return kOutOfScale;
+  }
+  validCell.id = static_cast<std::uint32_t>(cell);
+  double lo, hi;
+  forKind(kind, [&](auto cell) { decltype(cell)::valueBound(values, Transverse_, lo, hi); });
+  validCell.valueLo = roundDown(lo);
+  validCell.valueHi = roundUp(hi);
+  return static_cast<std::uint16_t>(flags | (layout.order > 2 ? kHigherOrder : 0));
+}
+
+std::uint16_t Scene::checkIds(NodeId cell, CellLayout& layout, const NodeId*& ids) const
+{
   // The type and offsets first: nothing of the cell is read before they are trusted.
   const int type = Mesh_.cellTypes[cell];
-  CellLayout layout;
   if (cellLayout(type, -1, layout) == kUnsupported)
   {
     return kUnsupported;
@@ -372,26 +403,30 @@ std::uint16_t Scene::validate(
   {
     return unreadable;
   }
-  const int count = layout.nodes;
-  const NodeId* ids = Mesh_.connectivity + begin;
-  for (int n = 0; n < count; ++n)
+  ids = Mesh_.connectivity + begin;
+  for (int n = 0; n < layout.nodes; ++n)
   {
     if (ids[n] < 0 || ids[n] >= Mesh_.numberOfPoints)
     {
       return kInvalidId;
     }
   }
-  if (!distinctIds(ids, count))
+  if (!distinctIds(ids, layout.nodes))
   {
     return kDegenerate;
   }
-  if (layout.bezier && Mesh_.rationalWeights && !polynomialWeights(ids, count))
+  if (layout.bezier && Mesh_.rationalWeights && !polynomialWeights(ids, layout.nodes))
   {
     return kRational;
   }
+  return 0;
+}
+
+std::uint16_t Scene::checkNodes(const CellLayout& layout, const NodeId* ids,
+  glm::dvec3 nodes[kMaxCellNodes], double values[kMaxCellNodes]) const
+{
   // Every node's value and coordinates, as given.
-  glm::dvec3 nodes[kMaxCellNodes];
-  double values[kMaxCellNodes];
+  const int count = layout.nodes;
   for (int n = 0; n < count; ++n)
   {
     nodes[n] = glm::dvec3(Mesh_.points[3 * ids[n]], Mesh_.points[3 * ids[n] + 1], Mesh_.points[3 * ids[n] + 2]);
@@ -403,8 +438,7 @@ std::uint16_t Scene::validate(
   }
   // Orders 3 and 4 are checked on their nodes as given (where the affine map puts a node is
   // where a Lagrange node or a Bezier control point sits), orders 1 and 2 on the quadratic
-  // tetrahedron's nodes that their steps take (toKindForm); a cell found curved is the curved
-  // kind's.
+  // tetrahedron's nodes that their steps take (toKindForm).
   std::uint16_t flags = layout.order == 3 ? HigherOrderTetCell<3>::validate(nodes, Mesh_.pointRounding)
     : layout.order == 4                   ? HigherOrderTetCell<4>::validate(nodes, Mesh_.pointRounding)
                                           : 0;
@@ -426,39 +460,18 @@ std::uint16_t Scene::validate(
       return kOutOfScale; // a Lagrange cell's Bernstein coefficients beyond double range
     }
   }
-  const CellKind kind = tetdsr::kindOf(layout, (flags & kCurved) != 0);
-  switch (kind)
+  // A cell found curved is the curved kind's: its Jacobian's sign.
+  switch (tetdsr::kindOf(layout, (flags & kCurved) != 0))
   {
     case CellKind::CurvedTet:
-      flags = CurvedTetCell::validate(nodes, flags);
-      break;
+      return CurvedTetCell::validate(nodes, flags);
     case CellKind::CurvedCubicTet:
-      flags = CurvedHigherOrderTetCell<3>::validate(nodes, flags);
-      break;
+      return CurvedHigherOrderTetCell<3>::validate(nodes, flags);
     case CellKind::CurvedQuarticTet:
-      flags = CurvedHigherOrderTetCell<4>::validate(nodes, flags);
-      break;
+      return CurvedHigherOrderTetCell<4>::validate(nodes, flags);
     default:
-      break;
+      return flags;
   }
-  if (!(flags & kValid))
-  {
-    return flags;
-  }
-  // A curved cell's box (its control points') can be far larger than its vertices' edges: a
-  // mid-edge node at 1e300 passes the size check and would give the scene an overflowing box.
-  if (!forKind(kind, [&](auto cell) { return decltype(cell)::extent(nodes, extentLo, extentHi); }) ||
-    !(std::max({ extentHi.x - extentLo.x, extentHi.y - extentLo.y, extentHi.z - extentLo.z }) <=
-      QuadraticTetCell::kMaxCellSize))
-  {
-    return kOutOfScale;
-  }
-  validCell.id = static_cast<std::uint32_t>(cell);
-  double lo, hi;
-  forKind(kind, [&](auto cell) { decltype(cell)::valueBound(values, Transverse_, lo, hi); });
-  validCell.valueLo = roundDown(lo);
-  validCell.valueHi = roundUp(hi);
-  return static_cast<std::uint16_t>(flags | (layout.order > 2 ? kHigherOrder : 0));
 }
 
 bool Scene::polynomialWeights(const NodeId* ids, int count) const

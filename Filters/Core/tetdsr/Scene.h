@@ -286,6 +286,13 @@ private:
   /// valid one, fills its entry and its extent (the kind's). CellStatus bits.
   std::uint16_t validate(
     NodeId cellId, ValidCell& validCell, glm::dvec3& extentLo, glm::dvec3& extentHi) const;
+  /// validate's first step: the cell's type, offsets and ids (its layout, and where its ids
+  /// are); 0 if they can be read, else the status saying why not.
+  std::uint16_t checkIds(NodeId cellId, CellLayout& layout, const NodeId*& ids) const;
+  /// validate's second: the nodes' values and coordinates, then the order's and kind's geometry
+  /// checks; the nodes in the form the kind's steps take (toKindForm). CellStatus bits.
+  std::uint16_t checkNodes(const CellLayout& layout, const NodeId* ids,
+    glm::dvec3 nodes[kMaxCellNodes], double values[kMaxCellNodes]) const;
   /// The box (box units) of a cell with this extent and longest edge.
   BoxItem boxOf(const glm::dvec3& extentLo, const glm::dvec3& extentHi, double maxEdge) const;
 

@@ -500,14 +500,71 @@ double refineBernsteinRoot(const double b[D + 1], double lo, double hi)
   return x;
 }
 
+namespace detail
+{
+/// An interval [lo, hi] of [0, 1] and the polynomial's Bernstein coefficients on it.
+template <int D>
+struct RootInterval
+{
+  double lo, hi;
+  double c[D + 1];
+};
+
+/// The two halves of an interval, by de Casteljau at its middle.
+template <int D>
+void halve(const RootInterval<D>& piece, RootInterval<D>& left, RootInterval<D>& right)
+{
+  left.lo = piece.lo;
+  left.hi = right.lo = 0.5 * (piece.lo + piece.hi);
+  right.hi = piece.hi;
+  double work[D + 1];
+  std::copy(piece.c, piece.c + D + 1, work);
+  for (int level = 0; level <= D; ++level)
+  {
+    left.c[level] = work[0];
+    right.c[D - level] = work[D - level];
+    for (int k = 0; k < D - level; ++k)
+    {
+      work[k] = 0.5 * (work[k] + work[k + 1]);
+    }
+  }
+}
+
+/// What an interval's coefficients say about its roots.
+enum class RootTest
+{
+  None,     ///< one sign (beyond the pad): no root
+  One,      ///< exactly one root, bracketed by the ends' signs
+  Unknown   ///< to be halved
+};
+
+template <int D>
+RootTest rootTest(const RootInterval<D>& piece, double pad)
+{
+  double lo, hi;
+  bernstein::range(piece.c, D + 1, lo, hi);
+  if (lo > pad || hi < -pad)
+  {
+    return RootTest::None;
+  }
+  int changes = 0;
+  for (int k = 0; k < D; ++k)
+  {
+    changes += (piece.c[k] < 0.0) != (piece.c[k + 1] < 0.0);
+  }
+  // One sign change proves exactly one root (Descartes' rule of signs in Bernstein form).
+  return changes == 1 && (piece.c[0] < 0.0) != (piece.c[D] < 0.0) ? RootTest::One : RootTest::Unknown;
+}
+} // namespace detail
+
 /// Certified first root on [0, 1] of a univariate polynomial of degree D given by its Bernstein
 /// coefficients b[0..D] (b[0] = f(0), b[D] = f(1)). Coefficients of one sign exclude a root (the
 /// convex hull); exactly one sign change in them proves exactly one root (Descartes' rule in
 /// Bernstein form), which is then bracketed by the polynomial's own values at the interval's ends
-/// and refined by bisection with secant steps to the last bit. Otherwise the interval is halved
-/// (de Casteljau), the left half first. An interval narrower than kRootWidth whose coefficients
-/// still straddle 0 (a tangent or near-tangent root: several sign changes that never separate) is
-/// taken as a root at its middle, flagged uncertified. Returns false if there is no root.
+/// and refined to rounding. Otherwise the interval is halved (de Casteljau), the left half first.
+/// An interval narrower than kRootWidth whose coefficients still straddle 0 (a tangent or
+/// near-tangent root: several sign changes that never separate) is taken as a root at its
+/// middle, flagged uncertified. Returns false if there is no root.
 template <int D>
 bool firstBernsteinRoot(const double b[D + 1], double& root, bool& certified)
 {
@@ -517,16 +574,7 @@ bool firstBernsteinRoot(const double b[D + 1], double& root, bool& certified)
   /// Coefficients within this of the largest (relative) prove no sign: each is a de Casteljau
   /// combination of the cell's coefficients, rounded by a few eps per step.
   constexpr double kCoefficientRounding = 16.0 * D * std::numeric_limits<double>::epsilon();
-  struct Interval
-  {
-    double lo, hi;
-    double c[D + 1];
-  };
-  double largest = 0.0;
-  for (int k = 0; k <= D; ++k)
-  {
-    largest = std::max(largest, std::abs(b[k]));
-  }
+  const double largest = bernstein::magnitude(b, D + 1);
   if (!(largest > 0.0) || !std::isfinite(largest))
   {
     return false;
@@ -534,7 +582,7 @@ bool firstBernsteinRoot(const double b[D + 1], double& root, bool& certified)
   const double pad = kCoefficientRounding * largest;
   // Depth-first, left half first: the first interval settled holds the first root.
   constexpr int kMaxDepth = 64;
-  Interval stack[kMaxDepth + 2];
+  detail::RootInterval<D> stack[kMaxDepth + 2];
   int top = 0;
   stack[top].lo = 0.0;
   stack[top].hi = 1.0;
@@ -542,62 +590,35 @@ bool firstBernsteinRoot(const double b[D + 1], double& root, bool& certified)
   ++top;
   while (top > 0)
   {
-    const Interval piece = stack[--top];
-    double lo, hi;
-    bernstein::range(piece.c, D + 1, lo, hi);
-    if (lo > pad || hi < -pad)
+    const detail::RootInterval<D> piece = stack[--top];
+    const detail::RootTest test = detail::rootTest(piece, pad);
+    if (test == detail::RootTest::None)
     {
-      continue; // one sign: no root here
+      continue;
     }
-    if (std::abs(piece.c[0]) <= pad && piece.lo == 0.0)
+    certified = true;
+    if (piece.lo == 0.0 && std::abs(piece.c[0]) <= pad)
     {
-      // f(0) is zero to rounding: the root is the start.
-      root = 0.0;
-      certified = true;
+      root = 0.0; // f(0) is zero to rounding: the root is the start
       return true;
     }
-    int changes = 0;
-    for (int k = 0; k < D; ++k)
-    {
-      changes += (piece.c[k] < 0.0) != (piece.c[k + 1] < 0.0);
-    }
     const bool endsDiffer = (piece.c[0] < 0.0) != (piece.c[D] < 0.0);
-    if (changes == 1 && endsDiffer)
+    if (test == detail::RootTest::One ||
+      ((piece.hi - piece.lo <= kRootWidth || top >= kMaxDepth) && endsDiffer))
     {
+      // A sign change of f itself at the ends: a root in the interval.
       root = refineBernsteinRoot<D>(b, piece.lo, piece.hi);
-      certified = true;
       return true;
     }
     if (piece.hi - piece.lo <= kRootWidth || top >= kMaxDepth)
     {
-      if (endsDiffer)
-      {
-        root = refineBernsteinRoot<D>(b, piece.lo, piece.hi);
-        certified = true; // a sign change of f itself: a root in the interval
-        return true;
-      }
       root = 0.5 * (piece.lo + piece.hi);
       certified = false;
       return true;
     }
     // Halve: the right half pushed first, the left popped first.
-    Interval left, right;
-    left.lo = piece.lo;
-    left.hi = right.lo = 0.5 * (piece.lo + piece.hi);
-    right.hi = piece.hi;
-    double work[D + 1];
-    std::copy(piece.c, piece.c + D + 1, work);
-    for (int level = 0; level <= D; ++level)
-    {
-      left.c[level] = work[0];
-      right.c[D - level] = work[D - level];
-      for (int k = 0; k < D - level; ++k)
-      {
-        work[k] = 0.5 * (work[k] + work[k + 1]);
-      }
-    }
-    stack[top++] = right;
-    stack[top++] = left;
+    detail::halve(piece, stack[top + 1], stack[top]);
+    top += 2;
   }
   return false;
 }
