@@ -200,7 +200,8 @@ bool describeSkipped(const PreprocessSummary& summary, NodeId numberOfCells, Nod
     warnings.push_back(text("Skipped ", summary.malformedCells,
       " malformed cells: a number of node ids that does not fit the type (4 for VTK_TETRA, 10 "
       "for VTK_QUADRATIC_TETRA, a tetrahedral number 4, 10, 20, 35, ... for Lagrange and Bezier "
-      "tetrahedra), or offsets out of order or past the end of the connectivity array."));
+      "tetrahedra; VTK's 15-node Lagrange tetrahedron, with face and body nodes, is not read), "
+      "or offsets out of order or past the end of the connectivity array."));
   }
   if (summary.rationalCells > 0)
   {
