@@ -405,3 +405,91 @@ TEST(HigherOrder, UnreadableCellsAreSkippedAndCounted)
   EXPECT_EQ(scene.summary().rationalCells, 1);
   EXPECT_EQ(scene.summary().validCells, 5);
 }
+
+TEST(HigherOrder, HitsDoNotDependOnTheScaleOfFieldOrCoordinatesOrTheirOffset)
+{
+  // The torus in Lagrange order-4 cells with its field scaled to the ends of double range (the
+  // conversion to Bernstein sums up to 35 times a node's magnitude), its coordinates scaled by
+  // 1e-90 and 1e90, and offset by 1e6: the same hits as the unit scene.
+  const Field field = torus();
+  // (A lattice whose nodes have no short binary form: offset, they round.)
+  const HigherOrderLattice base = makeHigherOrderLattice(
+    2, glm::dvec3(0.0501, 0.0299, 0.0703), 0.93, [](int) { return lagrange(4); }, field.value);
+  tetdsr::Camera camera;
+  camera.position = glm::dvec3(2.0, 1.5, 3.0);
+  camera.focalPoint = glm::dvec3(0.5);
+  auto render = [&](const HigherOrderLattice& mesh, double fieldScale, double lengthScale,
+                  const glm::dvec3& offset) {
+    tetdsr::Camera moved = camera;
+    moved.position = camera.position * lengthScale + offset;
+    moved.focalPoint = camera.focalPoint * lengthScale + offset;
+    const tetdsr::Scene scene(mesh.view());
+    const tetdsr::SurfaceIndex surface(scene, tetdsr::IsoValues({ field.isoValue * fieldScale }));
+    const tetdsr::RayGenerator rays(moved, 24, 24);
+    std::vector<double> depths;
+    for (int j = 0; j < 24; ++j)
+    {
+      for (int i = 0; i < 24; ++i)
+      {
+        tetdsr::SurfaceHit hit;
+        depths.push_back(surface.firstHit(rays.pixelRay(i, j), hit) ? hit.t / lengthScale : -1.0);
+      }
+    }
+    return depths;
+  };
+  const std::vector<double> reference = render(base, 1.0, 1.0, glm::dvec3(0.0));
+  ASSERT_GT(std::count_if(reference.begin(), reference.end(), [](double t) { return t > 0; }), 60);
+  for (const double fieldScale : { 1e-300, 1e-200, 1e155, 1e300 })
+  {
+    HigherOrderLattice mesh = base;
+    for (double& v : mesh.values)
+    {
+      v *= fieldScale;
+    }
+    const std::vector<double> depths = render(mesh, fieldScale, 1.0, glm::dvec3(0.0));
+    for (std::size_t p = 0; p < depths.size(); ++p)
+    {
+      EXPECT_NEAR(depths[p], reference[p], 1e-12) << "field scale " << fieldScale << " pixel " << p;
+    }
+  }
+  for (const double lengthScale : { 1e-90, 1e90 })
+  {
+    HigherOrderLattice mesh = base;
+    for (double& x : mesh.points)
+    {
+      x *= lengthScale;
+    }
+    const std::vector<double> depths = render(mesh, 1.0, lengthScale, glm::dvec3(0.0));
+    for (std::size_t p = 0; p < depths.size(); ++p)
+    {
+      EXPECT_NEAR(depths[p], reference[p], 1e-9) << "length scale " << lengthScale << " pixel " << p;
+    }
+  }
+  // Offset by about 1e6 (by numbers with no short binary form, so that vertices and camera round
+  // too): the node positions themselves round at 1e6 * 2^-53 = 1.1e-10, which moves the surface
+  // by about that (the quadratic cells' hard case: 7.8e-10 of the diagonal).
+  HigherOrderLattice mesh = base;
+  const glm::dvec3 offset(1e6 / 3.0, -1e6 / 7.0, 1e6 / 1.1);
+  for (std::size_t p = 0; p < mesh.points.size(); ++p)
+  {
+    mesh.points[p] += offset[static_cast<int>(p % 3)];
+  }
+  const std::vector<double> depths = render(mesh, 1.0, 1.0, offset);
+  int coverage = 0;
+  double worst = 0.0;
+  for (std::size_t p = 0; p < depths.size(); ++p)
+  {
+    if ((depths[p] > 0) != (reference[p] > 0))
+    {
+      ++coverage;
+    }
+    else if (depths[p] > 0)
+    {
+      worst = std::max(worst, std::abs(depths[p] - reference[p]));
+    }
+  }
+  std::cout << "torus offset by 1e6: " << coverage << " coverage differences, max depth difference "
+            << worst << "\n";
+  EXPECT_LE(coverage, 2) << "pixels whose coverage the offset changes (silhouette rays)";
+  EXPECT_LT(worst, 1e-9);
+}
