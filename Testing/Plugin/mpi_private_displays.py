@@ -13,6 +13,7 @@ times, each said); any other failure is reported at once.
 Usage: mpi_private_displays.py <ranks> <seconds per attempt> <command> [arguments...]
 """
 import os
+import random
 import signal
 import subprocess
 import sys
@@ -23,23 +24,43 @@ REFUSALS = ("bad X server connection", "unable to open display", "cannot connect
 
 
 def start_server():
-    """An Xvfb on a free display (-displayfd: the server picks it and writes it back)."""
-    read, write = os.pipe()
-    server = subprocess.Popen(
-        ["Xvfb", "-displayfd", str(write), "-screen", "0", "1280x1024x24", "-nolisten", "tcp"],
-        pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    os.close(write)
-    number = b""
-    while not number.endswith(b"\n"):
-        chunk = os.read(read, 16)
-        if not chunk:
-            break
-        number += chunk
-    os.close(read)
-    if not number.strip():
+    """An Xvfb on a display of its own: a random number in [100, 900) without a lock file (not
+    the lowest free one, which every other -displayfd user on the machine picks too: two servers
+    racing for a stale lock of :0 were seen to leave a rank's connection refused on every
+    attempt), ready when it writes its number back through -displayfd; another number if that
+    one fails to start."""
+    for _ in range(20):
+        number = random.randrange(100, 900)
+        if os.path.exists(f"/tmp/.X{number}-lock"):
+            continue
+        read, write = os.pipe()
+        server = subprocess.Popen(
+            ["Xvfb", f":{number}", "-displayfd", str(write), "-screen", "0", "1280x1024x24",
+             "-nolisten", "tcp"],
+            pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        os.close(write)
+        written = b""
+        while not written.endswith(b"\n"):
+            chunk = os.read(read, 16)
+            if not chunk:
+                break
+            written += chunk
+        os.close(read)
+        if written.strip():
+            return server, ":" + written.decode().strip()
+        stop_server(server)
+    raise RuntimeError("mpi_private_displays: Xvfb did not start on 20 displays")
+
+
+def stop_server(server):
+    """Terminates an Xvfb so that it removes its lock file and socket (SIGKILL leaves them for the
+    next server to race over); killed if it has not exited within 5 s."""
+    server.terminate()
+    try:
+        server.wait(timeout=5)
+    except subprocess.TimeoutExpired:
         server.kill()
-        raise RuntimeError("mpi_private_displays: Xvfb did not start")
-    return server, ":" + number.decode().strip()
+        server.wait()
 
 
 def attempt(ranks, seconds, command):
@@ -64,8 +85,7 @@ def attempt(ranks, seconds, command):
             return None, output
     finally:
         for server, _ in servers:
-            server.kill()
-            server.wait()
+            stop_server(server)
 
 
 def main():
