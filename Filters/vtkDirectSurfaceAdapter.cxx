@@ -229,7 +229,11 @@ bool PreparedMesh::Prepare(vtkUnstructuredGrid* input, vtkDataArray* scalars, in
   arrays.cellTypes = ViewOf(input->GetCellTypesArray(), fresh.Viewed);
   arrays.field = ViewOf(scalars, fresh.Viewed);
   arrays.fieldComponent = component;
-  arrays.rationalWeights = ViewOf(input->GetPointData()->GetRationalWeights(), fresh.Viewed);
+  if (vtkDataArray* weights = input->GetPointData()->GetRationalWeights())
+  {
+    arrays.rationalWeights = ViewOf(weights, fresh.Viewed);
+    arrays.hasRationalWeights = true;
+  }
   bool prepared = false;
   WithThreads(numberOfThreads,
     [&]() { prepared = fresh.Core.prepare(arrays, transverse, SMPParallelFor, messages); });

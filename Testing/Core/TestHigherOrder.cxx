@@ -376,14 +376,15 @@ TEST(HigherOrder, UnreadableCellsAreSkippedAndCounted)
   HigherOrderLattice mesh = makeHigherOrderLattice(
     1, glm::dvec3(0.0), 1.0, [&](int k) { return k % 2 ? bezier(3) : lagrange(4); },
     [](const glm::dvec3& x) { return x.x; });
-  // Append an order-5 cell and a 15-node one reusing ids 0..55 / 0..14 (ids are in range).
+  // Append an order-5 cell, a 15-node one reusing ids 0..55 / 0..14 (ids are in range), and one
+  // of order 65 (50,116 ids: VTK reads any order; the fuzzer found it called malformed).
   const auto pointsBefore = static_cast<tetdsr::NodeId>(mesh.points.size() / 3);
   ASSERT_GE(pointsBefore, 56);
-  for (int count : { 56, 15 })
+  for (int count : { 56, 15, 50116 })
   {
     for (int id = 0; id < count; ++id)
     {
-      mesh.connectivity.push_back(id);
+      mesh.connectivity.push_back(id % 56);
     }
     mesh.offsets.push_back(static_cast<tetdsr::NodeId>(mesh.connectivity.size()));
     mesh.cellTypes.push_back(tetdsr::kVtkLagrangeTetrahedron);
@@ -394,7 +395,7 @@ TEST(HigherOrder, UnreadableCellsAreSkippedAndCounted)
   {
     const tetdsr::Scene scene(view);
     EXPECT_EQ(scene.summary().validCells, 6);
-    EXPECT_EQ(scene.summary().orderTooHighCells, 1);
+    EXPECT_EQ(scene.summary().orderTooHighCells, 2);
     EXPECT_EQ(scene.summary().malformedCells, 1);
     EXPECT_EQ(scene.summary().rationalCells, 0);
   }
@@ -492,4 +493,106 @@ TEST(HigherOrder, HitsDoNotDependOnTheScaleOfFieldOrCoordinatesOrTheirOffset)
             << worst << "\n";
   EXPECT_LE(coverage, 2) << "pixels whose coverage the offset changes (silhouette rays)";
   EXPECT_LT(worst, 1e-9);
+}
+
+TEST(HigherOrder, ConstantFieldsEqualToTheIsoValueCoverTheCellAsALinearTetDoes)
+{
+  // A constant field equal to the iso-value: every ray through the cell meets it where it enters,
+  // for a constant of any value and scale. (Found by the fuzzer: the Lagrange conversion spreads
+  // a constant's coefficients by tens of ulps, which the quadratic's 8-ulp test took for a
+  // polynomial of rounding noise: hits on some pixels, all or none, depending on the value.)
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> uniform(-2.0, 2.0);
+  tetdsr::Camera camera;
+  camera.position = glm::dvec3(1.9, 1.4, 2.6);
+  camera.focalPoint = glm::dvec3(0.5);
+  auto covered = [&](const HigherOrderCell& kind, double c) {
+    const HigherOrderLattice mesh = makeHigherOrderLattice(
+      1, glm::dvec3(0.0), 1.0, [&](int) { return kind; }, [c](const glm::dvec3&) { return c; });
+    const tetdsr::Scene scene(mesh.view());
+    const tetdsr::SurfaceIndex surface(scene, tetdsr::IsoValues({ c }));
+    const tetdsr::RayGenerator rays(camera, 24, 24);
+    int hits = 0;
+    for (int j = 0; j < 24; ++j)
+    {
+      for (int i = 0; i < 24; ++i)
+      {
+        tetdsr::SurfaceHit hit;
+        hits += surface.firstHit(rays.pixelRay(i, j), hit);
+      }
+    }
+    return hits;
+  };
+  const HigherOrderCell linear{ tetdsr::kVtkTetra, 1, false };
+  int wrong = 0;
+  for (int k = 0; k < 40; ++k)
+  {
+    const double c = uniform(rng) * std::pow(10.0, static_cast<int>(uniform(rng) * 100));
+    const int expected = covered(linear, c);
+    ASSERT_GT(expected, 100);
+    for (const HigherOrderCell kind : { lagrange(3), lagrange(4), bezier(3), bezier(4) })
+    {
+      wrong += covered(kind, c) != expected;
+    }
+  }
+  EXPECT_EQ(wrong, 0) << "of 160 constant fields";
+}
+
+TEST(HigherOrder, NormalsSurviveAGradientBelowDoubleRange)
+{
+  // A field near 1e-280 on cells of size 1e93: the gradient (1e-373) underflows; the hit keeps
+  // the scaled gradient, whose direction is the unit scene's (found by the fuzzer: zero normals).
+  const Field field = cubicBlob();
+  for (const HigherOrderCell kind : { HigherOrderCell{ tetdsr::kVtkQuadraticTetra, 2, false }, lagrange(3), lagrange(4) })
+  {
+    auto normals = [&](double fieldScale, double lengthScale) {
+      HigherOrderLattice mesh =
+        makeHigherOrderLattice(2, glm::dvec3(0.0), 1.0, [&](int) { return kind; }, field.value);
+      for (double& v : mesh.values)
+      {
+        v *= fieldScale;
+      }
+      for (double& x : mesh.points)
+      {
+        x *= lengthScale;
+      }
+      const tetdsr::Scene scene(mesh.view());
+      const tetdsr::SurfaceIndex surface(scene, tetdsr::IsoValues({ field.isoValue * fieldScale }));
+      tetdsr::Camera camera;
+      camera.position = glm::dvec3(1.9, 1.3, 2.4) * lengthScale;
+      camera.focalPoint = glm::dvec3(0.5) * lengthScale;
+      const tetdsr::RayGenerator rays(camera, 16, 16);
+      std::vector<glm::dvec3> gradients;
+      for (int j = 0; j < 16; ++j)
+      {
+        for (int i = 0; i < 16; ++i)
+        {
+          tetdsr::SurfaceHit hit;
+          gradients.push_back(surface.firstHit(rays.pixelRay(i, j), hit) ? hit.gradient : glm::dvec3(0.0));
+        }
+      }
+      return gradients;
+    };
+    const std::vector<glm::dvec3> reference = normals(1.0, 1.0);
+    const std::vector<glm::dvec3> tiny = normals(1e-280, 1e93);
+    int hits = 0, zero = 0;
+    double worst = 0.0;
+    for (std::size_t p = 0; p < reference.size(); ++p)
+    {
+      if (glm::length(reference[p]) == 0.0)
+      {
+        continue;
+      }
+      ++hits;
+      if (!(glm::length(tiny[p]) > 0.0))
+      {
+        ++zero;
+        continue;
+      }
+      worst = std::max(worst, angleBetween(tiny[p], reference[p]));
+    }
+    EXPECT_GT(hits, 30) << "order " << kind.order;
+    EXPECT_EQ(zero, 0) << "order " << kind.order << ": hits with a zero normal";
+    EXPECT_LT(worst, 1e-6) << "order " << kind.order;
+  }
 }

@@ -393,3 +393,25 @@ TEST(IsoValues, ManyInOneCellGiveTheFirstCrossingOfAny)
     }
   EXPECT_GT(hits, 200);
 }
+
+TEST(MeshInput, AnEmptyRationalWeightsArrayIsAShortOneNotNone)
+{
+  // (Found by the fuzzer: an empty array's data pointer is null, as "no array" was told apart.)
+  LatticeArrays own(makeLattice(1, glm::dvec3(0.0), 1.0));
+  own.Mesh.sample([](const glm::dvec3& x) { return x.x; });
+  for (const bool given : { false, true })
+  {
+    tetdsr::MeshArrays arrays = own.arrays();
+    arrays.rationalWeights = { nullptr, tetdsr::NumberType::Float64, 0, 1, "RationalWeights" };
+    arrays.hasRationalWeights = given;
+    tetdsr::Messages messages;
+    tetdsr::PreparedMesh prepared;
+    EXPECT_EQ(prepared.prepare(arrays, tetdsr::TransverseTest(), tetdsr::serialFor, messages), !given);
+    if (given)
+    {
+      ASSERT_EQ(messages.errors.size(), 1u);
+      EXPECT_EQ(messages.errors[0], "The rational weights array 'RationalWeights' has 0 tuples of 1 "
+        "components for " + std::to_string(arrays.points.tuples) + " points: it needs one value per point.");
+    }
+  }
+}

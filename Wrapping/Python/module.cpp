@@ -305,6 +305,7 @@ bool Prepare(PyPreparedMesh& self, AnyArray points, AnyArray cellTypes, AnyArray
   if (rationalWeights)
   {
     arrays.rationalWeights = CopyOf(*rationalWeights, "rational_weights", copies[5]);
+    arrays.hasRationalWeights = true;
     arrays.rationalWeights.name = "RationalWeights";
   }
   self.Copied = std::move(copies);

@@ -248,8 +248,8 @@ struct SurfaceHit
 {
   double t = 0.0; ///< ray parameter (distance along the unit direction)
   NodeId cellId = -1;
-  /// Exact field gradient at the hit; for a field so large that it overflows, the gradient
-  /// scaled down by a power of two (the same direction).
+  /// Exact field gradient at the hit; for a field so large (or small) that it overflows (or
+  /// underflows), the gradient scaled by a power of two (the same direction).
   glm::dvec3 gradient{ 0.0 };
   std::size_t isoIndex = 0;   ///< which iso-value was crossed, in IsoValues::sorted() order
   /// Where this crossing ends: t, or for a cell where the field equals the iso-value throughout,
@@ -299,11 +299,34 @@ inline double longestEdge(const glm::dvec3 vertices[4])
   return std::sqrt(longest2);
 }
 
-/// Whether a field whose Bernstein bound is [lo, hi] is constant over the cell to rounding: the
-/// bound's width within 8 roundings of its magnitude (the coefficients' own rounding is 2-3).
-inline bool constantToRounding(double lo, double hi)
+/// The roundings, relative to the largest nodal magnitude, by which a cell of this order's
+/// Bernstein coefficients can spread for a constant field: 8 (their own rounding is 2-3), plus for
+/// orders 3 and 4 the Lagrange conversion's (HigherOrderTet.h: a sum of N = 20 or 35 products
+/// with weights of absolute sum at most 10 or 35, rounded by at most N times that; the fuzzer found
+/// a constant order-4 field spread by 27 ulps, made a polynomial of rounding noise at 8).
+constexpr double constantRoundings(int order)
 {
-  return hi - lo <= 8.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(lo), std::abs(hi));
+  return order <= 2 ? 8.0 : order == 3 ? 8.0 + 20.0 * 10.0 : 8.0 + 35.0 * 35.0;
+}
+
+/// Whether a field of this order whose Bernstein bound is [lo, hi] is constant over the cell to
+/// rounding: the bound's width within constantRoundings(order) of its magnitude.
+inline bool constantToRounding(double lo, double hi, int order = 2)
+{
+  return hi - lo <= constantRoundings(order) * std::numeric_limits<double>::epsilon() *
+    std::max(std::abs(lo), std::abs(hi));
+}
+
+/// A hit's gradient from one computed for the field scaled by `scale` (a power of two): unscaled
+/// exactly, unless that overflows or underflows (a field near the ends of double range): then
+/// the scaled one, whose direction is the same.
+inline glm::dvec3 unscaledGradient(const glm::dvec3& scaled, double scale)
+{
+  const glm::dvec3 unscaled = scaled / scale;
+  const double largest = std::max({ std::abs(unscaled.x), std::abs(unscaled.y), std::abs(unscaled.z) });
+  const bool underflows = largest < std::numeric_limits<double>::min() &&
+    (scaled.x != 0.0 || scaled.y != 0.0 || scaled.z != 0.0);
+  return isFinite(unscaled) && !underflows ? unscaled : scaled;
 }
 
 } // namespace tetdsr

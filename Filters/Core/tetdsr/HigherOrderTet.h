@@ -33,19 +33,22 @@ constexpr int kMaxTetOrder = 4;
 /// The most nodes a cell of the core's kinds has (order kMaxTetOrder).
 constexpr int kMaxCellNodes = latticeCount(kMaxTetOrder);
 
-/// The order P of a tetrahedron with `nodes` nodes: the P with latticeCount(P) == nodes; 0 if
-/// `nodes` is no tetrahedral number (up to order 64).
+/// The order P of a tetrahedron with `nodes` nodes: the P with (P + 1)(P + 2)(P + 3) / 6 == nodes
+/// (any P, as VTK reads them); 0 if `nodes` is no tetrahedral number.
 inline int tetOrderOf(long long nodes)
 {
-  for (int p = 1; p <= 64; ++p)
+  // (Beyond 2^50 ids, 8 PiB of connectivity, none is taken: the product below stays in range.)
+  if (nodes < 4 || nodes > (1LL << 50))
   {
-    if (latticeCount(p) == nodes)
+    return 0;
+  }
+  // P is within 2 of the cube root of 6 nodes (the product lies between P^3 and (P + 3)^3).
+  const auto estimate = static_cast<long long>(std::cbrt(6.0 * static_cast<double>(nodes)));
+  for (long long p = std::max(1LL, estimate - 3); p <= estimate + 1; ++p)
+  {
+    if ((p + 1) * (p + 2) * (p + 3) / 6 == nodes)
     {
-      return p;
-    }
-    if (latticeCount(p) > nodes)
-    {
-      break;
+      return static_cast<int>(p);
     }
   }
   return 0;

@@ -80,7 +80,7 @@ struct HigherOrderTetCell
     cell.order = P;
     double lo, hi;
     bernstein::range(values, kNodes, lo, hi);
-    if (constantToRounding(lo, hi))
+    if (constantToRounding(lo, hi, P))
     {
       // QuadraticTetCell's constant record: a form whose coefficients span [lo, hi] (scaled).
       std::fill(cell.form, cell.form + kCellNodes, lo * cell.scale);
@@ -136,9 +136,9 @@ struct HigherOrderTetCell
     hit.t = tCentre + s;
     hit.regionEnd = hit.t;
     hit.cellId = cell.cellId;
-    // Unscaled exactly (a power of two), unless that overflows: then the scaled gradient.
+    // Unscaled exactly (a power of two), unless that overflows or underflows.
     const glm::dvec3 gradient = latticeGradient(c, frame, LHit);
-    hit.gradient = isFinite(gradient / cell.scale) ? gradient / cell.scale : gradient;
+    hit.gradient = unscaledGradient(gradient, cell.scale);
     return true;
   }
 

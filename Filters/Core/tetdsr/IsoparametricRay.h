@@ -131,7 +131,7 @@ bool intersect(const Geometry& geometry, const typename Geometry::Form& field, d
   {
     *pieces = 0;
   }
-  if (constantToRounding(boundLo, boundHi))
+  if (constantToRounding(boundLo, boundHi, Form::kDegree))
   {
     return constantCrossing(isoValues, boundLo, boundHi, scale, equations, depth,
       std::isfinite(lo) && contains(ray.origin + tMin * ray.direction), lo, hi, tCentre, s, hit);
@@ -159,9 +159,9 @@ bool intersect(const Geometry& geometry, const typename Geometry::Form& field, d
   certified = root.certified;
   hit.t = (tCentre + root.value) / s;
   hit.regionEnd = hit.t;
-  // grad_x f = s grad_X f; unscaled exactly (a power of two) unless that overflows.
+  // grad_x f = s grad_X f; unscaled exactly (a power of two) unless that overflows or underflows.
   const glm::dvec3 gradient = curvedGradient(geometry, field, root.L) * s;
-  hit.gradient = isFinite(gradient / scale) ? gradient / scale : gradient;
+  hit.gradient = unscaledGradient(gradient, scale);
   return true;
 }
 

@@ -157,7 +157,8 @@ bool checkArrays(const MeshArrays& arrays, NodeId numberOfCells, Messages& messa
     return false;
   }
   const ArrayView& weights = arrays.rationalWeights;
-  if (weights.data && (weights.tuples < numberOfPoints || weights.components != 1))
+  if (arrays.hasRationalWeights &&
+    (weights.tuples < numberOfPoints || weights.components != 1 || !weights.data))
   {
     messages.errors.push_back(text("The rational weights array '", nameOf(weights), "' has ",
       weights.tuples, " tuples of ", weights.components, " components for ", numberOfPoints,
@@ -337,7 +338,7 @@ bool PreparedMesh::prepare(const MeshArrays& arrays, const TransverseTest& trans
   mesh.offsets = asIds(arrays.offsets, in.Offsets);
   mesh.connectivity = asIds(arrays.connectivity, in.Connectivity);
   mesh.connectivitySize = arrays.connectivity.tuples;
-  if (arrays.rationalWeights.data)
+  if (arrays.hasRationalWeights)
   {
     mesh.rationalWeights = asDoubles(arrays.rationalWeights, numberOfPoints, 0, 1, in.Weights);
   }

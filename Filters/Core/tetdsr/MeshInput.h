@@ -57,8 +57,9 @@ struct MeshArrays
   ArrayView field;        ///< the scalar field: one tuple per point, any NumberType
   int fieldComponent = 0; ///< the component of `field` that is contoured
   /// VTK's rational weights of Bezier cells (vtkPointData::GetRationalWeights): one value per
-  /// point, any NumberType; no data when the mesh has none.
+  /// point, any NumberType; read when `hasRationalWeights` (an empty array is an array: too short).
   ArrayView rationalWeights;
+  bool hasRationalWeights = false;
 };
 
 /// "The input mesh is empty ..." unless there are points and cells.

@@ -439,10 +439,10 @@ inline bool QuadraticTetCell::intersect(const CellRecord& cell, const Ray& ray,
   hit.t = tCentre + sHit;
   hit.regionEnd = hit.t;
   hit.cellId = cell.cellId;
-  // Unscaled exactly (a power of two), unless that overflows (a field near the largest double):
-  // then the scaled gradient, whose direction is the same.
+  // Unscaled exactly (a power of two), unless that overflows or underflows (a field near the
+  // ends of double range): then the scaled gradient, whose direction is the same.
   const glm::dvec3 gradient = fieldGradient(form, frame, LHit);
-  hit.gradient = isFinite(gradient / cell.scale) ? gradient / cell.scale : gradient;
+  hit.gradient = unscaledGradient(gradient, cell.scale);
   return true;
 }
 
