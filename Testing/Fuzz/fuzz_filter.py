@@ -1282,7 +1282,8 @@ def run_tasks(tasks, seed, jobs, timeout, on_result, stop_at=None):
 
 PRIORITY = ["incomplete-output", "miss-not-clean", "hit-cell-out-of-range", "hit-bad-depth",
             "hit-bad-normal", "hit-zero-normal-on-varying-field", "miss-color-value", "hit-on-invalid-cell", "invalid-cell-rendered",
-            "hit-reads-past-color-array", "cell-counts", "scale-variance"]
+            "hit-reads-past-color-array", "error-missing", "skip-counts", "warning-missing",
+            "cell-counts", "scale-variance"]
 
 
 def signature_of(result):

@@ -210,7 +210,8 @@ def predict(types, offsets, conn, points, values, weights):
     error = None
     w = None
     if weights is not None:
-        weights = np.asarray(weights, dtype=np.float64).reshape(len(weights), -1)
+        weights = np.asarray(weights, dtype=np.float64)
+        weights = weights.reshape(len(weights), -1) if weights.size else weights.reshape(0, 1)
         if len(weights) < npts or weights.shape[1] != 1:
             error = "The rational weights array"
         else:
