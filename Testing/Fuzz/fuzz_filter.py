@@ -349,6 +349,7 @@ def apply_hostile_knobs(case, mesh, values, box):
         mesh.conn = np.tile(first, copies)
         mesh.offsets = np.arange(0, 10 * copies + 1, 10, dtype=np.int64)
         mesh.types = np.full(copies, VTK_QUADRATIC_TETRA, dtype=np.uint8)
+        mesh.orders = np.full(copies, 2)
         case.note("duplicate_cells: %d copies of cell %d" % (copies, np.argmax(finite)))
     if (rng := case.knob("cell_types")):
         count = int(rng.integers(1, len(mesh.types) + 1))
@@ -373,7 +374,7 @@ def apply_hostile_knobs(case, mesh, values, box):
         case.note("cell_sizes: sizes %s" % sorted(set(len(c) for c in cells)))
     if (rng := case.knob("ho_counts")):
         case.note("ho_counts: " + ho.hostile_counts(rng, mesh, int(rng.integers(1, 4))))
-    if (rng := case.knob("conn_garbage")):
+    if (rng := case.knob("conn_garbage")) and len(mesh.conn) > 1:
         count = int(rng.integers(1, 6))
         for _ in range(count):
             at = int(rng.integers(len(mesh.conn)))

@@ -148,6 +148,8 @@ def hostile_counts(rng, mesh, count):
     """`count` cells made Lagrange or Bezier tetrahedra with a hostile number of ids (padded with
     valid ids of the mesh). Returns a description."""
     cells = [list(mesh.cell_nodes(c)) for c in range(len(mesh.types))]
+    if len(mesh.orders) != len(cells):
+        mesh.orders = np.zeros(len(cells), dtype=int)
     npts = len(mesh.points)
     made = []
     for c in rng.integers(0, len(cells), count):
