@@ -173,6 +173,7 @@ def rational_weights(rng, npts, bezier_cells, mesh):
     if kind in ("one_cell", "zero", "negative", "nan", "inf") and bezier_cells:
         ids = mesh.cell_nodes(int(pick(rng, bezier_cells)))
         node = ids[int(rng.integers(len(ids)))] if len(ids) else 0
+        node = node if 0 <= node < npts else 0  # (ids made garbage by other knobs)
         w[node] = {"one_cell": w[node] * 1.5, "zero": 0.0, "negative": -w[node],
                    "nan": np.nan, "inf": np.inf}[kind]
     elif kind == "differ":
