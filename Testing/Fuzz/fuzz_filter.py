@@ -148,6 +148,7 @@ class Mesh:
         self.orders = np.full(len(cells), 2)  # each cell's order as made (higher_order_cases)
         self.weights = None  # a RationalWeights array (numpy), or None
         self.curved_cost = 0  # cells of order 3-4 bent off their straight places
+        self.bent = False  # whether any cell was bent by the higher-order knobs
 
     def ten_ids(self):
         """Whether every cell has 10 ids, one after another (what the quadratic knobs edit)."""
@@ -239,6 +240,7 @@ def apply_mesh_knobs(case):
         if ho_rng.random() < 0.4:
             moved = ho.bend(ho_rng, mesh, float(pick(ho_rng, [1e-3, 0.01, 0.03])), 0.5)
             mesh.curved_cost += ho.curved_cost_cells(mesh, moved)
+            mesh.bent = mesh.bent or bool(moved)
             what += ", %d cells bent" % len(moved)
         case.note("higher_order: " + what)
     mesh.field = random_field(field_kind, mesh.points, rng)
@@ -303,6 +305,7 @@ def apply_hostile_knobs(case, mesh, values, box):
         moved = ho.bend(rng, mesh, amplitude, float(rng.uniform(0.1, 1.0)),
                         vertices_too=rng.random() < 0.3)
         mesh.curved_cost += ho.curved_cost_cells(mesh, moved)
+        mesh.bent = mesh.bent or bool(moved)
         case.note("ho_bend: %d cells by %g" % (len(moved), amplitude))
     if (rng := case.knob("ho_values")):
         # A field near the largest double (a Lagrange cell's Bernstein coefficients sum up to 35
@@ -756,7 +759,7 @@ def ray_budget(case, size, mesh):
     under ASan."""
     if "duplicate_cells" in case.active and min(size) > 0:
         size = (min(size[0], 8), min(size[1], 8))
-        if "curved" in case.active:
+        if "curved" in case.active or mesh.bent:
             # A curved copy costs a subdivision solve per ray, not a closed form: 1 to 6 s per
             # ray for 65,536 copies in the release build (docs/reliability-and-limits.md), about 5 times that
             # under ASan: one ray.
