@@ -8,7 +8,10 @@ pixel is checked:
         count, ids in range and distinct, finite coordinates and values), unit normal (zero
         only where the cell's nodal values are all equal);
   an Update without an error message gives the full image of the asked size, renders at least
-  one cell and counts every input cell once (rendered or skipped for some reason).
+  one cell and counts every input cell once (rendered or skipped for some reason);
+  the skip counters and warnings, and the refusals, are those higher_order_cases.predict gives
+  from the input alone (Unsupported, Malformed, OrderTooHigh, InvalidId, Rational, NonFinite
+  exactly; Degenerate at least). Meshes include Lagrange and Bezier tetrahedra of orders 1-5.
 Errors are allowed (hostile input may be refused); crashes, sanitizer reports, hangs and broken
 invariants are failures. Some cases also render the mesh scaled by a power of ten and compare.
 

@@ -11,6 +11,11 @@ worker processes (each runs many cases; a crash or a hang costs one restart). A 
   filter: the filter on meshes with hostile arrays and every setter given hostile values (NaN,
           inf, strings, floats for integers, huge integers, wrong VTK types, None), arrays
           edited in place without Modified() between Updates.
+Both also take meshes of Lagrange and Bezier tetrahedra of orders 1-5 mixed with VTK_TETRA and
+VTK_QUADRATIC_TETRA (higher_order_cases.py): hostile id counts, nodes bent by small to huge
+amounts or NaN, fields near the largest double, RationalWeights of every kind and length, and
+weights, types or points edited after prepare; where their arrays are otherwise untouched, the
+skip counts, warnings and refusals must be those higher_order_cases.predict gives.
 Allowed: an image, or a refusal (a Python exception of the binding's kinds: TypeError,
 ValueError, RuntimeError, MemoryError, OverflowError; or the filter's error message). Failures:
 a crash, a hang, a Python traceback printed from inside VTK's pipeline, an exception of another
