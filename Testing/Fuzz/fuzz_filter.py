@@ -8,7 +8,10 @@ pixel is checked:
         count, ids in range and distinct, finite coordinates and values), unit normal (zero
         only where the cell's nodal values are all equal);
   an Update without an error message gives the full image of the asked size, renders at least
-  one cell and counts every input cell once (rendered or skipped for some reason).
+  one cell and counts every input cell once (rendered or skipped for some reason);
+  the skip counters and warnings, and the refusals, are those higher_order_cases.predict gives
+  from the input alone (Unsupported, Malformed, OrderTooHigh, InvalidId, Rational, NonFinite
+  exactly; Degenerate at least). Meshes include Lagrange and Bezier tetrahedra of orders 1-5.
 Errors are allowed (hostile input may be refused); crashes, sanitizer reports, hangs and broken
 invariants are failures. Some cases also render the mesh scaled by a power of ten and compare.
 
@@ -35,6 +38,8 @@ import zlib
 
 import numpy as np
 
+import higher_order_cases as ho
+
 VTK_TETRA, VTK_HEXAHEDRON, VTK_QUADRATIC_TETRA, VTK_LAGRANGE_TETRAHEDRON = 10, 12, 24, 71
 # Node pairs of the six mid-edge nodes of a VTK quadratic tet (nodes 4..9).
 MID_EDGES = np.array([(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)])
@@ -44,6 +49,7 @@ HUGE_ID = 2 ** 62
 # ("mesh" is always on; the HOSTILE ones only in hostile cases).
 KNOBS = {
     "mesh": 1.0,
+    "higher_order": 0.3,
     "transform": 0.5,
     "curved": 0.1,
     "inverted": 0.15,
@@ -53,6 +59,10 @@ KNOBS = {
     "nonfinite_coords": 0.1,
     "nonfinite_field": 0.1,
     "flat_cells": 0.1,
+    "ho_bend": 0.5,
+    "ho_values": 0.15,
+    "ho_counts": 0.12,
+    "ho_weights": 0.25,
     "conn_garbage": 0.15,
     "cell_types": 0.15,
     "cell_sizes": 0.1,
@@ -77,7 +87,7 @@ KNOBS = {
 }
 # Knobs that break the mesh itself; off in "clean" and "scale check" cases.
 HOSTILE = {"scale_coords", "scale_field", "unused_points", "nonfinite_coords", "nonfinite_field",
-           "flat_cells", "conn_garbage", "cell_types", "cell_sizes", "offsets", "types_length",
+           "flat_cells", "ho_bend", "ho_values", "ho_counts", "ho_weights", "conn_garbage", "cell_types", "cell_sizes", "offsets", "types_length",
            "duplicate_cells", "points_float32", "scalar_array", "reupdate"}
 
 
@@ -138,6 +148,18 @@ class Mesh:
         self.storage32 = False
         self.soa_points = False  # points in a structure-of-arrays layout
         self.field_layout = None  # None (float64, AOS) or a vtkSOADataArrayTemplate type name
+        self.orders = np.full(len(cells), 2)  # each cell's order as made (higher_order_cases)
+        self.weights = None  # a RationalWeights array (numpy), or None
+        self.curved_cost = 0  # cells of order 3-4 bent off their straight places
+        self.bent = False  # whether any cell was bent by the higher-order knobs
+
+    def ten_ids(self):
+        """Whether every cell has 10 ids, one after another (what the quadratic knobs edit)."""
+        return len(self.offsets) == len(self.types) + 1 and np.array_equal(
+            self.offsets, np.arange(0, 10 * len(self.types) + 1, 10))
+
+    def cell_nodes(self, c):
+        return self.conn[self.offsets[c]:self.offsets[c + 1]]
 
     def cells(self):
         """Cells as lists of ids (only for well-formed offsets)."""
@@ -209,6 +231,21 @@ def apply_mesh_knobs(case):
         mesh = soup_mesh(n, rng)
     field_kind = pick(rng, ["quadratic", "quadratic", "sphere", "linear", "noise", "constant"])
     case.note("mesh: %s n=%d field=%s" % (kind, n, field_kind))
+    if (ho_rng := case.knob("higher_order")):
+        # The same straight cells as Lagrange and Bezier tetrahedra of orders 1 to 4 (5 in
+        # hostile cases), alone or mixed with VTK_TETRA and VTK_QUADRATIC_TETRA, each with nodes
+        # of its own; some bent a little off their straight places (curved, valid).
+        vertices = mesh.points[mesh.conn.reshape(-1, 10)[:, :4]]
+        made, what = ho.make_mesh(ho_rng, vertices, case.profile == "hostile")
+        mesh.points, mesh.types, mesh.offsets, mesh.conn = made.points, made.types, \
+            made.offsets, made.conn
+        mesh.orders = made.orders
+        if ho_rng.random() < 0.4:
+            moved = ho.bend(ho_rng, mesh, float(pick(ho_rng, [1e-3, 0.01, 0.03])), 0.5)
+            mesh.curved_cost += ho.curved_cost_cells(mesh, moved)
+            mesh.bent = mesh.bent or bool(moved)
+            what += ", %d cells bent" % len(moved)
+        case.note("higher_order: " + what)
     mesh.field = random_field(field_kind, mesh.points, rng)
     inner = np.quantile(mesh.field, rng.uniform(0.05, 0.95, int(rng.integers(1, 3))))
     values = [float(v) for v in inner]
@@ -219,12 +256,12 @@ def apply_mesh_knobs(case):
         shift = rng.normal(size=3) * pick(rng, [1.0, 10.0, 1e6, 1e9])
         mesh.points = (mesh.points * scale) @ q.T + shift
         case.note("transform: shift %.3g" % np.linalg.norm(shift))
-    if (rng := case.knob("curved")):  # mid-edge nodes moved off their edges
+    if (rng := case.knob("curved")) and mesh.ten_ids():  # mid-edge nodes moved off their edges
         mids = np.unique(mesh.conn.reshape(-1, 10)[:, 4:])
         who = rng.choice(mids, int(rng.integers(1, len(mids) + 1)))
         mesh.points[who] += rng.normal(0, 0.05, (len(who), 3)) * np.ptp(mesh.points, axis=0).max()
         case.note("curved: moved %d mid-edge nodes" % len(who))
-    if (rng := case.knob("inverted")):
+    if (rng := case.knob("inverted")) and mesh.ten_ids():
         flip = rng.random(len(mesh.types)) < 0.5
         cells = mesh.conn.reshape(-1, 10)
         cells[flip] = cells[flip][:, [0, 2, 1, 3, 6, 5, 4, 7, 9, 8]]
@@ -263,7 +300,29 @@ def apply_hostile_knobs(case, mesh, values, box):
         where = rng.integers(0, len(mesh.field), count)
         mesh.field[where] = [pick(rng, [np.nan, np.inf, -np.inf, 1e308]) for _ in where]
         case.note("nonfinite_field: points %s" % where.tolist())
-    if (rng := case.knob("flat_cells")):
+    if (rng := case.knob("ho_bend")) and "higher_order" in case.active:
+        # Nodes moved by small to huge amounts: curved, tangled, inverted, out of scale,
+        # non-finite (the vertices too in some cases).
+        amplitude = float(pick(rng, [1e-15, 1e-6, 0.05, 0.3, 1.0, 10.0, 1e6, 1e150, 1e300,
+                                     np.nan, np.inf]))
+        moved = ho.bend(rng, mesh, amplitude, float(rng.uniform(0.1, 1.0)),
+                        vertices_too=rng.random() < 0.3)
+        mesh.curved_cost += ho.curved_cost_cells(mesh, moved)
+        mesh.bent = mesh.bent or bool(moved)
+        case.note("ho_bend: %d cells by %g" % (len(moved), amplitude))
+    if (rng := case.knob("ho_values")):
+        # A field near the largest double (a Lagrange cell's Bernstein coefficients sum up to 35
+        # times a node's magnitude) or spanning the whole double range.
+        top = float(pick(rng, [1.7976931348623157e308, 1e308, 1e308 / 35, 5e306, 1e-300]))
+        largest = np.nanmax(np.abs(np.where(np.isfinite(mesh.field), mesh.field, 0.0)))
+        factor = top / largest if largest > 0 else 1.0
+        mesh.field = mesh.field * factor
+        values = [v * factor for v in values]
+        if rng.random() < 0.3:  # a few nodes at +-max, the rest as they were
+            where = rng.integers(0, len(mesh.field), int(rng.integers(1, 4)))
+            mesh.field[where] = pick(rng, [1.7976931348623157e308, -1.7976931348623157e308])
+        case.note("ho_values: largest %g" % np.nanmax(np.abs(mesh.field)))
+    if (rng := case.knob("flat_cells")) and mesh.ten_ids():
         # Vertices moved onto (or next to) the plane, line or point of others: zero volume,
         # slivers and needles, with the mid-edge nodes kept at the midpoints.
         cells = mesh.conn.reshape(-1, 10)
@@ -287,7 +346,7 @@ def apply_hostile_knobs(case, mesh, values, box):
             mesh.field = np.append(mesh.field, mesh.field[cells[c]])
             cells[c] = ids
             case.note("flat_cells: cell %d %s" % (c, kind))
-    if (rng := case.knob("duplicate_cells")):
+    if (rng := case.knob("duplicate_cells")) and mesh.ten_ids():
         copies = pick(rng, [65535, 65536, 70000])
         cells = mesh.conn.reshape(-1, 10)
         finite = np.all(np.isfinite(mesh.points[cells]), axis=(1, 2)) & \
@@ -296,6 +355,7 @@ def apply_hostile_knobs(case, mesh, values, box):
         mesh.conn = np.tile(first, copies)
         mesh.offsets = np.arange(0, 10 * copies + 1, 10, dtype=np.int64)
         mesh.types = np.full(copies, VTK_QUADRATIC_TETRA, dtype=np.uint8)
+        mesh.orders = np.full(copies, 2)
         case.note("duplicate_cells: %d copies of cell %d" % (copies, np.argmax(finite)))
     if (rng := case.knob("cell_types")):
         count = int(rng.integers(1, len(mesh.types) + 1))
@@ -303,7 +363,7 @@ def apply_hostile_knobs(case, mesh, values, box):
         # VTK_TETRA (with 10 ids), hexahedron, empty cell, quadratic hexahedron, Lagrange
         # tetrahedron, and a type VTK does not have. (Not VTK_POLYHEDRON: vtkUnstructuredGrid
         # itself crashes on one without faces.)
-        mesh.types[who] = [pick(rng, [VTK_TETRA, VTK_TETRA, VTK_HEXAHEDRON, 0, 25, 71, 255])
+        mesh.types[who] = [pick(rng, [VTK_TETRA, VTK_TETRA, VTK_HEXAHEDRON, 0, 25, 71, 78, 255])
                            for _ in who]
         case.note("cell_types: %s" % sorted(set(zip(who.tolist(), mesh.types[who].tolist())))[:6])
     if (rng := case.knob("cell_sizes")):
@@ -318,7 +378,9 @@ def apply_hostile_knobs(case, mesh, values, box):
         mesh.conn = np.array([i for c in cells for i in c], dtype=np.int64)
         mesh.offsets = np.concatenate([[0], np.cumsum([len(c) for c in cells])]).astype(np.int64)
         case.note("cell_sizes: sizes %s" % sorted(set(len(c) for c in cells)))
-    if (rng := case.knob("conn_garbage")):
+    if (rng := case.knob("ho_counts")):
+        case.note("ho_counts: " + ho.hostile_counts(rng, mesh, int(rng.integers(1, 4))))
+    if (rng := case.knob("conn_garbage")) and len(mesh.conn) > 1:
         count = int(rng.integers(1, 6))
         for _ in range(count):
             at = int(rng.integers(len(mesh.conn)))
@@ -350,6 +412,11 @@ def apply_hostile_knobs(case, mesh, values, box):
         mesh.types = (mesh.types[:delta] if delta < 0 else
                       np.append(mesh.types, np.full(delta, VTK_QUADRATIC_TETRA, np.uint8)))
         case.note("types_length: %+d" % delta)
+    if (rng := case.knob("ho_weights")):
+        bezier = [c for c in range(len(mesh.types)) if mesh.types[c] == ho.VTK_BEZIER_TETRAHEDRON]
+        mesh.weights, kind = ho.rational_weights(rng, len(mesh.points), bezier, mesh)
+        mesh.weights_soa = rng.random() < 0.15
+        case.note("ho_weights: %s, %s %s" % (kind, mesh.weights.dtype, mesh.weights.shape))
     if case.knob("points_float32"):
         mesh.point_dtype = np.float32
         case.note("points_float32")
@@ -437,6 +504,11 @@ def make_grid(V, mesh):
     if mesh.storage32 and np.all(np.abs(mesh.conn) < 2 ** 31):
         cells.ConvertTo32BitStorage()
     grid.SetCells(to_vtk(mesh.types), cells)
+    if mesh.weights is not None:
+        weights = (to_soa(mesh.weights, "float64", "RationalWeights")
+                   if getattr(mesh, "weights_soa", False) and len(mesh.weights) else
+                   to_vtk(mesh.weights, "RationalWeights"))
+        grid.GetPointData().SetRationalWeights(weights)
     return grid
 
 
@@ -676,17 +748,29 @@ def set_more_options(case, caster):
         caster.SetNumberOfThreads(int(rng.integers(1, 5)))
 
 
-def ray_budget(case, size):
+# Ray tests of curved cells of order 3 and 4 a case may cost: each is a subdivision solve, about
+# 100-300 us in the release build and 5 times that under ASan, so 3,000 of them take at most ~5 s
+# there. A case renders up to 3 times (first update, re-update, scale check); every ray is
+# counted as testing every bent order-3/4 cell (an upper bound: a ray tests the cells whose
+# boxes it meets), so rays <= 3000 / (3 x bent cells).
+CURVED_HIGHER_ORDER_TESTS = 3000
+
+
+def ray_budget(case, size, mesh):
     """The image size, capped where every ray tests 65,536+ coincident cells (the cost docs/reliability-and-limits.md
     states): a few rays exercise the hierarchy's counts as well as many, within the hang timeout
     under ASan."""
     if "duplicate_cells" in case.active and min(size) > 0:
         size = (min(size[0], 8), min(size[1], 8))
-        if "curved" in case.active:
+        if "curved" in case.active or mesh.bent:
             # A curved copy costs a subdivision solve per ray, not a closed form: 1 to 6 s per
             # ray for 65,536 copies in the release build (docs/reliability-and-limits.md), about 5 times that
             # under ASan: one ray.
             size = (min(size[0], 1), min(size[1], 1))
+    if mesh.curved_cost and min(size) > 0:
+        rays = max(1, CURVED_HIGHER_ORDER_TESTS // (3 * mesh.curved_cost))
+        while size[0] * size[1] > rays:
+            size = (max(1, size[0] // 2), max(1, size[1] // 2))
     return size
 
 
@@ -707,19 +791,10 @@ def image_size_knob(case):
 # ---------------------------------------------------------------------------------------------
 # Invariants
 
-# Why a cell must be skipped, by the filter's counters (the first reason that applies).
-UNSUPPORTED, MALFORMED = "unsupported type", "wrong number of ids for the type"
-INVALID_ID, REPEATED_ID = "id out of range", "repeated id"
-NONFINITE_VERTEX = "non-finite vertex coordinate"
-NONFINITE_MIDEDGE = "non-finite mid-edge coordinate"
-NONFINITE_VALUE, SHORT_FIELD = "non-finite value", "node past the end of the scalar array"
-COUNTER_OF = {UNSUPPORTED: "Unsupported", MALFORMED: "Malformed", INVALID_ID: "InvalidId",
-              REPEATED_ID: "Degenerate",
-              NONFINITE_VERTEX: "NonFinite", NONFINITE_MIDEDGE: "NonFinite",
-              NONFINITE_VALUE: "NonFinite"}
-# The filter's skip counters (GetNumberOf<name>Cells); later versions may add some.
+# The filter's skip counters (GetNumberOf<name>Cells); later versions may add some. Which cells
+# must be skipped, and why, higher_order_cases.predict says.
 SKIP_COUNTERS = ["Degenerate", "NonFinite", "InvalidId", "Unsupported", "Malformed", "OutOfScale",
-                 "Tangled"]
+                 "Tangled", "OrderTooHigh", "Rational"]
 
 
 # Reference coordinates of VTK's 10 quadratic-tetra nodes, and the quadratic monomials in them.
@@ -756,62 +831,64 @@ def critical_value_at(nodal, isos, rel=1e-12):
 
 def invalid_cells(V, grid, field):
     """Per input cell: the reason the filter must skip it ("" if none), the cell's largest
-    node id, and whether the field varies over its nodes; (None, None, None) when the offsets
-    or the types array are not sane."""
+    node id, and whether the field varies over its nodes; and the error the input must be
+    refused with (None if none is predicted). (None, None, None, None) when the offsets or the
+    types array are not sane."""
     vtk_to_numpy = V.numpy_support.vtk_to_numpy
     cells = grid.GetCells()
     offsets = vtk_to_numpy(cells.GetOffsetsArray()).astype(np.int64)
     conn = vtk_to_numpy(cells.GetConnectivityArray()).astype(np.int64)
     types = vtk_to_numpy(grid.GetCellTypesArray())
-    if (len(offsets) < 1 or offsets[0] != 0 or np.any(np.diff(offsets) < 0)
-            or offsets[-1] != len(conn) or len(types) != len(offsets) - 1):
-        return None, None, None
     points = as_numpy(V, grid.GetPoints().GetData())
     npts = len(points)
-    finite_point = np.all(np.isfinite(points), axis=1)
-    values = np.full(npts, np.nan)
-    known = np.zeros(npts, dtype=bool)
+    values = None
     if field is not None:
+        values = np.full(npts, np.nan)
         n = min(npts, len(field))
         values[:n] = np.asarray(field, dtype=np.float64)[:n]
-        known[:n] = True
-    reasons = np.full(len(types), "", dtype=object)
+    weights = grid.GetPointData().GetRationalWeights()
+    reasons, error = ho.predict(types, offsets, conn, points, values,
+                                None if weights is None else as_numpy(V, weights))
+    if reasons is None:
+        return None, None, None, None
     largest = np.full(len(types), -1, dtype=np.int64)
     varying = np.zeros(len(types), dtype=bool)
+    known = values if values is not None else np.full(npts, np.nan)
     for c in range(len(types)):
         ids = conn[offsets[c]:offsets[c + 1]]
         largest[c] = ids.max() if len(ids) else -1
         inside = ids[(ids >= 0) & (ids < npts)]
-        varying[c] = len(inside) > 0 and np.ptp(values[inside]) > 0
-        # A Lagrange tetrahedron is read with 4 or 10 ids (orders 1, 2: the fuzzer's cells have no
-        # more) as the linear or quadratic tet with the same nodes.
-        if types[c] not in (VTK_QUADRATIC_TETRA, VTK_TETRA, VTK_LAGRANGE_TETRAHEDRON):
-            reasons[c] = UNSUPPORTED
-        elif (len(ids) not in (4, 10) if types[c] == VTK_LAGRANGE_TETRAHEDRON
-              else len(ids) != (10 if types[c] == VTK_QUADRATIC_TETRA else 4)):
-            reasons[c] = MALFORMED
-        elif np.any((ids < 0) | (ids >= npts)):
-            reasons[c] = INVALID_ID
-        elif len(set(ids.tolist())) != len(ids):
-            reasons[c] = REPEATED_ID
-        elif not np.all(finite_point[ids[:4]]):
-            reasons[c] = NONFINITE_VERTEX
-        elif not np.all(finite_point[ids]):
-            reasons[c] = NONFINITE_MIDEDGE
-        elif field is not None and not np.all(known[ids]):
-            reasons[c] = SHORT_FIELD
-        elif field is not None and not np.all(np.isfinite(values[ids])):
-            reasons[c] = NONFINITE_VALUE
-    return reasons, largest, varying
+        varying[c] = len(inside) > 0 and np.ptp(known[inside]) > 0
+    return reasons, largest, varying, error
 
 
-def check_output(V, caster, msgs, size, grid, field, colours):
-    """Broken invariants as {name: detail}."""
+def nodal_quadratic(V, grid, cell, field):
+    """The 10 nodal values of a cell of order 2 (a Bezier cell's control values converted:
+    mid-edge value = (b_a + b_b) / 4 + b_ab / 2), or None for other cells."""
+    ids = V.vtkIdList()
+    grid.GetCellPoints(cell, ids)
+    if ids.GetNumberOfIds() != 10:
+        return None
+    nodal = np.array([field[ids.GetId(i)] for i in range(10)], dtype=np.float64)
+    if grid.GetCellType(cell) == ho.VTK_BEZIER_TETRAHEDRON:
+        nodal[4:] = 0.25 * (nodal[MID_EDGES[:, 0]] + nodal[MID_EDGES[:, 1]]) + 0.5 * nodal[4:]
+    return nodal
+
+
+def check_output(V, caster, msgs, size, grid, field, colours, warnings=True):
+    """Broken invariants as {name: detail}; the skip warnings are checked when `warnings`
+    (an Update that prepared the mesh anew: a reused scene does not warn again)."""
     vtk_to_numpy = V.numpy_support.vtk_to_numpy
     broken = {}
     ncells = grid.GetNumberOfCells()
     if msgs.errors:
         return broken
+    reasons, largest, varying, expected_error = invalid_cells(V, grid, field)
+    if expected_error:
+        broken["error-missing: " + expected_error] = "no error, %d cells rendered" % (
+            caster.GetNumberOfRenderedCells())
+        return broken
+    warnings = msgs.warnings if warnings else None
     image = caster.GetOutput()
     w, h = size
     pd = image.GetPointData()
@@ -847,7 +924,6 @@ def check_output(V, caster, msgs, size, grid, field, colours):
     if values is not None:
         v = vtk_to_numpy(values)
         fail("miss-color-value", miss & ~np.isnan(v), "")
-    reasons, largest, varying = invalid_cells(V, grid, field)
     if reasons is not None:
         safe = hit & (cid >= 0) & (cid < ncells)
         hit_cells = cid[safe]
@@ -858,11 +934,8 @@ def check_output(V, caster, msgs, size, grid, field, colours):
             if flat.any():  # unless the iso-value is a critical value (to rounding) of the cell
                 isos = [caster.GetValue(i) for i in range(caster.GetNumberOfContours())]
                 for k in np.flatnonzero(flat):
-                    ids = V.vtkIdList()
-                    grid.GetCellPoints(int(cid[k]), ids)
-                    nodal = np.array([field[ids.GetId(i)] for i in range(ids.GetNumberOfIds())],
-                                     dtype=np.float64)
-                    if len(nodal) == 10 and critical_value_at(nodal, isos):
+                    nodal = nodal_quadratic(V, grid, int(cid[k]), field)
+                    if nodal is not None and critical_value_at(nodal, isos):
                         flat[k] = False
             fail("hit-zero-normal-on-varying-field", flat, "")
         on_invalid = np.zeros_like(hit)
@@ -872,29 +945,10 @@ def check_output(V, caster, msgs, size, grid, field, colours):
             fail("hit-on-invalid-cell: " + ", ".join(why), on_invalid, "")
         rendered = caster.GetNumberOfRenderedCells()
         if np.sum(reasons != "") > ncells - rendered:
-            # Name the skip counters that are short of the cells that must be skipped.
-            counter_of = dict(COUNTER_OF)
-            if not hasattr(caster, "GetNumberOfMalformedCells"):
-                counter_of[MALFORMED] = "Unsupported"  # before the Malformed counter existed
-            expected = {}
-            for reason in reasons[reasons != ""]:
-                expected[counter_of.get(reason, reason)] = \
-                    expected.get(counter_of.get(reason, reason), 0) + 1
-            short = {k: "%s %d < %d" % (k, getattr(caster, "GetNumberOf%sCells" % k)(), n)
-                     for k, n in expected.items() if k in counter_of.values() and
-                     getattr(caster, "GetNumberOf%sCells" % k)() < n}
-            short.update({k: k for k in expected if k not in counter_of.values()})
-            names = []
-            for k in short:  # the reasons behind each short counter
-                why = [r for r in set(reasons) if counter_of.get(r, r) == k]
-                if k == "NonFinite" and NONFINITE_MIDEDGE in why and \
-                        expected[k] - caster.GetNumberOfNonFiniteCells() <= \
-                        np.sum(reasons == NONFINITE_MIDEDGE):
-                    why = [NONFINITE_MIDEDGE]
-                names += why
-            broken["invalid-cell-rendered: " + ", ".join(sorted(names))] = \
-                "%d cells to skip, %d of %d rendered: %s" % (
-                    np.sum(reasons != ""), rendered, ncells, "; ".join(short.values()))
+            broken["invalid-cell-rendered"] = "%d cells to skip, %d of %d rendered" % (
+                np.sum(reasons != ""), rendered, ncells)
+        counts = {k: getattr(caster, "GetNumberOf%sCells" % k)() for k in SKIP_COUNTERS}
+        ho.check_counts(reasons, counts, warnings, broken)
         if colours is not None and caster.GetColorByArray():
             # A hit in a cell with nodes beyond a short colour array reads values that do not
             # exist.
@@ -925,7 +979,7 @@ def run_case(V, seed, index, without=(), verbose=False):
     camera = camera_knob(V, case, box)
     if camera is not None:
         caster.SetCamera(camera)
-    size = ray_budget(case, image_size_knob(case))
+    size = ray_budget(case, image_size_knob(case), mesh)
     caster.SetImageSize(*size)
     finite = mesh.field[np.isfinite(mesh.field)]
     colours = set_options(V, case, caster, values, box, grid,
@@ -946,7 +1000,8 @@ def run_case(V, seed, index, without=(), verbose=False):
 
     if (rng := case.knob("reupdate")) and not msgs.errors:
         kind = pick(rng, ["ids_invalid", "ids_invalid_cells", "field", "points", "iso", "size",
-                          "camera"])
+                          "camera", "weights", "types"])
+        weights = grid.GetPointData().GetRationalWeights()
         vtk_to_numpy = V.numpy_support.vtk_to_numpy
         if kind.startswith("ids_invalid"):  # every id out of range, the array marked modified
             conn = grid.GetCells().GetConnectivityArray()
@@ -961,12 +1016,25 @@ def run_case(V, seed, index, without=(), verbose=False):
                     scalars.SetComponent(i, k, -scalars.GetComponent(i, k))
             scalars.Modified()
             field = None if field is None else -np.asarray(field, dtype=np.float64)
+        elif kind == "weights" and weights is not None and weights.GetNumberOfTuples():
+            for i in range(weights.GetNumberOfTuples()):  # differing within most cells
+                weights.SetComponent(i, 0, 1.0 + i % 3)
+            weights.Modified()
+        elif kind == "weights":  # weights where there were none
+            grid.GetPointData().SetRationalWeights(to_vtk(
+                1.0 + np.arange(grid.GetNumberOfPoints()) % 2, "RationalWeights"))
+        elif kind == "types":  # every cell's type toggled between Lagrange and Bezier
+            types = grid.GetCellTypesArray()
+            t = vtk_to_numpy(types)
+            t[:] = np.where(t == ho.VTK_LAGRANGE_TETRAHEDRON, ho.VTK_BEZIER_TETRAHEDRON,
+                            np.where(t == ho.VTK_BEZIER_TETRAHEDRON, ho.VTK_LAGRANGE_TETRAHEDRON, t))
+            types.Modified()
         elif kind == "points":
             data = grid.GetPoints().GetData()
             data.SetComponent(0, 0, np.nan)
             data.Modified()
         elif kind == "size":
-            size = ray_budget(case, (int(rng.integers(1, 40)), int(rng.integers(1, 40))))
+            size = ray_budget(case, (int(rng.integers(1, 40)), int(rng.integers(1, 40))), mesh)
             caster.SetImageSize(*size)
         elif kind == "camera":
             camera = V.vtkCamera()
@@ -982,7 +1050,7 @@ def run_case(V, seed, index, without=(), verbose=False):
         # filter execute, so that what is tested is its own cache of the prepared mesh.
         caster.Modified()
         caster.Update()
-        broken = check_output(V, caster, msgs, size, grid, field, colours)
+        broken = check_output(V, caster, msgs, size, grid, field, colours, warnings=False)
         result["broken"].update({"after-reupdate:" + k: v for k, v in broken.items()})
         result["errors"] += msgs.errors[:3]
 
@@ -1221,7 +1289,8 @@ def run_tasks(tasks, seed, jobs, timeout, on_result, stop_at=None):
 
 PRIORITY = ["incomplete-output", "miss-not-clean", "hit-cell-out-of-range", "hit-bad-depth",
             "hit-bad-normal", "hit-zero-normal-on-varying-field", "miss-color-value", "hit-on-invalid-cell", "invalid-cell-rendered",
-            "hit-reads-past-color-array", "cell-counts", "scale-variance"]
+            "hit-reads-past-color-array", "error-missing", "skip-counts", "warning-missing",
+            "cell-counts", "scale-variance"]
 
 
 def signature_of(result):

@@ -11,6 +11,11 @@ worker processes (each runs many cases; a crash or a hang costs one restart). A 
   filter: the filter on meshes with hostile arrays and every setter given hostile values (NaN,
           inf, strings, floats for integers, huge integers, wrong VTK types, None), arrays
           edited in place without Modified() between Updates.
+Both also take meshes of Lagrange and Bezier tetrahedra of orders 1-5 mixed with VTK_TETRA and
+VTK_QUADRATIC_TETRA (higher_order_cases.py): hostile id counts, nodes bent by small to huge
+amounts or NaN, fields near the largest double, RationalWeights of every kind and length, and
+weights, types or points edited after prepare; where their arrays are otherwise untouched, the
+skip counts, warnings and refusals must be those higher_order_cases.predict gives.
 Allowed: an image, or a refusal (a Python exception of the binding's kinds: TypeError,
 ValueError, RuntimeError, MemoryError, OverflowError; or the filter's error message). Failures:
 a crash, a hang, a Python traceback printed from inside VTK's pipeline, an exception of another
@@ -37,6 +42,8 @@ import traceback
 import zlib
 
 import numpy as np
+
+import higher_order_cases as ho
 
 VTK_TETRA, VTK_HEXAHEDRON, VTK_QUADRATIC_TETRA = 10, 12, 24
 MID_EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
@@ -92,6 +99,72 @@ def base_mesh(case):
     field = np.sum((points - centre) ** 2, axis=1)
     case.note("mesh: lattice %d (%d cells), field |x - c|^2" % (n, len(cells)))
     return points, cells, field
+
+
+# Ray tests of bent order-3/4 cells a case may cost (each a subdivision solve of 100-300 us; see
+# fuzz_filter.py's CURVED_HIGHER_ORDER_TESTS): a case casts up to 3 renderers, each ray counted
+# as testing every bent order-3/4 cell, so rays <= 3000 / (3 x bent cells).
+CURVED_HIGHER_ORDER_TESTS = 3000
+
+
+def higher_order_mesh(case, hostile):
+    """The lattice's cells as Lagrange and Bezier tetrahedra of orders 1-5 (mixed with VTK_TETRA
+    and VTK_QUADRATIC_TETRA), some bent (a little, or by hostile amounts), some with hostile id
+    counts, and RationalWeights. Returns (points, types, offsets, connectivity, field, weights,
+    rays allowed per renderer)."""
+    rng = case.rng("higher_order")
+    points, cells, _ = base_mesh(case)
+    mesh, what = ho.make_mesh(rng, points[cells[:, :4]], hostile)
+    amplitude = float(pick(rng, [0.0, 0.0, 1e-3, 0.03] + ([0.3, 3.0, 1e150, 1e300, np.nan]
+                                                          if hostile else [])))
+    moved = ho.bend(rng, mesh, amplitude, 0.5, vertices_too=hostile and rng.random() < 0.2) \
+        if amplitude else []
+    what += ", %d cells bent by %g" % (len(moved), amplitude)
+    if hostile and rng.random() < 0.3:
+        what += ", " + ho.hostile_counts(rng, mesh, int(rng.integers(1, 3)))
+    centre = rng.uniform(-0.5, 0.5, 3)
+    with np.errstate(all="ignore"):
+        field = np.sum((mesh.points - centre) ** 2, axis=1)
+    if hostile and rng.random() < 0.2:  # near the largest double
+        field *= float(pick(rng, [1.7976931348623157e308, 1e308 / 35])) / np.nanmax(field)
+    weights = None
+    if rng.random() < 0.4:
+        bezier = [c for c in range(len(mesh.types)) if mesh.types[c] == ho.VTK_BEZIER_TETRAHEDRON]
+        weights, kind = ho.rational_weights(rng, len(mesh.points), bezier, mesh)
+        what += ", weights %s %s %s" % (kind, weights.dtype, weights.shape)
+    case.note("higher order: " + what)
+    cost = ho.curved_cost_cells(mesh, moved)
+    rays = max(1, CURVED_HIGHER_ORDER_TESTS // (3 * cost)) if cost else None
+    return mesh.points, mesh.types, mesh.offsets, mesh.conn, field, weights, rays
+
+
+def shrink_to(h, w, rays):
+    while rays and h * w > rays:
+        h, w = max(1, h // 2), max(1, w // 2)
+    return h, w
+
+
+def check_prepare(case, arrays, ready, messages, summary, broken):
+    """The oracle on a prepare of unmodified higher-order arrays: the predicted error, or the
+    skip counts and warnings higher_order_cases.predict gives."""
+    weights = arrays.get("rational_weights")
+    reasons, error = ho.predict(arrays["cell_types"], arrays["offsets"], arrays["connectivity"],
+                                np.asarray(arrays["points"], np.float64),
+                                np.asarray(arrays["field"], np.float64), weights)
+    if reasons is None:
+        return
+    if error:  # (an earlier error, e.g. of the component asked for, may come instead)
+        if ready or not messages.errors:
+            broken["prepare:error-missing: " + error] = "ready %s, errors %s" % (
+                ready, [e[:120] for e in messages.errors[:2]])
+        return
+    if not ready:
+        return  # refused for what the oracle does not predict (geometry)
+    counts = {name: summary[key] for name, key in ho.SUMMARY_KEY.items()}
+    ho.check_counts(reasons, counts, list(messages.warnings), broken, "prepare:")
+    if counts["Rendered"] + sum(counts[k] for k in ho.SUMMARY_KEY if k != "Rendered") != \
+            len(arrays["cell_types"]):
+        broken["prepare:cell-counts"] = "%s for %d cells" % (counts, len(arrays["cell_types"]))
 
 
 def hostile_array(case, rng, array, name, ids=False):
@@ -203,17 +276,30 @@ def refused(call, case, what):
 def run_core(case):
     from tetdsr import _core as core
     broken = {}
-    points, cells, field = base_mesh(case)
     rng = case.rng("arrays")
-    types = np.full(len(cells), VTK_QUADRATIC_TETRA, np.uint8)
-    offsets = np.arange(0, cells.size + 1, 10, dtype=np.int64)
-    connectivity = cells.ravel().copy()
+    rays = None
+    if case.rng("kind").random() < 0.4:
+        points, types, offsets, connectivity, field, weights, rays = higher_order_mesh(
+            case, case.rng("kind").random() < 0.6)
+        ncells = len(types)
+        cells = None
+    else:
+        points, cells, field = base_mesh(case)
+        types = np.full(len(cells), VTK_QUADRATIC_TETRA, np.uint8)
+        offsets = np.arange(0, cells.size + 1, 10, dtype=np.int64)
+        connectivity = cells.ravel().copy()
+        weights = None
+        ncells = len(cells)
     arrays = dict(points=points, cell_types=types, offsets=offsets, connectivity=connectivity,
                   field=field)
+    if weights is not None:
+        arrays["rational_weights"] = weights
+    as_made = dict(arrays)
     for name in list(arrays):
-        if rng.random() < 0.35:
+        if rng.random() < (0.35 if cells is not None else 0.15):
             arrays[name] = hostile_array(case, rng, arrays[name], name,
                                          ids=name in ("offsets", "connectivity"))
+    pristine = cells is None and all(arrays[k] is as_made[k] for k in arrays)
     mesh = core.PreparedMesh()
     order = case.rng("order")
     if order.random() < 0.15:  # before any prepare
@@ -226,6 +312,8 @@ def run_core(case):
                                          threads=int(pick(rng, [0, 1, 2, 3])), messages=messages),
                     case, "prepare")
     case.note("prepare: %s, errors %s" % (ready, messages.errors[:1]))
+    if pristine and ready is not None:
+        check_prepare(case, arrays, ready, messages, mesh.summary, broken)
     if order.random() < 0.3:  # an in-place edit of the caller's arrays, after validation
         target = arrays[pick(order, sorted(arrays))]
         if target.size and target.flags.writeable and target.dtype != object:
@@ -240,7 +328,7 @@ def run_core(case):
     steps = int(order.integers(1, 4))
     for step in range(steps):
         srng = case.rng("renderer%d" % step)
-        h, w = int(srng.integers(1, 40)), int(srng.integers(1, 40))
+        h, w = shrink_to(int(srng.integers(1, 40)), int(srng.integers(1, 40)), rays)
         settings, colour = refused(lambda: make_settings(core, case, srng, mesh, len(points)), case,
                                    "settings") or (core.RenderSettings(), False)
         isos = pick(srng, [[0.3], [0.1, 0.5], [], [np.nan], list(np.linspace(0, 2, 50)), [1e300]])
@@ -251,14 +339,15 @@ def run_core(case):
         if renderer is not None:
             renderers.append((renderer, out))
         if order.random() < 0.2:  # prepare again: every earlier Renderer must refuse
-            refused(lambda: mesh.prepare(points, types, offsets, cells.ravel(), field,
-                                         messages=core.Messages()), case, "prepare again")
+            refused(lambda: mesh.prepare(points, types, offsets, connectivity, field,
+                                         messages=core.Messages(), rational_weights=weights),
+                    case, "prepare again")
             case.note("prepared again")
         for r, o in renderers:
             done = refused(lambda: r.cast(int(srng.integers(0, 4))), case, "cast")
             if done is not None and done == r.number_of_tiles:
-                check_image(o, len(cells), broken, "step%d" % step)
-    if order.random() < 0.3:
+                check_image(o, ncells, broken, "step%d" % step)
+    if order.random() < 0.3 and cells is not None:
         concurrent_renderers(core, case, points, cells, field, broken)
     return broken
 
@@ -335,9 +424,32 @@ def run_filter(case):
     points, cells, field = base_mesh(case)
     rng = case.rng("grid")
     grid = vtkUnstructuredGrid()
-    what = pick(rng, ["plain"] * 5 + ["empty", "all-nan", "no-cells", "multiblock", "hex"])
+    what = pick(rng, ["plain"] * 5 + ["higher-order"] * 4 +
+                ["empty", "all-nan", "no-cells", "multiblock", "hex"])
     case.note("grid: %s" % what)
-    if what == "multiblock":
+    rays = None
+    warnings = []
+    if what == "higher-order":
+        points, types, offsets, conn, field, weights, rays = higher_order_mesh(
+            case, rng.random() < 0.6)
+        p = vtkPoints()
+        p.SetData(numpy_to_vtk(np.ascontiguousarray(points), deep=1))
+        grid.SetPoints(p)
+        ca = vtkCellArray()
+        ca.SetData(numpy_to_vtkIdTypeArray(offsets.copy(), deep=1),
+                   numpy_to_vtkIdTypeArray(conn.copy(), deep=1))
+        grid.SetCells(numpy_to_vtk(types, deep=1), ca)
+        for name, v in (("f", field), ("g", points.copy())):
+            array = numpy_to_vtk(np.ascontiguousarray(v), deep=1)
+            array.SetName(name)
+            grid.GetPointData().AddArray(array)
+        grid.GetPointData().SetActiveScalars("f")
+        if weights is not None:
+            array = numpy_to_vtk(np.ascontiguousarray(weights), deep=1)
+            array.SetName("RationalWeights")
+            grid.GetPointData().SetRationalWeights(array)
+        cells = np.zeros((len(types), 0))  # (only its length is used below)
+    elif what == "multiblock":
         grid = vtkMultiBlockDataSet()
     elif what != "empty":
         p = vtkPoints()
@@ -361,7 +473,9 @@ def run_filter(case):
     caster.AddObserver(vtkCommand.ErrorEvent, lambda o, e, *a: errors.append(e))
     caster.SetInputDataObject(0, grid)
     caster.SetValue(0, 0.4)
-    caster.SetImageSize(int(rng.integers(1, 48)), int(rng.integers(1, 48)))
+    caster.AddObserver(vtkCommand.WarningEvent, lambda o, e, *a: warnings.append(
+        o.GetLastWarning() if hasattr(o, "GetLastWarning") else ""))
+    caster.SetImageSize(*shrink_to(int(rng.integers(1, 48)), int(rng.integers(1, 48)), rays))
     camera = vtkCamera()
     camera.SetPosition(2.2, 1.6, 3.0)
     caster.SetCamera(camera)
@@ -381,7 +495,29 @@ def run_filter(case):
     errors.clear()
     caster.Update()
     check_filter(caster, errors, broken, "first", vtk_to_numpy, len(cells))
+    if what == "higher-order" and not errors:
+        check_filter_counts(caster, grid, vtk_to_numpy, broken, "first:")
     refused_first = bool(errors)
+    if what == "higher-order" and rng.random() < 0.5:  # edits after prepare, with Modified()
+        edit = pick(rng, ["weights", "types", "points"])
+        if edit == "weights" or grid.GetPointData().GetRationalWeights() is None:
+            array = numpy_to_vtk(1.0 + np.arange(grid.GetNumberOfPoints()) % 3.0, deep=1)
+            array.SetName("RationalWeights")
+            grid.GetPointData().SetRationalWeights(array)
+        elif edit == "types":
+            t = vtk_to_numpy(grid.GetCellTypesArray())
+            t[:] = np.where(t == ho.VTK_LAGRANGE_TETRAHEDRON, ho.VTK_BEZIER_TETRAHEDRON, t)
+            grid.GetCellTypesArray().Modified()
+        else:
+            vtk_to_numpy(grid.GetPoints().GetData())[:5] = np.nan
+            grid.GetPoints().GetData().Modified()
+        case.note("edited %s after prepare, Modified()" % edit)
+        caster.Modified()  # the pipeline does not see an array's Modified(): the filter's own check
+        errors.clear()
+        caster.Update()
+        check_filter(caster, errors, broken, "edited", vtk_to_numpy, len(cells))
+        if not errors:
+            check_filter_counts(caster, grid, vtk_to_numpy, broken, "edited:")
     if what == "plain" and rng.random() < 0.5:  # edited in place without Modified()
         edit = pick(rng, ["ids", "points", "field"])
         if edit == "ids":
@@ -407,6 +543,26 @@ def run_filter(case):
         caster.Update()
         check_filter(caster, errors, broken, "after-edit", vtk_to_numpy, len(cells))
     return broken
+
+
+def check_filter_counts(caster, grid, vtk_to_numpy, broken, where):
+    """The filter's skip counters against higher_order_cases.predict on its input."""
+    cells = grid.GetCells()
+    weights = grid.GetPointData().GetRationalWeights()
+    reasons, error = ho.predict(
+        vtk_to_numpy(grid.GetCellTypesArray()), vtk_to_numpy(cells.GetOffsetsArray()),
+        vtk_to_numpy(cells.GetConnectivityArray()).astype(np.int64),
+        vtk_to_numpy(grid.GetPoints().GetData()).astype(np.float64),
+        vtk_to_numpy(grid.GetPointData().GetArray("f")).astype(np.float64),
+        None if weights is None else vtk_to_numpy(weights))
+    if reasons is None:
+        return
+    if error:
+        broken[where + "error-missing: " + error] = "no error"
+        return
+    counts = {name: getattr(caster, "GetNumberOf%sCells" % name)() for name in ho.SUMMARY_KEY
+              if name != "Rendered"}
+    ho.check_counts(reasons, counts, None, broken, where)
 
 
 def check_filter(caster, errors, broken, where, vtk_to_numpy, ncells):
