@@ -1,6 +1,7 @@
 #include "tetdsr/MeshInput.h"
 
 #include "tetdsr/QuadraticTetCell.h"
+#include "tetdsr/SplitCells.h"
 
 #include <algorithm>
 #include <cstring>
@@ -169,8 +170,11 @@ bool checkArrays(const MeshArrays& arrays, NodeId numberOfCells, Messages& messa
 }
 
 /// The cell types the core reads, as messages list them.
-constexpr const char* kReadTypes = "VTK_TETRA, VTK_QUADRATIC_TETRA, and VTK_LAGRANGE_TETRAHEDRON "
-                                   "or VTK_BEZIER_TETRAHEDRON of order 1 to 4";
+constexpr const char* kReadTypes =
+  "VTK_TETRA, VTK_QUADRATIC_TETRA, VTK_LAGRANGE_TETRAHEDRON or VTK_BEZIER_TETRAHEDRON of order 1 "
+  "to 4; VTK_HEXAHEDRON, VTK_VOXEL, VTK_QUADRATIC_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON or "
+  "VTK_BEZIER_HEXAHEDRON of order 1; VTK_WEDGE, VTK_QUADRATIC_WEDGE, VTK_QUADRATIC_LINEAR_WEDGE, "
+  "VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_LAGRANGE_WEDGE or VTK_BEZIER_WEDGE of order 1 or 2";
 
 /// The warnings for every kind of cell the scene skipped, then whether any cell is left.
 bool describeSkipped(const PreprocessSummary& summary, NodeId numberOfCells, NodeId numberOfPoints,
@@ -179,9 +183,9 @@ bool describeSkipped(const PreprocessSummary& summary, NodeId numberOfCells, Nod
   if (summary.unsupportedCells + summary.malformedCells + summary.orderTooHighCells == numberOfCells)
   {
     messages.errors.push_back(text("No cell can be rendered: none of the ", numberOfCells,
-      " input cells is a well-formed tetrahedron of a type TetDSR reads (", kReadTypes, "): ",
+      " input cells is a well-formed cell of a type TetDSR reads (", kReadTypes, "): ",
       summary.unsupportedCells, " of another type, ", summary.orderTooHighCells,
-      " of order above ", kMaxTetOrder, ", ", summary.malformedCells, " malformed."));
+      " of an order it does not read, ", summary.malformedCells, " malformed."));
     return false;
   }
   std::vector<std::string>& warnings = messages.warnings;
@@ -193,21 +197,27 @@ bool describeSkipped(const PreprocessSummary& summary, NodeId numberOfCells, Nod
   if (summary.orderTooHighCells > 0)
   {
     warnings.push_back(text("Skipped ", summary.orderTooHighCells,
-      " VTK_LAGRANGE_TETRAHEDRON or VTK_BEZIER_TETRAHEDRON cells of order above ", kMaxTetOrder,
-      " (more than ", kMaxCellNodes, " nodes)."));
+      " cells of an order TetDSR does not read: polynomials of total degree above ", kMaxTetOrder,
+      " (VTK_LAGRANGE_TETRAHEDRON or VTK_BEZIER_TETRAHEDRON of order above ", kMaxTetOrder,
+      ", more than ", kMaxCellNodes, " nodes; VTK_TRIQUADRATIC_HEXAHEDRON, "
+      "VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON, Lagrange or Bezier hexahedra of order 2 and above; "
+      "Lagrange or Bezier wedges of order 3 and above)."));
   }
   if (summary.malformedCells > 0)
   {
     warnings.push_back(text("Skipped ", summary.malformedCells,
       " malformed cells: a number of node ids that does not fit the type (4 for VTK_TETRA, 10 "
       "for VTK_QUADRATIC_TETRA, a tetrahedral number 4, 10, 20, 35, ... for Lagrange and Bezier "
-      "tetrahedra; VTK's 15-node Lagrange tetrahedron, with face and body nodes, is not read), "
-      "or offsets out of order or past the end of the connectivity array."));
+      "tetrahedra, 8 for VTK_HEXAHEDRON, 20 for VTK_QUADRATIC_HEXAHEDRON, a cube number for "
+      "Lagrange and Bezier hexahedra, 6 for VTK_WEDGE, 15 for VTK_QUADRATIC_WEDGE, 6, 18, 40, "
+      "... for Lagrange and Bezier wedges; VTK's 15-node Lagrange tetrahedron and 21-node "
+      "Lagrange wedge, with extra face and body nodes, are not read), or offsets out of order or "
+      "past the end of the connectivity array."));
   }
   if (summary.rationalCells > 0)
   {
     warnings.push_back(text("Skipped ", summary.rationalCells,
-      " rational VTK_BEZIER_TETRAHEDRON cells (rational weights that differ within the cell, or "
+      " rational Bezier cells (rational weights that differ within the cell, or "
       "are not positive and finite): TetDSR renders polynomial Bezier cells only."));
   }
   if (summary.tangledCells > 0)
@@ -280,6 +290,11 @@ struct PreparedMesh::Internals
   std::vector<NodeId> Connectivity;
   NodeId NumberOfPoints = 0;
 
+  /// The mesh with its hexahedra and wedges split into tetrahedra, when it has any.
+  SplitMesh Split;
+  bool IsSplit = false;
+  std::vector<double> ColorExtended; ///< a colour array extended to the split mesh's points
+
   std::unique_ptr<Scene> TheScene;
   bool Ready = false;
   std::vector<std::string> Errors; ///< the last prepare's, told again on reuse
@@ -341,6 +356,17 @@ bool PreparedMesh::prepare(const MeshArrays& arrays, const TransverseTest& trans
   if (arrays.hasRationalWeights)
   {
     mesh.rationalWeights = asDoubles(arrays.rationalWeights, numberOfPoints, 0, 1, in.Weights);
+  }
+  if (SplitMesh::needed(mesh))
+  {
+    std::string error;
+    if (!in.Split.split(mesh, parallelFor, error))
+    {
+      messages.errors.push_back(error);
+      return fail();
+    }
+    in.IsSplit = true;
+    mesh = in.Split.view();
   }
   in.TheScene.reset(new Scene(mesh, parallelFor, transverse));
   if (!describeSkipped(
@@ -405,6 +431,11 @@ const double* PreparedMesh::pointValues(
   in.ColorStamp = stamp;
   in.ColorCopy.clear();
   in.ColorValues = asDoubles(array, in.NumberOfPoints, 0, array.components, in.ColorCopy);
+  if (in.IsSplit)
+  {
+    in.Split.extend(in.ColorValues, array.components, in.ColorExtended);
+    in.ColorValues = in.ColorExtended.data();
+  }
   return in.ColorValues;
 }
 
@@ -413,7 +444,9 @@ std::size_t PreparedMesh::memoryBytes() const
   const Internals& in = *this->Internal;
   return (in.TheScene ? in.TheScene->memoryBytes() : 0) +
     (in.Surface ? in.Surface->memoryBytes() : 0) +
-    sizeof(double) * (in.Points.capacity() + in.Values.capacity() + in.ColorCopy.capacity()) +
+    in.Split.memoryBytes() +
+    sizeof(double) * (in.Points.capacity() + in.Values.capacity() + in.ColorCopy.capacity() +
+      in.ColorExtended.capacity()) +
     sizeof(NodeId) * (in.Offsets.capacity() + in.Connectivity.capacity());
 }
 

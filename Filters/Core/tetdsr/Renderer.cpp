@@ -232,7 +232,7 @@ bool Renderer::capAt(const Ray& ray, double t, int plane, std::size_t pixel) con
   const glm::dvec3 color = Settings_.colorTable.map(value);
   const glm::dvec3& normal = Settings_.clipPlanes[static_cast<std::size_t>(plane)].normal;
   Image_.depth[pixel] = t;
-  Image_.cellIds[pixel] = cellId;
+  Image_.cellIds[pixel] = Scene_.sourceCell(cellId);
   for (int c = 0; c < 3; ++c)
   {
     Image_.normals[3 * pixel + c] = normal[c];
@@ -307,7 +307,7 @@ void Renderer::renderPixel(int i, int j) const
     if (layer == 0)
     {
       Image_.depth[pixel] = hit.t;
-      Image_.cellIds[pixel] = hit.cellId;
+      Image_.cellIds[pixel] = Scene_.sourceCell(hit.cellId);
       for (int c = 0; c < 3; ++c)
       {
         Image_.normals[3 * pixel + c] = unitNormal[c];

@@ -146,6 +146,10 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
   FillLaterVector<std::uint16_t> status;
   glm::dvec3 lo, hi;
   validateCells(parallelFor, status, lo, hi);
+  if (Mesh_.sourceCells)
+  {
+    countBySource(status);
+  }
   keepValidCells(status);
   setSceneBox(lo, hi);
 }
@@ -267,10 +271,49 @@ void Scene::validateCells(const ParallelFor& parallelFor, FillLaterVector<std::u
   }
 }
 
+void Scene::countBySource(FillLaterVector<std::uint16_t>& status)
+{
+  // Serial and in input order: a few operations per cell, deterministic.
+  PreprocessSummary summary;
+  for (NodeId source = 0; source < Mesh_.numberOfSourceCells; ++source)
+  {
+    std::uint16_t flags = Mesh_.sourceStatus[source];
+    if (flags == 0)
+    {
+      const auto begin = static_cast<std::size_t>(Mesh_.sourceOffsets[source]);
+      const auto end = static_cast<std::size_t>(Mesh_.sourceOffsets[source + 1]);
+      bool allValid = begin < end;
+      for (std::size_t piece = begin; piece < end; ++piece)
+      {
+        flags |= status[piece];
+        allValid = allValid && (status[piece] & kValid);
+      }
+      if (!allValid)
+      {
+        // What skipped a piece skips the cell; the others' "valid" findings do not count.
+        flags &= static_cast<std::uint16_t>(~(kValid | kInverted | kCurved | kHigherOrder));
+        for (std::size_t piece = begin; piece < end; ++piece)
+        {
+          status[piece] &= static_cast<std::uint16_t>(~kValid);
+        }
+      }
+    }
+    count(flags, summary);
+  }
+  Summary_ = summary;
+}
+
 void Scene::keepValidCells(const FillLaterVector<std::uint16_t>& status)
 {
   const std::size_t cells = status.size();
-  if (Summary_.curvedCells > 0)
+  std::size_t valid = 0;
+  bool anyCurved = false;
+  for (const std::uint16_t flags : status)
+  {
+    valid += (flags & kValid) != 0;
+    anyCurved = anyCurved || ((flags & kValid) && (flags & kCurved));
+  }
+  if (anyCurved)
   {
     Curved_.assign(cells, 0);
     for (std::size_t cell = 0; cell < cells; ++cell)
@@ -279,7 +322,6 @@ void Scene::keepValidCells(const FillLaterVector<std::uint16_t>& status)
     }
   }
   // The valid ones, in cell order (nothing moves when all are valid).
-  const auto valid = static_cast<std::size_t>(Summary_.validCells);
   if (valid < cells)
   {
     std::size_t kept = 0;
@@ -404,20 +446,37 @@ std::uint16_t Scene::checkIds(NodeId cell, CellLayout& layout, const NodeId*& id
     return unreadable;
   }
   ids = Mesh_.connectivity + begin;
-  for (int n = 0; n < layout.nodes; ++n)
+  return checkNodeIds(Mesh_, ids, layout.nodes, layout.bezier);
+}
+
+std::uint16_t checkNodeIds(const MeshView& mesh, const NodeId* ids, int count, bool bezier)
+{
+  for (int n = 0; n < count; ++n)
   {
-    if (ids[n] < 0 || ids[n] >= Mesh_.numberOfPoints)
+    if (ids[n] < 0 || ids[n] >= mesh.numberOfPoints)
     {
       return kInvalidId;
     }
   }
-  if (!distinctIds(ids, layout.nodes))
+  if (!distinctIds(ids, count))
   {
     return kDegenerate;
   }
-  if (layout.bezier && Mesh_.rationalWeights && !polynomialWeights(ids, layout.nodes))
+  if (bezier && mesh.rationalWeights)
   {
-    return kRational;
+    // Equal weights cancel in the rational form: the cell is the polynomial one.
+    const double first = mesh.rationalWeights[ids[0]];
+    if (!(first > 0.0) || !std::isfinite(first))
+    {
+      return kRational;
+    }
+    for (int n = 1; n < count; ++n)
+    {
+      if (!(mesh.rationalWeights[ids[n]] == first))
+      {
+        return kRational;
+      }
+    }
   }
   return 0;
 }
@@ -472,24 +531,6 @@ std::uint16_t Scene::checkNodes(const CellLayout& layout, const NodeId* ids,
     default:
       return flags;
   }
-}
-
-bool Scene::polynomialWeights(const NodeId* ids, int count) const
-{
-  // Equal weights cancel in the rational form: the cell is the polynomial one.
-  const double first = Mesh_.rationalWeights[ids[0]];
-  if (!(first > 0.0) || !std::isfinite(first))
-  {
-    return false;
-  }
-  for (int n = 1; n < count; ++n)
-  {
-    if (!(Mesh_.rationalWeights[ids[n]] == first))
-    {
-      return false;
-    }
-  }
-  return true;
 }
 
 template <typename T>

@@ -44,7 +44,20 @@ struct MeshView
   /// the cell's longest edge and its coordinates' magnitude, makes the cell curved
   /// (isoparametric); closer ones are rounding.
   double pointRounding = 0x1p-52;
+
+  /// For a mesh split from another (SplitCells.h), the map back to that input's cells; null
+  /// otherwise. Counts (PreprocessSummary) and hit cell ids are then the input's.
+  const NodeId* sourceCells = nullptr;   ///< per cell: the input cell it comes from
+  const NodeId* sourceOffsets = nullptr; ///< per input cell: its first cell (+ 1 entry at the end)
+  /// per input cell: why it was not split or kept (CellStatus bits), 0 if it was
+  const std::uint16_t* sourceStatus = nullptr;
+  NodeId numberOfSourceCells = 0;
 };
+
+/// The checks of a cell's node ids that every reader of cells makes, in this order: kInvalidId
+/// (an id outside [0, numberOfPoints)), kDegenerate (an id repeated), kRational (a Bezier cell
+/// whose rational weights differ or are not positive and finite); 0 if it passes.
+std::uint16_t checkNodeIds(const MeshView& mesh, const NodeId* ids, int count, bool bezier);
 
 /// An allocator that leaves new elements default-initialised (for plain structs: unwritten), so
 /// that large arrays are first written, and their pages first touched, by the parallel loops
@@ -189,6 +202,12 @@ public:
   /// The longest edge of a valid cell.
   double cellSize(NodeId cellId) const;
 
+  /// The input's id of a cell (for a split mesh, the input cell it comes from).
+  NodeId sourceCell(NodeId cellId) const
+  {
+    return Mesh_.sourceCells ? Mesh_.sourceCells[cellId] : cellId;
+  }
+
   /// The kind of a valid cell, as validation classified it.
   CellKind kindOf(NodeId cellId) const
   {
@@ -226,6 +245,9 @@ private:
   /// Validates every cell: its status, entry and counts, and the box around the valid ones.
   void validateCells(const ParallelFor& parallelFor, FillLaterVector<std::uint16_t>& status,
     glm::dvec3& lo, glm::dvec3& hi);
+  /// For a split mesh: the counts by input cell (a cell is valid when all its pieces are; the
+  /// pieces of one that is not are dropped too).
+  void countBySource(FillLaterVector<std::uint16_t>& status);
   /// Keeps the valid cells' entries, in cell order, and marks the curved ones.
   void keepValidCells(const FillLaterVector<std::uint16_t>& status);
   /// The box around every valid cell (box units), padded.
@@ -266,8 +288,6 @@ private:
   /// Lagrange cell's nodes made Bernstein coefficients (Bezier layout).
   template <typename T>
   static void toKindForm(const CellLayout& layout, T items[kMaxCellNodes]);
-  /// Whether a Bezier cell's rational weights are equal (and positive): the polynomial cell.
-  bool polynomialWeights(const NodeId* ids, int count) const;
   /// The barycentric coordinates of `point` in a valid cell (the kind's coordinates step).
   void cellCoordinates(NodeId cellId, const glm::dvec3& point, double L[4]) const;
   /// Whether `point` lies in a valid cell (within kBarycentricTolerance), and where.
