@@ -62,7 +62,19 @@ enum class CellKind : std::uint8_t
   CubicTet,               ///< HigherOrderTetCell<3> (straight)
   QuarticTet,             ///< HigherOrderTetCell<4> (straight)
   CurvedCubicTet,         ///< CurvedHigherOrderTetCell<3>
-  CurvedQuarticTet        ///< CurvedHigherOrderTetCell<4>
+  CurvedQuarticTet,       ///< CurvedHigherOrderTetCell<4>
+  /// HigherOrderTetCell<P> and CurvedHigherOrderTetCell<P> of the piece orders (kPieceOrders):
+  /// only pieces of split hexahedra and wedges (SplitCells.h) have them.
+  Tet5,
+  Tet6,
+  Tet8,
+  Tet9,
+  Tet12,
+  CurvedTet5,
+  CurvedTet6,
+  CurvedTet8,
+  CurvedTet9,
+  CurvedTet12
 };
 
 /// Outcome bits of a cell's validation; Scene counts them (PreprocessSummary).
@@ -95,7 +107,10 @@ struct CellLayout
 /// The layout of a cell of VTK type `vtkType` with `ids` node ids; 0 (kValid) if it can be read,
 /// else the status saying why not: kUnsupported (a type the core does not read), kMalformed (an
 /// id count that does not fit the type), kOrderTooHigh.
-inline std::uint16_t cellLayout(int vtkType, long long ids, CellLayout& layout)
+/// `maxOrder` is kMaxTetOrder for an input's cells; a split mesh (SplitCells.h), whose Bezier
+/// tetrahedra above that order are the pieces of hexahedra and wedges, reads kPieceOrders too.
+inline std::uint16_t cellLayout(int vtkType, long long ids, CellLayout& layout,
+  int maxOrder = kMaxTetOrder)
 {
   switch (vtkType)
   {
@@ -114,7 +129,7 @@ inline std::uint16_t cellLayout(int vtkType, long long ids, CellLayout& layout)
       {
         return kMalformed;
       }
-      if (order > kMaxTetOrder)
+      if (order > maxOrder || !isTetOrder(order))
       {
         return kOrderTooHigh;
       }
@@ -137,6 +152,16 @@ inline CellKind kindOf(const CellLayout& layout, bool curved)
       return curved ? CellKind::CurvedTet : CellKind::QuadraticTet;
     case 3:
       return curved ? CellKind::CurvedCubicTet : CellKind::CubicTet;
+    case 5:
+      return curved ? CellKind::CurvedTet5 : CellKind::Tet5;
+    case 6:
+      return curved ? CellKind::CurvedTet6 : CellKind::Tet6;
+    case 8:
+      return curved ? CellKind::CurvedTet8 : CellKind::Tet8;
+    case 9:
+      return curved ? CellKind::CurvedTet9 : CellKind::Tet9;
+    case 12:
+      return curved ? CellKind::CurvedTet12 : CellKind::Tet12;
     default:
       return curved ? CellKind::CurvedQuarticTet : CellKind::QuarticTet;
   }
@@ -299,6 +324,12 @@ inline double longestEdge(const glm::dvec3 vertices[4])
   return std::sqrt(longest2);
 }
 
+/// The pieces of hexahedra and wedges of orders above 4 (SplitCells.h) get their Bernstein
+/// coefficients as sums over the cell's n <= 125 nodes with weights of absolute sum at most
+/// SplitShape::kMaxCoefficientWeight (checked when a shape is built): a constant field's spread by
+/// at most n times that.
+constexpr double kPieceConstantRoundings = 8.0 + 125.0 * 64.0;
+
 /// The roundings, relative to the largest nodal magnitude, by which a cell of this order's
 /// Bernstein coefficients can spread for a constant field: 8 (their own rounding is 2-3), plus for
 /// orders 3 and 4 the Lagrange conversion's (HigherOrderTet.h: a sum of N = 20 or 35 products
@@ -306,7 +337,8 @@ inline double longestEdge(const glm::dvec3 vertices[4])
 /// a constant order-4 field spread by 27 ulps, made a polynomial of rounding noise at 8).
 constexpr double constantRoundings(int order)
 {
-  return order <= 2 ? 8.0 : order == 3 ? 8.0 + 20.0 * 10.0 : 8.0 + 35.0 * 35.0;
+  return order <= 2 ? 8.0 : order == 3 ? 8.0 + 20.0 * 10.0 : order == 4 ? 8.0 + 35.0 * 35.0
+                                                                         : kPieceConstantRoundings;
 }
 
 /// Whether a field of this order whose Bernstein bound is [lo, hi] is constant over the cell to

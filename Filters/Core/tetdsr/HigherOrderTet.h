@@ -22,16 +22,54 @@
 
 #include <algorithm>
 #include <array>
+#include <type_traits>
 #include <cmath>
 #include <utility>
 
 namespace tetdsr
 {
 
-/// The highest order of Lagrange and Bezier tetrahedra the core reads.
+/// The highest order of Lagrange and Bezier tetrahedra the core reads from its input.
 constexpr int kMaxTetOrder = 4;
-/// The most nodes a cell of the core's kinds has (order kMaxTetOrder).
-constexpr int kMaxCellNodes = latticeCount(kMaxTetOrder);
+/// The orders of the tetrahedra hexahedra and wedges split into (SplitCells.h) beyond those:
+/// the total degrees of their polynomials (5: VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON; 6, 9, 12:
+/// hexahedra of order 2, 3, 4; 6, 8: wedges of order 3, 4). Only such pieces have them.
+constexpr int kPieceOrders[] = { 5, 6, 8, 9, 12 };
+constexpr int kMaxPieceOrder = 12;
+/// The most nodes a cell of the core's kinds has (order kMaxPieceOrder).
+constexpr int kMaxCellNodes = latticeCount(kMaxPieceOrder);
+
+/// Whether the core has cell kinds of this tetrahedron order: 1 to 4, and kPieceOrders.
+constexpr bool isTetOrder(int order)
+{
+  return (order >= 1 && order <= kMaxTetOrder) || order == 5 || order == 6 || order == 8 ||
+    order == 9 || order == 12;
+}
+
+/// Runs `step` with std::integral_constant<int, P> for a higher order P (3, 4 or a piece order);
+/// the one dispatch from a run-time order to the templates of that order.
+template <typename Step>
+decltype(auto) forHigherOrder(int order, Step&& step)
+{
+  switch (order)
+  {
+    case 3:
+      return step(std::integral_constant<int, 3>{});
+    case 5:
+      return step(std::integral_constant<int, 5>{});
+    case 6:
+      return step(std::integral_constant<int, 6>{});
+    case 8:
+      return step(std::integral_constant<int, 8>{});
+    case 9:
+      return step(std::integral_constant<int, 9>{});
+    case 12:
+      return step(std::integral_constant<int, 12>{});
+    default:
+      break;
+  }
+  return step(std::integral_constant<int, 4>{});
+}
 
 /// The order P of a tetrahedron with `nodes` nodes: the P with (P + 1)(P + 2)(P + 3) / 6 == nodes
 /// (any P, as VTK reads them); 0 if `nodes` is no tetrahedral number.
@@ -112,6 +150,23 @@ struct HigherOrderTet
     if (P == 4)
     {
       put(1, 1, 1, 1);
+    }
+    if (P > 4)
+    {
+      // Orders VTK's tetrahedra are not read at (the pieces of hexahedra and wedges): after the
+      // edges, the face and body points in canonical order (never compared with VTK's).
+      bool placed[Lattice<P>::kCount] = {};
+      for (int k = 0; k < n; ++k)
+      {
+        placed[at[k]] = true;
+      }
+      for (int c = 0; c < Lattice<P>::kCount; ++c)
+      {
+        if (!placed[c])
+        {
+          at[n++] = c;
+        }
+      }
     }
     return at;
   }
@@ -244,7 +299,8 @@ struct HigherOrderTet
 };
 
 /// The barycentric point of VTK node n of a tetrahedron of order 1..kMaxTetOrder (for order 2,
-/// VTK_QUADRATIC_TETRA's node order too: its edge (0,2) is the Lagrange cell's (2,0)).
+/// VTK_QUADRATIC_TETRA's node order too: its edge (0,2) is the Lagrange cell's (2,0)), or of a
+/// piece order's node n.
 inline void tetNodePoint(int order, int n, double L[4])
 {
   switch (order)
@@ -255,11 +311,8 @@ inline void tetNodePoint(int order, int n, double L[4])
     case 2:
       HigherOrderTet<2>::nodePoint(n, L);
       return;
-    case 3:
-      HigherOrderTet<3>::nodePoint(n, L);
-      return;
     default:
-      HigherOrderTet<4>::nodePoint(n, L);
+      forHigherOrder(order, [&](auto P) { HigherOrderTet<decltype(P)::value>::nodePoint(n, L); });
   }
 }
 

@@ -199,7 +199,7 @@ bool describeSkipped(const PreprocessSummary& summary, NodeId numberOfCells, Nod
     warnings.push_back(text("Skipped ", summary.orderTooHighCells,
       " cells of an order TetDSR does not read: polynomials of total degree above ", kMaxTetOrder,
       " (VTK_LAGRANGE_TETRAHEDRON or VTK_BEZIER_TETRAHEDRON of order above ", kMaxTetOrder,
-      ", more than ", kMaxCellNodes, " nodes; VTK_TRIQUADRATIC_HEXAHEDRON, "
+      ", more than ", latticeCount(kMaxTetOrder), " nodes; VTK_TRIQUADRATIC_HEXAHEDRON, "
       "VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON, Lagrange or Bezier hexahedra of order 2 and above; "
       "Lagrange or Bezier wedges of order 3 and above)."));
   }

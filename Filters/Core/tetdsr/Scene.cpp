@@ -146,7 +146,7 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
   FillLaterVector<std::uint16_t> status;
   glm::dvec3 lo, hi;
   validateCells(parallelFor, status, lo, hi);
-  if (Mesh_.sourceCells)
+  if (Mesh_.sourceOffsets)
   {
     countBySource(status);
   }
@@ -159,7 +159,7 @@ bool Scene::layoutOf(NodeId cell, CellLayout& layout) const
   const NodeId begin = Mesh_.offsets[cell];
   const NodeId end = Mesh_.offsets[cell + 1];
   return begin >= 0 && end >= begin && end <= Mesh_.connectivitySize &&
-    cellLayout(Mesh_.cellTypes[cell], end - begin, layout) == 0;
+    cellLayout(Mesh_.cellTypes[cell], end - begin, layout, maxOrder()) == 0;
 }
 
 void Scene::forChunks(const ParallelFor& parallelFor,
@@ -278,24 +278,27 @@ void Scene::countBySource(FillLaterVector<std::uint16_t>& status)
   for (NodeId source = 0; source < Mesh_.numberOfSourceCells; ++source)
   {
     std::uint16_t flags = Mesh_.sourceStatus[source];
+    const auto begin = static_cast<std::size_t>(Mesh_.sourceOffsets[source]);
+    const auto end = static_cast<std::size_t>(Mesh_.sourceOffsets[source + 1]);
     if (flags == 0)
     {
-      const auto begin = static_cast<std::size_t>(Mesh_.sourceOffsets[source]);
-      const auto end = static_cast<std::size_t>(Mesh_.sourceOffsets[source + 1]);
-      bool allValid = begin < end;
+      // Valid when all its pieces are (what they found, together); else skipped for what
+      // skipped its first skipped piece (one reason per cell, as for any cell).
       for (std::size_t piece = begin; piece < end; ++piece)
       {
-        flags |= status[piece];
-        allValid = allValid && (status[piece] & kValid);
-      }
-      if (!allValid)
-      {
-        // What skipped a piece skips the cell; the others' "valid" findings do not count.
-        flags &= static_cast<std::uint16_t>(~(kValid | kInverted | kCurved | kHigherOrder));
-        for (std::size_t piece = begin; piece < end; ++piece)
+        if (!(status[piece] & kValid))
         {
-          status[piece] &= static_cast<std::uint16_t>(~kValid);
+          flags = status[piece];
+          break;
         }
+        flags |= status[piece];
+      }
+    }
+    if (!(flags & kValid))
+    {
+      for (std::size_t piece = begin; piece < end; ++piece)
+      {
+        status[piece] &= static_cast<std::uint16_t>(~kValid);
       }
     }
     count(flags, summary);
@@ -431,7 +434,7 @@ std::uint16_t Scene::checkIds(NodeId cell, CellLayout& layout, const NodeId*& id
 {
   // The type and offsets first: nothing of the cell is read before they are trusted.
   const int type = Mesh_.cellTypes[cell];
-  if (cellLayout(type, -1, layout) == kUnsupported)
+  if (cellLayout(type, -1, layout, maxOrder()) == kUnsupported)
   {
     return kUnsupported;
   }
@@ -441,7 +444,7 @@ std::uint16_t Scene::checkIds(NodeId cell, CellLayout& layout, const NodeId*& id
   {
     return kMalformed;
   }
-  if (const std::uint16_t unreadable = cellLayout(type, end - begin, layout))
+  if (const std::uint16_t unreadable = cellLayout(type, end - begin, layout, maxOrder()))
   {
     return unreadable;
   }
@@ -498,9 +501,9 @@ std::uint16_t Scene::checkNodes(const CellLayout& layout, const NodeId* ids,
   // Orders 3 and 4 are checked on their nodes as given (where the affine map puts a node is
   // where a Lagrange node or a Bezier control point sits), orders 1 and 2 on the quadratic
   // tetrahedron's nodes that their steps take (toKindForm).
-  std::uint16_t flags = layout.order == 3 ? HigherOrderTetCell<3>::validate(nodes, Mesh_.pointRounding)
-    : layout.order == 4                   ? HigherOrderTetCell<4>::validate(nodes, Mesh_.pointRounding)
-                                          : 0;
+  std::uint16_t flags = layout.order <= 2 ? 0 : forHigherOrder(layout.order, [&](auto P) {
+    return HigherOrderTetCell<decltype(P)::value>::validate(nodes, Mesh_.pointRounding);
+  });
   toKindForm(layout, nodes);
   toKindForm(layout, values);
   if (layout.order <= 2)
@@ -520,17 +523,14 @@ std::uint16_t Scene::checkNodes(const CellLayout& layout, const NodeId* ids,
     }
   }
   // A cell found curved is the curved kind's: its Jacobian's sign.
-  switch (tetdsr::kindOf(layout, (flags & kCurved) != 0))
+  if (!(flags & kCurved) || layout.order < 2)
   {
-    case CellKind::CurvedTet:
-      return CurvedTetCell::validate(nodes, flags);
-    case CellKind::CurvedCubicTet:
-      return CurvedHigherOrderTetCell<3>::validate(nodes, flags);
-    case CellKind::CurvedQuarticTet:
-      return CurvedHigherOrderTetCell<4>::validate(nodes, flags);
-    default:
-      return flags;
+    return flags;
   }
+  return layout.order == 2 ? CurvedTetCell::validate(nodes, flags)
+                           : forHigherOrder(layout.order, [&](auto P) {
+                               return CurvedHigherOrderTetCell<decltype(P)::value>::validate(nodes, flags);
+                             });
 }
 
 template <typename T>
@@ -667,9 +667,10 @@ bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& 
   bool certified = true;
   const bool found = layout.order == 2
     ? CurvedTetCell::intersect(nodes, values, isoValues, first, last, ray, tMin, tLimit, hit, certified)
-    : layout.order == 3
-    ? CurvedHigherOrderTetCell<3>::intersect(nodes, values, isoValues, first, last, ray, tMin, tLimit, hit, certified)
-    : CurvedHigherOrderTetCell<4>::intersect(nodes, values, isoValues, first, last, ray, tMin, tLimit, hit, certified);
+    : forHigherOrder(layout.order, [&](auto P) {
+        return CurvedHigherOrderTetCell<decltype(P)::value>::intersect(
+          nodes, values, isoValues, first, last, ray, tMin, tLimit, hit, certified);
+      });
   if (!found)
   {
     return false;
@@ -892,8 +893,8 @@ glm::dvec3 Scene::interpolateNodalGradient(NodeId cellId, const glm::dvec3& poin
     {
       component[n] = nodal[n][a];
     }
-    gradient[a] = layout.order == 3 ? HigherOrderTetCell<3>::interpolate(component, L)
-                                    : HigherOrderTetCell<4>::interpolate(component, L);
+    gradient[a] = forHigherOrder(layout.order,
+      [&](auto P) { return HigherOrderTetCell<decltype(P)::value>::interpolate(component, L); });
   }
   return gradient;
 }

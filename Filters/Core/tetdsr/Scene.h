@@ -255,6 +255,9 @@ private:
   /// Whether a cell's type and offsets can be trusted to read its ids (validate counts the rest),
   /// and how they are read.
   bool layoutOf(NodeId cellId, CellLayout& layout) const;
+  /// The highest tetrahedron order read: kMaxPieceOrder in a split mesh (its pieces), else
+  /// kMaxTetOrder.
+  int maxOrder() const { return Mesh_.sourceOffsets ? kMaxPieceOrder : kMaxTetOrder; }
   bool readable(NodeId cellId) const
   {
     CellLayout layout;
@@ -348,9 +351,10 @@ inline bool Scene::intersectCell(const CellRecord& cell, const Ray& ray, const I
   if (cell.kind == CellRecord::Kind::HigherOrder)
   {
     bool certified = true;
-    const bool found = cell.order == 3
-      ? HigherOrderTetCell<3>::intersect(cell, ray, isoValues, first, last, tMin, tLimit, hit, certified)
-      : HigherOrderTetCell<4>::intersect(cell, ray, isoValues, first, last, tMin, tLimit, hit, certified);
+    const bool found = forHigherOrder(cell.order, [&](auto P) {
+      return HigherOrderTetCell<decltype(P)::value>::intersect(
+        cell, ray, isoValues, first, last, tMin, tLimit, hit, certified);
+    });
     if (found)
     {
       countUncertified(certified);

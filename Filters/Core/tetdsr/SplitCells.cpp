@@ -192,25 +192,61 @@ void solve(std::vector<long double> a, std::vector<long double>& b, int n, int c
   }
 }
 
-/// A shape from its nodes and space: the nodal basis's inverse Vandermonde matrix, the pieces
-/// and their lattice points, and the weights of the new points.
+/// Solves a X = b for the Bernstein coefficients X of functions given by their values b at a
+/// tetrahedron's lattice points (a: the Bernstein polynomials there), in long double.
+std::vector<long double> bernsteinCoefficients(int degree, std::vector<long double> values, int columns)
+{
+  const int count = latticeCount(degree);
+  std::vector<int> alpha(static_cast<std::size_t>(4 * count));
+  for (int node = 0; node < count; ++node)
+  {
+    double L[4];
+    tetNodePoint(degree, node, L);
+    for (int k = 0; k < 4; ++k)
+    {
+      alpha[static_cast<std::size_t>(4 * node + k)] = static_cast<int>(std::lround(L[k] * degree));
+    }
+  }
+  std::vector<long double> a(static_cast<std::size_t>(count * count));
+  for (int row = 0; row < count; ++row)
+  {
+    for (int col = 0; col < count; ++col)
+    {
+      // B_alpha(L) = degree! / prod alpha_k! * prod L_k^alpha_k, at L = alpha_row / degree.
+      long double value = 1.0L;
+      int placed = 0;
+      for (int k = 0; k < 4; ++k)
+      {
+        const int power = alpha[static_cast<std::size_t>(4 * col + k)];
+        const long double L = static_cast<long double>(alpha[static_cast<std::size_t>(4 * row + k)]) / degree;
+        for (int m = 1; m <= power; ++m)
+        {
+          value *= L * static_cast<long double>(placed + m) / m;
+        }
+        placed += power;
+      }
+      a[static_cast<std::size_t>(row * count + col)] = value;
+    }
+  }
+  solve(std::move(a), values, count, columns);
+  return values;
+}
+
+/// A shape from its nodes and basis: its pieces, their nodes, and the weights of its new points.
 SplitShape makeShape(const char* name, bool wedge, std::vector<Point> nodePoints,
-  std::vector<Corner> monomials, int bezierTriangle = 0, int bezierAxis = 0)
+  SplitShape::Basis basisKind, int order, std::vector<Corner> monomials = {})
 {
   SplitShape shape;
   shape.name = name;
   shape.wedge = wedge;
+  shape.basisKind = basisKind;
+  shape.order = order;
   shape.nodes = static_cast<int>(nodePoints.size());
   shape.nodePoints = std::move(nodePoints);
-  shape.bezier = monomials.empty();
-  shape.bezierTriangle = bezierTriangle;
-  shape.bezierAxis = bezierAxis;
   const int n = shape.nodes;
-  if (shape.bezier)
-  {
-    shape.degree = bezierTriangle + bezierAxis;
-  }
-  else
+  const bool bezierCell =
+    basisKind == SplitShape::Basis::BezierHex || basisKind == SplitShape::Basis::BezierWedge;
+  if (basisKind == SplitShape::Basis::Monomials)
   {
     // The nodal basis: weights(x) = V^-T m(x), V[node][monomial] = m(node).
     shape.monomials = std::move(monomials);
@@ -232,61 +268,201 @@ SplitShape makeShape(const char* name, bool wedge, std::vector<Point> nodePoints
       shape.degree = std::max(shape.degree, m[0] + m[1] + m[2]);
     }
   }
+  else
+  {
+    shape.degree = (wedge ? 2 : 3) * order;
+  }
   const int D = shape.degree;
   shape.pieceNodes = latticeCount(D);
+  shape.bezierPieces = D > kMaxTetOrder;
   const auto corners = pieceCorners(wedge);
   shape.pieces = static_cast<int>(corners.size());
-  // Lattice points of the cell at spacing 1/D, keyed i + (D + 1) (j + (D + 1) k).
-  const int side = D + 1;
-  shape.latticeNode.assign(static_cast<std::size_t>(side * side * side), -1);
-  shape.latticeNew.assign(static_cast<std::size_t>(side * side * side), -1);
+  // The cell's node at a parametric point, or -1. A Bezier cell's values are the polynomials'
+  // only at its corners (its other nodes are control points).
+  const int cornerCount = wedge ? 6 : 8;
+  auto nodeAt = [&](const Corner& q, int scale) {
+    for (int j = 0; j < (bezierCell ? cornerCount : n); ++j)
+    {
+      const Point& p = shape.nodePoints[static_cast<std::size_t>(j)];
+      if (std::abs(p[0] * scale - q[0]) < 1e-9 && std::abs(p[1] * scale - q[1]) < 1e-9 &&
+        std::abs(p[2] * scale - q[2]) < 1e-9)
+      {
+        return j;
+      }
+    }
+    return -1;
+  };
+  auto addNewPoint = [&](const std::vector<double>& weights) {
+    shape.newWeights.insert(shape.newWeights.end(), weights.begin(), weights.end());
+    return shape.newPointCount++;
+  };
+  // Each piece node's lattice point of the cell (spacing 1/D) and parametric point.
+  auto latticePoint = [&](const std::array<Corner, 4>& piece, int node, Corner& q, Point& x) {
+    double L[4];
+    tetNodePoint(D, node, L);
+    q = { 0, 0, 0 };
+    for (int k = 0; k < 4; ++k)
+    {
+      const int alpha = static_cast<int>(std::lround(L[k] * D));
+      for (int a = 0; a < 3; ++a)
+      {
+        q[a] += alpha * piece[static_cast<std::size_t>(k)][a];
+      }
+    }
+    x = { q[0] / static_cast<double>(D), q[1] / static_cast<double>(D), q[2] / static_cast<double>(D) };
+  };
+  if (!shape.bezierPieces)
+  {
+    // Lagrange pieces: the cell's map and field at their lattice points, shared by the pieces
+    // (keyed i + (D + 1) (j + (D + 1) k)).
+    const int side = D + 1;
+    std::vector<int> atKey(static_cast<std::size_t>(side * side * side), 0);
+    for (const auto& piece : corners)
+    {
+      for (int node = 0; node < shape.pieceNodes; ++node)
+      {
+        Corner q;
+        Point x;
+        latticePoint(piece, node, q, x);
+        int& known = atKey[static_cast<std::size_t>(q[0] + side * (q[1] + side * q[2]))];
+        if (known == 0)
+        {
+          const int j = nodeAt(q, D);
+          if (j >= 0)
+          {
+            known = j + 1;
+          }
+          else
+          {
+            std::vector<double> weights(static_cast<std::size_t>(n));
+            shape.basis(x.data(), weights.data());
+            known = -1 - addNewPoint(weights);
+          }
+        }
+        shape.pieceNode.push_back(known > 0 ? known - 1 : known);
+      }
+    }
+    return shape;
+  }
+  // Bezier pieces: the Bernstein coefficients of the cell's shape functions on each piece (the
+  // solve of B X = their values at the piece's lattice points), each piece's own new points.
   for (const auto& piece : corners)
   {
+    std::vector<long double> values(static_cast<std::size_t>(shape.pieceNodes * n));
+    std::vector<double> weights(static_cast<std::size_t>(n));
     for (int node = 0; node < shape.pieceNodes; ++node)
     {
-      double L[4];
-      tetNodePoint(D, node, L);
-      Corner q{ 0, 0, 0 };
-      for (int k = 0; k < 4; ++k)
+      Corner q;
+      Point x;
+      latticePoint(piece, node, q, x);
+      shape.basis(x.data(), weights.data());
+      std::copy(weights.begin(), weights.end(), values.begin() + static_cast<std::ptrdiff_t>(node * n));
+    }
+    const std::vector<long double> coefficients = bernsteinCoefficients(D, std::move(values), n);
+    for (int node = 0; node < shape.pieceNodes; ++node)
+    {
+      if (node < 4)
       {
-        const int alpha = static_cast<int>(std::lround(L[k] * D));
-        for (int a = 0; a < 3; ++a)
-        {
-          q[a] += alpha * piece[static_cast<std::size_t>(k)][a];
-        }
+        // A vertex: a corner of the cell, where coefficient and value agree.
+        shape.pieceNode.push_back(nodeAt(piece[static_cast<std::size_t>(node)], 1));
+        continue;
       }
-      const int key = q[0] + side * (q[1] + side * q[2]);
-      shape.pieceLattice.push_back(key);
-      if (shape.latticeNode[static_cast<std::size_t>(key)] >= 0 ||
-        shape.latticeNew[static_cast<std::size_t>(key)] >= 0)
+      for (int j = 0; j < n; ++j)
       {
-        continue; // (a point pieces share)
+        weights[static_cast<std::size_t>(j)] =
+          static_cast<double>(coefficients[static_cast<std::size_t>(node * n + j)]);
       }
-      const Point x{ q[0] / static_cast<double>(D), q[1] / static_cast<double>(D),
-        q[2] / static_cast<double>(D) };
-      // A point at a node takes that node (shared with the neighbours); a Bezier cell's
-      // values are the polynomials' only at its corners (its other nodes are control points).
-      const int cornersOnly = wedge ? 6 : 8;
-      for (int j = 0; j < (shape.bezier ? cornersOnly : n); ++j)
-      {
-        const Point& p = shape.nodePoints[static_cast<std::size_t>(j)];
-        if (std::abs(p[0] * D - q[0]) < 1e-9 && std::abs(p[1] * D - q[1]) < 1e-9 &&
-          std::abs(p[2] * D - q[2]) < 1e-9)
-        {
-          shape.latticeNode[static_cast<std::size_t>(key)] = j;
-        }
-      }
-      if (shape.latticeNode[static_cast<std::size_t>(key)] < 0)
-      {
-        shape.latticeNew[static_cast<std::size_t>(key)] = shape.newPointCount();
-        shape.newPoints.push_back(x);
-        std::vector<double> weights(static_cast<std::size_t>(n));
-        shape.basis(x.data(), weights.data());
-        shape.newWeights.insert(shape.newWeights.end(), weights.begin(), weights.end());
-      }
+      shape.pieceNode.push_back(-1 - addNewPoint(weights));
     }
   }
   return shape;
+}
+
+/// VTK's Lagrange and Bezier hexahedron of order p (vtkHigherOrderHexahedron): the corners, each
+/// edge's interior points from its first vertex to its second, the faces r = 0, r = 1 (s
+/// fastest, then t), s = 0, s = 1 (r, then t), t = 0, t = 1 (r, then s), then the body (r, s,
+/// then t).
+std::vector<Point> hexahedronNodes(int p)
+{
+  std::vector<Point> points;
+  auto put = [&](int i, int j, int k) {
+    points.push_back({ i / static_cast<double>(p), j / static_cast<double>(p), k / static_cast<double>(p) });
+  };
+  for (const Corner& c : kCubeCorners)
+  {
+    put(p * c[0], p * c[1], p * c[2]);
+  }
+  for (const auto& edge : kHexEdges)
+  {
+    const Corner& a = kCubeCorners[edge[0]];
+    const Corner& b = kCubeCorners[edge[1]];
+    for (int m = 1; m < p; ++m)
+    {
+      put(p * a[0] + m * (b[0] - a[0]), p * a[1] + m * (b[1] - a[1]), p * a[2] + m * (b[2] - a[2]));
+    }
+  }
+  for (const int side : { 0, p })
+    for (int k = 1; k < p; ++k)
+      for (int j = 1; j < p; ++j)
+        put(side, j, k);
+  for (const int side : { 0, p })
+    for (int k = 1; k < p; ++k)
+      for (int i = 1; i < p; ++i)
+        put(i, side, k);
+  for (const int side : { 0, p })
+    for (int j = 1; j < p; ++j)
+      for (int i = 1; i < p; ++i)
+        put(i, j, side);
+  for (int k = 1; k < p; ++k)
+    for (int j = 1; j < p; ++j)
+      for (int i = 1; i < p; ++i)
+        put(i, j, k);
+  return points;
+}
+
+/// VTK's Lagrange and Bezier wedge of order p (vtkHigherOrderWedge): the corners, the edges
+/// (kWedgeEdges, first vertex to second), the triangles t = 0 and t = 1 (their interior, r
+/// fastest), the quadrilaterals (kWedgeQuads: along their first edge fastest, then t), then the
+/// body (the triangle's interior order, then t).
+std::vector<Point> wedgeNodes(int p)
+{
+  std::vector<Point> points;
+  auto put = [&](int i, int j, int k) {
+    points.push_back({ i / static_cast<double>(p), j / static_cast<double>(p), k / static_cast<double>(p) });
+  };
+  for (const Corner& c : kWedgeCorners)
+  {
+    put(p * c[0], p * c[1], p * c[2]);
+  }
+  for (const auto& edge : kWedgeEdges)
+  {
+    const Corner& a = kWedgeCorners[edge[0]];
+    const Corner& b = kWedgeCorners[edge[1]];
+    for (int m = 1; m < p; ++m)
+    {
+      put(p * a[0] + m * (b[0] - a[0]), p * a[1] + m * (b[1] - a[1]), p * a[2] + m * (b[2] - a[2]));
+    }
+  }
+  auto triangleInterior = [&](int k) {
+    for (int j = 1; j < p; ++j)
+      for (int i = 1; i + j < p; ++i)
+        put(i, j, k);
+  };
+  triangleInterior(0);
+  triangleInterior(p);
+  for (const auto& quad : kWedgeQuads)
+  {
+    const Corner& a = kWedgeCorners[quad[0]];
+    const Corner& b = kWedgeCorners[quad[1]];
+    for (int k = 1; k < p; ++k)
+      for (int m = 1; m < p; ++m)
+        put(p * a[0] + m * (b[0] - a[0]), p * a[1] + m * (b[1] - a[1]), k);
+  }
+  for (int k = 1; k < p; ++k)
+  {
+    triangleInterior(k);
+  }
+  return points;
 }
 
 std::vector<Point> cornersOf(const Corner* corners, int count)
@@ -352,25 +528,122 @@ std::vector<Corner> quadraticWedge15()
   return m;
 }
 
-/// Every shape the split reads, built once.
-struct Shapes
+/// Every shape the split reads, each built on first use (orders above 4 solve for their pieces'
+/// Bernstein weights: up to a second for order 4 hexahedra).
+using Basis = SplitShape::Basis;
+const SplitShape& hexahedronShape()
 {
-  SplitShape hexahedron = makeShape("VTK_HEXAHEDRON", false, cornersOf(kCubeCorners, 8), tensorMonomials(1, 1, 1));
-  SplitShape voxel = makeShape("VTK_VOXEL", false,
+  static const SplitShape shape = makeShape("VTK_HEXAHEDRON", false, hexahedronNodes(1), Basis::Monomials, 1, tensorMonomials(1, 1, 1));
+  return shape;
+}
+const SplitShape& voxelShape()
+{
+  static const SplitShape shape = makeShape("VTK_VOXEL", false,
     { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 1, 1, 0 }, { 0, 0, 1 }, { 1, 0, 1 }, { 0, 1, 1 }, { 1, 1, 1 } },
-    tensorMonomials(1, 1, 1));
-  SplitShape hexahedron20 = makeShape("VTK_QUADRATIC_HEXAHEDRON", false, hexahedron20Nodes(), serendipity20());
-  SplitShape wedge = makeShape("VTK_WEDGE", true, cornersOf(kWedgeCorners, 6), wedgeMonomials(1, 1));
-  SplitShape wedge12 = makeShape("VTK_QUADRATIC_LINEAR_WEDGE", true, wedgeWithEdges(false, false), wedgeMonomials(2, 1));
-  SplitShape wedge15 = makeShape("VTK_QUADRATIC_WEDGE", true, wedgeWithEdges(true, false), quadraticWedge15());
-  SplitShape wedge18 = makeShape("VTK_BIQUADRATIC_QUADRATIC_WEDGE", true, wedgeWithEdges(true, true), wedgeMonomials(2, 2));
-  SplitShape bezierWedge18 = makeShape("VTK_BEZIER_WEDGE", true, wedgeWithEdges(true, true), {}, 2, 2);
-};
-
-const Shapes& shapes()
+    Basis::Monomials, 1, tensorMonomials(1, 1, 1));
+  return shape;
+}
+const SplitShape& hexahedron20Shape()
 {
-  static const Shapes all;
-  return all;
+  static const SplitShape shape = makeShape("VTK_QUADRATIC_HEXAHEDRON", false, hexahedron20Nodes(), Basis::Monomials, 2, serendipity20());
+  return shape;
+}
+const SplitShape& hexahedron24Shape()
+{
+  // VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON: the 20 nodes and the centres of the faces r = 0, 1 and
+  // s = 0, 1; its space is Q2's without r^2 s^2 t^c (c = 0, 1, 2), total degree 5.
+  static const SplitShape shape = [] {
+    std::vector<Point> nodes = hexahedron20Nodes();
+    for (const Point& p : std::vector<Point>{ { 0, 0.5, 0.5 }, { 1, 0.5, 0.5 }, { 0.5, 0, 0.5 }, { 0.5, 1, 0.5 } })
+    {
+      nodes.push_back(p);
+    }
+    std::vector<Corner> space;
+    for (const Corner& c : tensorMonomials(2, 2, 2))
+    {
+      if (!(c[0] == 2 && c[1] == 2))
+      {
+        space.push_back(c);
+      }
+    }
+    return makeShape("VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON", false, nodes, Basis::Monomials, 2, space);
+  }();
+  return shape;
+}
+const SplitShape& wedgeShape()
+{
+  static const SplitShape shape = makeShape("VTK_WEDGE", true, wedgeNodes(1), Basis::Monomials, 1, wedgeMonomials(1, 1));
+  return shape;
+}
+const SplitShape& wedge12Shape()
+{
+  static const SplitShape shape = makeShape("VTK_QUADRATIC_LINEAR_WEDGE", true, wedgeWithEdges(false, false), Basis::Monomials, 2, wedgeMonomials(2, 1));
+  return shape;
+}
+const SplitShape& wedge15Shape()
+{
+  static const SplitShape shape = makeShape("VTK_QUADRATIC_WEDGE", true, wedgeWithEdges(true, false), Basis::Monomials, 2, quadraticWedge15());
+  return shape;
+}
+const SplitShape& wedge18Shape()
+{
+  static const SplitShape shape = makeShape("VTK_BIQUADRATIC_QUADRATIC_WEDGE", true, wedgeNodes(2), Basis::Monomials, 2, wedgeMonomials(2, 2));
+  return shape;
+}
+/// Lagrange and Bezier hexahedra of orders 2 to 4 (VTK_TRIQUADRATIC_HEXAHEDRON is the Lagrange
+/// one of order 2: the same nodes), wedges of orders 2 to 4.
+const SplitShape& higherOrderShape(bool wedge, bool bezier, int order)
+{
+  static const SplitShape shapes[2][2][3] = {
+    { { makeShape("VTK_LAGRANGE_HEXAHEDRON", false, hexahedronNodes(2), Basis::LagrangeHex, 2),
+        makeShape("VTK_LAGRANGE_HEXAHEDRON", false, hexahedronNodes(3), Basis::LagrangeHex, 3),
+        makeShape("VTK_LAGRANGE_HEXAHEDRON", false, hexahedronNodes(4), Basis::LagrangeHex, 4) },
+      { makeShape("VTK_BEZIER_HEXAHEDRON", false, hexahedronNodes(2), Basis::BezierHex, 2),
+        makeShape("VTK_BEZIER_HEXAHEDRON", false, hexahedronNodes(3), Basis::BezierHex, 3),
+        makeShape("VTK_BEZIER_HEXAHEDRON", false, hexahedronNodes(4), Basis::BezierHex, 4) } },
+    { { makeShape("VTK_LAGRANGE_WEDGE", true, wedgeNodes(2), Basis::LagrangeWedge, 2),
+        makeShape("VTK_LAGRANGE_WEDGE", true, wedgeNodes(3), Basis::LagrangeWedge, 3),
+        makeShape("VTK_LAGRANGE_WEDGE", true, wedgeNodes(4), Basis::LagrangeWedge, 4) },
+      { makeShape("VTK_BEZIER_WEDGE", true, wedgeNodes(2), Basis::BezierWedge, 2),
+        makeShape("VTK_BEZIER_WEDGE", true, wedgeNodes(3), Basis::BezierWedge, 3),
+        makeShape("VTK_BEZIER_WEDGE", true, wedgeNodes(4), Basis::BezierWedge, 4) } }
+  };
+  return shapes[wedge][bezier][order - 2];
+}
+
+/// The 1D Lagrange polynomial of equispaced node i (of 0..p) at x in [0, 1].
+double lagrange1D(int p, int i, double x)
+{
+  double value = 1.0;
+  for (int m = 0; m <= p; ++m)
+  {
+    if (m != i)
+    {
+      value *= (p * x - m) / (i - m);
+    }
+  }
+  return value;
+}
+
+/// The triangle's Lagrange polynomial of lattice point (a, b, c), a + b + c = p, at barycentric
+/// (l1, l2, l0): the product of (p l - m) / (m + 1) over m < its index, per coordinate.
+double lagrangeTriangle(int p, int a, int b, double l1, double l2)
+{
+  const double l0 = 1.0 - l1 - l2;
+  const int c = p - a - b;
+  double value = 1.0;
+  for (int m = 0; m < a; ++m)
+    value *= (p * l1 - m) / (m + 1);
+  for (int m = 0; m < b; ++m)
+    value *= (p * l2 - m) / (m + 1);
+  for (int m = 0; m < c; ++m)
+    value *= (p * l0 - m) / (m + 1);
+  return value;
+}
+
+double bernstein1D(int p, int i, double x)
+{
+  return binomial(p, i) * std::pow(x, i) * std::pow(1.0 - x, p - i);
 }
 
 /// (p + 1)^3 == ids for some p >= 1, or 0.
@@ -405,38 +678,48 @@ int wedgeOrder(long long ids)
 void SplitShape::basis(const double parametric[3], double* weights) const
 {
   const Point x{ parametric[0], parametric[1], parametric[2] };
-  if (bezier)
+  if (basisKind == Basis::Monomials)
   {
-    // A Bezier wedge: the triangle's Bernstein polynomial of the node's lattice point times the
-    // axis's.
-    for (int j = 0; j < nodes; ++j)
+    const auto n = static_cast<std::size_t>(nodes);
+    std::vector<long double> m(n);
+    for (std::size_t a = 0; a < n; ++a)
     {
-      const Point& p = nodePoints[static_cast<std::size_t>(j)];
-      const int a = static_cast<int>(std::lround(p[0] * bezierTriangle));
-      const int b = static_cast<int>(std::lround(p[1] * bezierTriangle));
-      const int c = bezierTriangle - a - b;
-      const int k = static_cast<int>(std::lround(p[2] * bezierAxis));
-      const double u = 1.0 - x[0] - x[1];
-      weights[j] = binomial(bezierTriangle, a) * binomial(bezierTriangle - a, b) *
-        std::pow(x[0], a) * std::pow(x[1], b) * std::pow(u, c) * binomial(bezierAxis, k) *
-        std::pow(x[2], k) * std::pow(1.0 - x[2], bezierAxis - k);
+      m[a] = monomialAt(monomials[a], x);
+    }
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      long double sum = 0.0L;
+      for (std::size_t a = 0; a < n; ++a)
+      {
+        sum += static_cast<long double>(inverseVandermonde[j * n + a]) * m[a];
+      }
+      weights[j] = static_cast<double>(sum);
     }
     return;
   }
-  const auto n = static_cast<std::size_t>(nodes);
-  std::vector<long double> m(n);
-  for (std::size_t a = 0; a < n; ++a)
+  const int p = order;
+  for (int j = 0; j < nodes; ++j)
   {
-    m[a] = monomialAt(monomials[a], x);
-  }
-  for (std::size_t j = 0; j < n; ++j)
-  {
-    long double sum = 0.0L;
-    for (std::size_t a = 0; a < n; ++a)
+    // The node's lattice point (i, k, l) / p.
+    const Point& at = nodePoints[static_cast<std::size_t>(j)];
+    const int i = static_cast<int>(std::lround(at[0] * p));
+    const int k = static_cast<int>(std::lround(at[1] * p));
+    const int l = static_cast<int>(std::lround(at[2] * p));
+    switch (basisKind)
     {
-      sum += static_cast<long double>(inverseVandermonde[j * n + a]) * m[a];
+      case Basis::LagrangeHex:
+        weights[j] = lagrange1D(p, i, x[0]) * lagrange1D(p, k, x[1]) * lagrange1D(p, l, x[2]);
+        break;
+      case Basis::LagrangeWedge:
+        weights[j] = lagrangeTriangle(p, i, k, x[0], x[1]) * lagrange1D(p, l, x[2]);
+        break;
+      case Basis::BezierHex:
+        weights[j] = bernstein1D(p, i, x[0]) * bernstein1D(p, k, x[1]) * bernstein1D(p, l, x[2]);
+        break;
+      default: // BezierWedge: the triangle's Bernstein polynomial times the axis's
+        weights[j] = binomial(p, i) * binomial(p - i, k) * std::pow(x[0], i) * std::pow(x[1], k) *
+          std::pow(1.0 - x[0] - x[1], p - i - k) * bernstein1D(p, l, x[2]);
     }
-    weights[j] = static_cast<double>(sum);
   }
 }
 
@@ -470,7 +753,15 @@ bool isSplitType(int vtkType)
 
 std::uint16_t splitShapeOf(int vtkType, long long ids, const SplitShape*& shape)
 {
-  const Shapes& all = shapes();
+  const std::uint16_t status = splitShapeOfAnyDegree(vtkType, ids, shape);
+  // Pieces of order 5 to 12 render exactly but their curved ray test is far too slow (an
+  // order-3 hexahedron bent: 205 s for 160 x 120 pixels of 8 cells): not read until a
+  // tensor-product solver replaces them.
+  return status == 0 && shape->degree > kMaxTetOrder ? static_cast<std::uint16_t>(kOrderTooHigh) : status;
+}
+
+std::uint16_t splitShapeOfAnyDegree(int vtkType, long long ids, const SplitShape*& shape)
+{
   auto fixed = [&](const SplitShape& s) -> std::uint16_t {
     shape = &s;
     return ids == s.nodes ? 0 : kMalformed;
@@ -478,52 +769,56 @@ std::uint16_t splitShapeOf(int vtkType, long long ids, const SplitShape*& shape)
   switch (vtkType)
   {
     case kVtkVoxel:
-      return fixed(all.voxel);
+      return ids == 8 ? fixed(voxelShape()) : kMalformed;
     case kVtkHexahedron:
-      return fixed(all.hexahedron);
+      return ids == 8 ? fixed(hexahedronShape()) : kMalformed;
     case kVtkQuadraticHexahedron:
-      return fixed(all.hexahedron20);
-    case kVtkWedge:
-      return fixed(all.wedge);
-    case kVtkQuadraticLinearWedge:
-      return fixed(all.wedge12);
-    case kVtkQuadraticWedge:
-      return fixed(all.wedge15);
-    case kVtkBiquadraticQuadraticWedge:
-      return fixed(all.wedge18);
-    case kVtkTriquadraticHexahedron:
-      // Triquadratic: total degree 6.
-      return ids == 27 ? kOrderTooHigh : kMalformed;
+      return ids == 20 ? fixed(hexahedron20Shape()) : kMalformed;
     case kVtkBiquadraticQuadraticHexahedron:
-      // Biquadratic in (r, s) with quadratic terms in t: total degree above 4.
-      return ids == 24 ? kOrderTooHigh : kMalformed;
+      return ids == 24 ? fixed(hexahedron24Shape()) : kMalformed;
+    case kVtkTriquadraticHexahedron:
+      return ids == 27 ? fixed(higherOrderShape(false, false, 2)) : kMalformed;
+    case kVtkWedge:
+      return ids == 6 ? fixed(wedgeShape()) : kMalformed;
+    case kVtkQuadraticLinearWedge:
+      return ids == 12 ? fixed(wedge12Shape()) : kMalformed;
+    case kVtkQuadraticWedge:
+      return ids == 15 ? fixed(wedge15Shape()) : kMalformed;
+    case kVtkBiquadraticQuadraticWedge:
+      return ids == 18 ? fixed(wedge18Shape()) : kMalformed;
     case kVtkLagrangeHexahedron:
     case kVtkBezierHexahedron:
     {
       // VTK reads the order of these from the id count (a cube number); order p is of total
-      // degree 3p: order 1 only, as the trilinear hexahedron.
+      // degree 3p.
       const int order = cubeOrder(ids);
       if (order == 0)
       {
         return kMalformed;
       }
-      shape = &all.hexahedron;
-      return order == 1 ? 0 : kOrderTooHigh;
+      if (order > kMaxSplitOrder)
+      {
+        return kOrderTooHigh;
+      }
+      shape = order == 1 ? &hexahedronShape() : &higherOrderShape(false, vtkType == kVtkBezierHexahedron, order);
+      return 0;
     }
     case kVtkLagrangeWedge:
     case kVtkBezierWedge:
     {
-      // Order p is of total degree 2p: orders 1 and 2 (VTK's 21-node wedge is not read).
+      // Order p is of total degree 2p (VTK's 21-node wedge is not read).
       const int order = wedgeOrder(ids);
       if (order == 0)
       {
         return kMalformed;
       }
-      if (order > 2)
+      if (order > kMaxSplitOrder)
       {
         return kOrderTooHigh;
       }
-      shape = order == 1 ? &all.wedge : vtkType == kVtkBezierWedge ? &all.bezierWedge18 : &all.wedge18;
+      shape = order == 1 ? &wedgeShape()
+        : order == 2 && vtkType == kVtkLagrangeWedge ? &wedge18Shape()
+                                                     : &higherOrderShape(true, vtkType == kVtkBezierWedge, order);
       return 0;
     }
     default:
@@ -535,7 +830,6 @@ struct SplitMesh::Arrays
 {
   std::vector<double> Points;
   std::vector<double> Values;
-  std::vector<double> Weights;
   std::vector<std::uint8_t> Types;
   std::vector<NodeId> Offsets;
   std::vector<NodeId> Connectivity;
@@ -595,9 +889,15 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
       // here already (as the scene's would: the type, then the offsets, then the id count), so
       // that no hostile offsets make the copy larger than the cells can be.
       CellLayout layout;
-      const std::uint16_t unreadable = cellLayout(type, -1, layout) == kUnsupported ? kUnsupported
-        : !readable                                                                ? kMalformed
-                                                    : cellLayout(type, end - begin, layout);
+      std::uint16_t unreadable = cellLayout(type, -1, layout) == kUnsupported ? kUnsupported
+        : !readable                                                          ? kMalformed
+                                              : cellLayout(type, end - begin, layout);
+      if (!unreadable)
+      {
+        // Its ids too (the split mesh has no rational weights: its Bezier pieces are polynomial
+        // by construction, so a kept Bezier tetrahedron's weights are checked here).
+        unreadable = checkNodeIds(input, input.connectivity + begin, layout.nodes, layout.bezier);
+      }
       if (unreadable)
       {
         out.SourceStatus[c] = unreadable;
@@ -609,7 +909,10 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
     }
     if (!readable)
     {
-      out.SourceStatus[c] = kMalformed;
+      // The type first, as the scene reads any cell: a pyramid is unsupported whatever its
+      // offsets.
+      const SplitShape* ignored = nullptr;
+      out.SourceStatus[c] = splitShapeOf(type, -1, ignored) == kUnsupported ? kUnsupported : kMalformed;
       continue;
     }
     const SplitShape* shape = nullptr;
@@ -628,7 +931,7 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
     out.IdsAt[c] = copiedIds;
     copiedIds += shape->nodes;
     pieces += shape->pieces;
-    newPoints += shape->newPointCount();
+    newPoints += shape->newPointCount;
     connectivity += static_cast<NodeId>(shape->pieces) * shape->pieceNodes;
   }
   out.SourceOffsets[cells] = pieces;
@@ -643,12 +946,6 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
   out.Values.resize(totalPoints);
   std::copy(input.points, input.points + 3 * input.numberOfPoints, out.Points.begin());
   std::copy(input.values, input.values + input.numberOfPoints, out.Values.begin());
-  if (input.rationalWeights)
-  {
-    // Pieces are Lagrange cells: their new points' weights are never read.
-    out.Weights.assign(totalPoints, 1.0);
-    std::copy(input.rationalWeights, input.rationalWeights + input.numberOfPoints, out.Weights.begin());
-  }
   out.Types.resize(static_cast<std::size_t>(pieces));
   out.Offsets.resize(static_cast<std::size_t>(pieces) + 1);
   out.Connectivity.resize(static_cast<std::size_t>(connectivity));
@@ -681,7 +978,9 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
       const NodeId* ids = input.connectivity + begin;
       std::copy(ids, ids + shape.nodes, out.Ids.begin() + out.IdsAt[c]);
       const std::uint8_t pieceType =
-        static_cast<std::uint8_t>(shape.degree == 2 ? kVtkQuadraticTetra : kVtkLagrangeTetrahedron);
+        static_cast<std::uint8_t>(shape.bezierPieces ? kVtkBezierTetrahedron
+            : shape.degree == 2                     ? kVtkQuadraticTetra
+                                                    : kVtkLagrangeTetrahedron);
       for (int k = 0; k < shape.pieces; ++k, ++piece)
       {
         out.Types[static_cast<std::size_t>(piece)] = pieceType;
@@ -689,14 +988,13 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
         out.Offsets[static_cast<std::size_t>(piece)] = at;
         for (int n = 0; n < shape.pieceNodes; ++n)
         {
-          const auto lattice = static_cast<std::size_t>(shape.pieceLattice[static_cast<std::size_t>(k * shape.pieceNodes + n)]);
-          const int node = shape.latticeNode[lattice];
+          const int node = shape.pieceNode[static_cast<std::size_t>(k * shape.pieceNodes + n)];
           out.Connectivity[static_cast<std::size_t>(at++)] =
-            node >= 0 ? ids[node] : out.FirstNew[c] + shape.latticeNew[lattice];
+            node >= 0 ? ids[node] : out.FirstNew[c] + (-1 - node);
         }
       }
       // The new points: the cell's map and field there.
-      for (int p = 0; p < shape.newPointCount(); ++p)
+      for (int p = 0; p < shape.newPointCount; ++p)
       {
         const double* w = shape.newWeights.data() + static_cast<std::size_t>(p) * shape.nodes;
         const auto point = static_cast<std::size_t>(out.FirstNew[c] + p);
@@ -709,10 +1007,25 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
           z += w[j] * q[2];
           value += w[j] * input.values[ids[j]];
         }
+        if (!(std::isfinite(x) && std::isfinite(y) && std::isfinite(z) && std::isfinite(value)))
+        {
+          // Finite nodes whose polynomial leaves double range between them (a field near the
+          // largest double) are out of scale, as a tetrahedron's Bernstein coefficients are;
+          // non-finite nodes are told as such.
+          bool finiteNodes = true;
+          for (int j = 0; j < shape.nodes; ++j)
+          {
+            const double* q = input.points + 3 * ids[j];
+            finiteNodes = finiteNodes && std::isfinite(q[0]) && std::isfinite(q[1]) &&
+              std::isfinite(q[2]) && std::isfinite(input.values[ids[j]]);
+          }
+          out.SourceStatus[c] = finiteNodes ? kOutOfScale : kNonFinite;
+        }
         out.Points[3 * point] = x;
         out.Points[3 * point + 1] = y;
         out.Points[3 * point + 2] = z;
         out.Values[point] = value;
+
       }
     }
   });
@@ -725,7 +1038,7 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
   View_.connectivity = out.Connectivity.data();
   View_.connectivitySize = connectivity;
   View_.values = out.Values.data();
-  View_.rationalWeights = input.rationalWeights ? out.Weights.data() : nullptr;
+  View_.rationalWeights = nullptr; // (checked above, per input cell)
   View_.pointRounding = input.pointRounding;
   View_.sourceCells = out.SourceCells.data();
   View_.sourceOffsets = out.SourceOffsets.data();
@@ -748,7 +1061,7 @@ void SplitMesh::extend(const double* input, int components, std::vector<double>&
       continue;
     }
     const NodeId* ids = in.Ids.data() + in.IdsAt[c];
-    for (int p = 0; p < shape->newPointCount(); ++p)
+    for (int p = 0; p < shape->newPointCount; ++p)
     {
       const double* w = shape->newWeights.data() + static_cast<std::size_t>(p) * shape->nodes;
       const auto point = static_cast<std::size_t>(in.FirstNew[c] + p);
@@ -772,7 +1085,7 @@ std::size_t SplitMesh::memoryBytes() const
     return 0;
   }
   const Arrays& a = *Data_;
-  return sizeof(double) * (a.Points.capacity() + a.Values.capacity() + a.Weights.capacity()) +
+  return sizeof(double) * (a.Points.capacity() + a.Values.capacity()) +
     a.Types.capacity() + a.SourceStatus.capacity() * sizeof(std::uint16_t) +
     sizeof(NodeId) *
     (a.Offsets.capacity() + a.Connectivity.capacity() + a.SourceCells.capacity() +

@@ -57,38 +57,54 @@ enum VtkSplitCellType : int
 /// How one kind of hexahedron or wedge (a VTK type and node count) is split into tetrahedra.
 struct SplitShape
 {
+  /// How the cell's shape functions are given.
+  enum class Basis : std::uint8_t
+  {
+    Monomials,     ///< the nodal basis of a space of monomials (the inverse Vandermonde matrix)
+    LagrangeHex,   ///< products of 1D Lagrange polynomials on equispaced nodes (order p)
+    LagrangeWedge, ///< the triangle's Lagrange polynomials on its equispaced lattice times 1D ones
+    BezierHex,     ///< products of Bernstein polynomials (control points)
+    BezierWedge    ///< the triangle's Bernstein polynomials times 1D ones
+  };
+  /// The largest absolute row sum of the weights making a piece's Bernstein coefficients
+  /// (orders above 4) from the cell's nodes; kPieceConstantRoundings (Cells.h) assumes it.
+  static constexpr double kMaxCoefficientWeight = 64.0;
+
   const char* name = "";  ///< as messages and tests name it ("VTK_HEXAHEDRON", ...)
   bool wedge = false;     ///< the unit triangle times [0, 1]; else the unit cube
-  bool bezier = false;    ///< nodes are Bernstein control points (else nodal values)
+  Basis basisKind = Basis::Monomials;
+  int order = 1;          ///< p of the Lagrange and Bezier bases
   int nodes = 0;          ///< the cell's node count
-  int degree = 0;         ///< D: the total degree of its polynomials, the pieces' order (2..4)
+  int degree = 0;         ///< D: the total degree of its polynomials, the pieces' order
   int pieces = 0;         ///< tetrahedra per cell: 6 (hexahedra), 3 (wedges)
   int pieceNodes = 0;     ///< latticeCount(degree)
+  /// Pieces of order 2 to 4 are Lagrange tetrahedra (nodes: the cell's map and field at their
+  /// lattice points, shared between pieces); above, Bezier tetrahedra (their Bernstein
+  /// coefficients, from the cell's nodes by exact weights: a Lagrange conversion of such orders
+  /// would amplify rounding).
+  bool bezierPieces = false;
   /// The parametric coordinates (r, s, t) of the cell's nodes, VTK's order.
   std::vector<std::array<double, 3>> nodePoints;
-  /// Per piece, per node of a Lagrange tetrahedron of order `degree` (VTK's order): the cell's
-  /// lattice point there (pieces x pieceNodes).
-  std::vector<int> pieceLattice;
-  /// Per lattice point used by a piece: the cell's node there, or -1 (then a new point).
-  std::vector<int> latticeNode;
-  /// Per lattice point: its place among the cell's new points, or -1.
-  std::vector<int> latticeNew;
-  /// The parametric point of each new point, and the cell's shape functions there
-  /// (newPoints() x nodes).
-  std::vector<std::array<double, 3>> newPoints;
+  /// Per piece, per node of a tetrahedron of order `degree` (VTK's order; HigherOrderTet.h): the
+  /// cell's node there (>= 0), or -1 - k for the cell's new point k (pieces x pieceNodes).
+  std::vector<int> pieceNode;
+  /// The weights giving each new point (coordinates and values) from the cell's nodes
+  /// (newPointCount x nodes).
   std::vector<double> newWeights;
+  int newPointCount = 0;
 
-  int newPointCount() const { return static_cast<int>(newPoints.size()); }
-  /// The cell's shape functions at a parametric point (nodes values), as the split uses them.
+  /// The cell's shape functions at a parametric point (nodes values).
   void basis(const double parametric[3], double* weights) const;
 
-  // The polynomial space of a nodal cell: monomials r^a s^b t^c (empty for a Bezier cell).
+  /// A Monomials cell's space (r^a s^b t^c), and its inverse Vandermonde matrix (nodes x nodes):
+  /// weights = this * monomials(x).
   std::vector<std::array<int, 3>> monomials;
-  /// The inverse transposed Vandermonde matrix (nodes x nodes): weights = this * monomials(x).
   std::vector<double> inverseVandermonde;
-  int bezierTriangle = 0; ///< a Bezier wedge's degree in (r, s)
-  int bezierAxis = 0;     ///< and in t
 };
+
+/// The highest order of Lagrange and Bezier hexahedra and wedges the split reads (total degree
+/// 12 and 8: the pieces' orders are kPieceOrders).
+constexpr int kMaxSplitOrder = 4;
 
 /// Whether a VTK type is a hexahedron, wedge or pyramid (read or refused by the split).
 bool isSplitType(int vtkType);
@@ -97,6 +113,9 @@ bool isSplitType(int vtkType);
 /// the status saying why not (kMalformed: an id count that does not fit the type; kOrderTooHigh:
 /// polynomials of total degree above kMaxTetOrder; kUnsupported: pyramids).
 std::uint16_t splitShapeOf(int vtkType, long long ids, const SplitShape*& shape);
+/// The same without the degree limit: every shape the split can build (the node-order test
+/// checks them all against VTK's cells).
+std::uint16_t splitShapeOfAnyDegree(int vtkType, long long ids, const SplitShape*& shape);
 
 /// A mesh whose hexahedra and wedges are split into tetrahedra (the other cells kept as they
 /// are), with the map back to the input's cells: a MeshView the Scene reads, owning its arrays.
