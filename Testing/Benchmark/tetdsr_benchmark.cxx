@@ -15,6 +15,9 @@
 //   (the same lattice as tetrahedra of orders 1 to 4, VTK_LAGRANGE_TETRAHEDRON and
 //   VTK_BEZIER_TETRAHEDRON: preprocessing, memory and rays per second per order; prints a
 //   Markdown table)
+//   tetdsr-benchmark --kinds <image size> <lattice n>
+//   (the lattice's cubes as hexahedra, or two wedges each, of every kind TetDSR reads, straight
+//   and bent: the same columns per cell kind; prints a Markdown table)
 #include "vtkActor.h"
 #include "vtkCamera.h"
 #include "vtkCellType.h"
@@ -38,6 +41,7 @@
 #include "vtkXMLUnstructuredGridWriter.h"
 
 #include "BenchmarkLattice.h"
+#include "tetdsr/SplitCells.h"
 #include "tetdsr/HigherOrderTet.h"
 #include "tetdsr/QuadraticTet.h"
 
@@ -495,6 +499,136 @@ int Orders(int size, int n)
   return EXIT_SUCCESS;
 }
 
+namespace
+{
+/// n^3 cubes of [0, 1]^3 as cells of one hexahedron or wedge kind (two wedges per cube: the
+/// square's lower-left triangle, and the upper-right one by a half turn), their nodes at the
+/// core's parametric node points (VTK's, checked by TestSplitCellsNodeOrder), shared where they
+/// coincide; bent by up to 0.1 of a cube, as MakeOrderMesh's curved cells.
+vtkSmartPointer<vtkUnstructuredGrid> MakeKindMesh(int n, int type, int nodes, bool curved)
+{
+  const tetdsr::SplitShape* shape = nullptr;
+  tetdsr::splitShapeOf(type, nodes, shape);
+  const int m = 2 * n + 1; // node keys on the half-cube lattice
+  std::vector<vtkIdType> idOfKey(static_cast<std::size_t>(m) * m * m, -1);
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkDoubleArray> wave;
+  wave->SetName("wave");
+  vtkNew<vtkCellArray> cells;
+  std::vector<vtkIdType> ids(static_cast<std::size_t>(nodes));
+  const double bend = 0.1 / n;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        for (int half = 0; half < (shape->wedge ? 2 : 1); ++half)
+        {
+          for (int node = 0; node < nodes; ++node)
+          {
+            auto p = shape->nodePoints[static_cast<std::size_t>(node)];
+            if (half == 1)
+            {
+              p[0] = 1.0 - p[0], p[1] = 1.0 - p[1];
+            }
+            const int key[3] = { 2 * i + static_cast<int>(std::lround(2 * p[0])),
+              2 * j + static_cast<int>(std::lround(2 * p[1])), 2 * k + static_cast<int>(std::lround(2 * p[2])) };
+            vtkIdType& id = idOfKey[key[0] + static_cast<std::size_t>(m) * (key[1] + static_cast<std::size_t>(m) * key[2])];
+            if (id < 0)
+            {
+              double x = key[0] / (m - 1.0), y = key[1] / (m - 1.0), z = key[2] / (m - 1.0);
+              if (curved)
+              {
+                // (A period of 1 / (1.15 n): the vertices move too, so every cell, linear ones
+                // included, is bent.)
+                const double dx = bend * std::sin(2.3 * vtkMath::Pi() * n * y + 0.5);
+                const double dy = bend * std::sin(2.3 * vtkMath::Pi() * n * z + 0.5);
+                const double dz = bend * std::sin(2.3 * vtkMath::Pi() * n * x + 0.5);
+                x += dx, y += dy, z += dz;
+              }
+              id = points->InsertNextPoint(x, y, z);
+              wave->InsertNextValue(std::sin(7.0 * x) * std::cos(5.0 * y) + std::sin(6.0 * z + 1.0)); // MakeOrderMesh's
+            }
+            ids[static_cast<std::size_t>(node)] = id;
+          }
+          cells->InsertNextCell(nodes, ids.data());
+        }
+  auto mesh = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  mesh->SetPoints(points);
+  mesh->GetPointData()->AddArray(wave);
+  mesh->SetCells(type, cells);
+  return mesh;
+}
+} // namespace
+
+/// Per hexahedron and wedge kind, straight and bent: as Orders.
+int Kinds(int size, int n)
+{
+  std::printf("| cells | type | nodes/cell | shape | pieces (order) | mesh MB | preprocess s | kept MB | image | first frame s | camera move s | M rays/s | contour s | triangles |\n"
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  struct Row
+  {
+    int type;
+    int nodes;
+    const char* name;
+  };
+  const Row rows[] = { { VTK_HEXAHEDRON, 8, "VTK_HEXAHEDRON" },
+    { VTK_QUADRATIC_HEXAHEDRON, 20, "VTK_QUADRATIC_HEXAHEDRON" }, { VTK_WEDGE, 6, "VTK_WEDGE" },
+    { VTK_QUADRATIC_LINEAR_WEDGE, 12, "VTK_QUADRATIC_LINEAR_WEDGE" },
+    { VTK_QUADRATIC_WEDGE, 15, "VTK_QUADRATIC_WEDGE" },
+    { VTK_BIQUADRATIC_QUADRATIC_WEDGE, 18, "VTK_BIQUADRATIC_QUADRATIC_WEDGE" } };
+  for (const bool curved : { false, true })
+  {
+    for (const Row& row : rows)
+    {
+      vtkSmartPointer<vtkUnstructuredGrid> mesh = MakeKindMesh(n, row.type, row.nodes, curved);
+      const tetdsr::SplitShape* shape = nullptr;
+      tetdsr::splitShapeOf(row.type, row.nodes, shape);
+      const int image = curved ? size / 4 : size;
+      vtkNew<vtkCamera> camera;
+      SetCamera(camera);
+      double preprocess, kept;
+      vtkIdType curvedCells;
+      {
+        vtkNew<vtkDirectSurfaceRayCaster> caster;
+        caster->SetInputData(mesh);
+        caster->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
+        caster->SetValue(0, 0.3);
+        caster->SetCamera(camera);
+        caster->SetImageSize(1, 1);
+        preprocess = Seconds([&] { caster->Update(); });
+        kept = caster->GetPreprocessedBytes() / 1e6;
+        curvedCells = caster->GetNumberOfCurvedCells();
+      }
+      vtkNew<vtkDirectSurfaceRayCaster> caster;
+      caster->SetInputData(mesh);
+      caster->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
+      caster->SetValue(0, 0.3);
+      caster->SetCamera(camera);
+      caster->SetImageSize(image, image);
+      const double first = Seconds([&] { caster->Update(); });
+      double cameraMove = std::numeric_limits<double>::infinity();
+      for (int repeat = 0; repeat < 3; ++repeat)
+      {
+        camera->Azimuth(repeat % 2 ? -10.0 : 10.0);
+        cameraMove = std::min(cameraMove, Seconds([&] { caster->Update(); }));
+      }
+      vtkNew<vtkContourFilter> contour;
+      contour->SetInputData(mesh);
+      contour->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
+      contour->SetValue(0, 0.3);
+      const double contourTime = Seconds([&] { contour->Update(); });
+      std::printf("| %lld | %s | %d | %s (%lld curved) | %d (%d) | %.1f | %.3f | %.1f | %d^2 | %.3f | %.3f | %.3f | %.3f | %lld |\n",
+        static_cast<long long>(mesh->GetNumberOfCells()), row.name, row.nodes,
+        curved ? "curved" : "straight", static_cast<long long>(curvedCells), shape->pieces,
+        shape->degree, 1024.0 * mesh->GetActualMemorySize() / 1e6, preprocess, kept, image, first,
+        cameraMove, image * double(image) / cameraMove / 1e6, contourTime,
+        static_cast<long long>(contour->GetOutput()->GetNumberOfCells()));
+      std::fflush(stdout);
+    }
+  }
+  return EXIT_SUCCESS;
+}
+
 int main(int argc, char* argv[])
 {
   if (argc == 4 && std::string(argv[1]) == "--normals")
@@ -504,6 +638,10 @@ int main(int argc, char* argv[])
   if (argc == 4 && std::string(argv[1]) == "--options")
   {
     return AppearanceOptions(std::atoi(argv[2]), std::atoi(argv[3]));
+  }
+  if (argc == 4 && std::string(argv[1]) == "--kinds")
+  {
+    return Kinds(std::atoi(argv[2]), std::atoi(argv[3]));
   }
   if (argc == 4 && std::string(argv[1]) == "--orders")
   {

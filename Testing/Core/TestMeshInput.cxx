@@ -216,9 +216,10 @@ TEST(MeshInput, SizesTheArraysClaimAreCheckedBeforeReading)
 TEST(MeshInput, CellsOfOtherTypesAndMalformedCellsAreCountedAndTold)
 {
   LatticeArrays own(sphereLattice());
-  // Cell 0 an unsupported type (a hexahedron, 12); cell 1 claiming VTK_TETRA with 10 ids;
-  // cell 2 an offset past the end (its ids would be read beyond the array).
-  own.Types[0] = 12;
+  // Cell 0 an unsupported type (a pentagonal prism, 15: hexahedra, 12, are read now); cell 1
+  // claiming VTK_TETRA with 10 ids; cell 2 an offset past the end (its ids would be read beyond
+  // the array).
+  own.Types[0] = 15;
   own.Types[1] = tetdsr::kVtkTetra;
   tetdsr::MeshArrays arrays = own.arrays();
   std::vector<tetdsr::NodeId> offsets = own.Offsets;
@@ -232,22 +233,25 @@ TEST(MeshInput, CellsOfOtherTypesAndMalformedCellsAreCountedAndTold)
   EXPECT_EQ(summary.malformedCells, 3) << "cell 1 (10 ids for 4), cells 2 and 3 (offset 3)";
   EXPECT_EQ(summary.validCells, arrays.offsets.tuples - 1 - 4);
   ASSERT_EQ(messages.warnings.size(), 2u);
-  EXPECT_EQ(messages.warnings[0], "Skipped 1 cells of a type TetDSR does not read (it reads VTK_TETRA, "
-    "VTK_QUADRATIC_TETRA, and VTK_LAGRANGE_TETRAHEDRON or VTK_BEZIER_TETRAHEDRON of order 1 to 4).");
+  const std::string reads = "VTK_TETRA, VTK_QUADRATIC_TETRA, VTK_LAGRANGE_TETRAHEDRON or "
+    "VTK_BEZIER_TETRAHEDRON of order 1 to 4; VTK_HEXAHEDRON, VTK_VOXEL, VTK_QUADRATIC_HEXAHEDRON, "
+    "VTK_LAGRANGE_HEXAHEDRON or VTK_BEZIER_HEXAHEDRON of order 1; VTK_WEDGE, VTK_QUADRATIC_WEDGE, "
+    "VTK_QUADRATIC_LINEAR_WEDGE, VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_LAGRANGE_WEDGE or "
+    "VTK_BEZIER_WEDGE of order 1 or 2";
+  EXPECT_EQ(messages.warnings[0], "Skipped 1 cells of a type TetDSR does not read (it reads " + reads + ").");
   EXPECT_EQ(messages.warnings[1].rfind("Skipped 3 malformed cells: a number of node ids", 0), 0u)
     << messages.warnings[1];
 
   // Every cell of another type: nothing can be rendered, and the error says why.
-  std::fill(own.Types.begin(), own.Types.end(), std::uint8_t(12));
+  std::fill(own.Types.begin(), own.Types.end(), std::uint8_t(15));
   tetdsr::Messages none;
   tetdsr::PreparedMesh nothing;
   EXPECT_FALSE(nothing.prepare(own.arrays(), tetdsr::TransverseTest(), tetdsr::serialFor, none));
   ASSERT_EQ(none.errors.size(), 1u);
   EXPECT_EQ(none.errors[0], "No cell can be rendered: none of the " +
-      std::to_string(own.Types.size()) + " input cells is a well-formed tetrahedron of a type "
-      "TetDSR reads (VTK_TETRA, VTK_QUADRATIC_TETRA, and VTK_LAGRANGE_TETRAHEDRON or "
-      "VTK_BEZIER_TETRAHEDRON of order 1 to 4): " + std::to_string(own.Types.size()) +
-      " of another type, 0 of order above 4, 0 malformed.");
+      std::to_string(own.Types.size()) + " input cells is a well-formed cell of a type TetDSR "
+      "reads (" + reads + "): " + std::to_string(own.Types.size()) +
+      " of another type, 0 of an order it does not read, 0 malformed.");
   EXPECT_TRUE(none.warnings.empty());
 }
 

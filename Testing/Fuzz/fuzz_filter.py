@@ -11,7 +11,9 @@ pixel is checked:
   one cell and counts every input cell once (rendered or skipped for some reason);
   the skip counters and warnings, and the refusals, are those higher_order_cases.predict gives
   from the input alone (Unsupported, Malformed, OrderTooHigh, InvalidId, Rational, NonFinite
-  exactly; Degenerate at least). Meshes include Lagrange and Bezier tetrahedra of orders 1-5.
+  exactly; Degenerate at least), and a refusal for the cells is the one predicted. Meshes include
+  Lagrange and Bezier tetrahedra of orders 1-5, straight hexahedra and wedges of every kind the
+  core reads, and (hostile) cells given hexahedron, wedge and pyramid types with any id count.
 Errors are allowed (hostile input may be refused); crashes, sanitizer reports, hangs and broken
 invariants are failures. Some cases also render the mesh scaled by a power of ten and compare.
 
@@ -50,6 +52,7 @@ HUGE_ID = 2 ** 62
 KNOBS = {
     "mesh": 1.0,
     "higher_order": 0.3,
+    "hex_wedge": 0.2,
     "transform": 0.5,
     "curved": 0.1,
     "inverted": 0.15,
@@ -62,6 +65,7 @@ KNOBS = {
     "ho_bend": 0.5,
     "ho_values": 0.15,
     "ho_counts": 0.12,
+    "split_types": 0.12,
     "ho_weights": 0.25,
     "conn_garbage": 0.15,
     "cell_types": 0.15,
@@ -87,7 +91,7 @@ KNOBS = {
 }
 # Knobs that break the mesh itself; off in "clean" and "scale check" cases.
 HOSTILE = {"scale_coords", "scale_field", "unused_points", "nonfinite_coords", "nonfinite_field",
-           "flat_cells", "ho_bend", "ho_values", "ho_counts", "ho_weights", "conn_garbage", "cell_types", "cell_sizes", "offsets", "types_length",
+           "flat_cells", "ho_bend", "ho_values", "ho_counts", "split_types", "ho_weights", "conn_garbage", "cell_types", "cell_sizes", "offsets", "types_length",
            "duplicate_cells", "points_float32", "scalar_array", "reupdate"}
 
 
@@ -246,6 +250,11 @@ def apply_mesh_knobs(case):
             mesh.bent = mesh.bent or bool(moved)
             what += ", %d cells bent" % len(moved)
         case.note("higher_order: " + what)
+    if (hw_rng := case.knob("hex_wedge")):
+        # Some cells (or all) replaced by straight hexahedra and wedges of the kinds the core
+        # reads (split into tetrahedra), on nodes of their own.
+        what, _ = ho.straight_split_cells(hw_rng, mesh, float(pick(hw_rng, [0.2, 0.5, 1.0])))
+        case.note("hex_wedge: " + what)
     mesh.field = random_field(field_kind, mesh.points, rng)
     inner = np.quantile(mesh.field, rng.uniform(0.05, 0.95, int(rng.integers(1, 3))))
     values = [float(v) for v in inner]
@@ -361,10 +370,13 @@ def apply_hostile_knobs(case, mesh, values, box):
         count = int(rng.integers(1, len(mesh.types) + 1))
         who = rng.integers(0, len(mesh.types), count)
         # VTK_TETRA (with 10 ids), hexahedron, empty cell, quadratic hexahedron, Lagrange
-        # tetrahedron, and a type VTK does not have. (Not VTK_POLYHEDRON: vtkUnstructuredGrid
-        # itself crashes on one without faces.)
-        mesh.types[who] = [pick(rng, [VTK_TETRA, VTK_TETRA, VTK_HEXAHEDRON, 0, 25, 71, 78, 255])
-                           for _ in who]
+        # tetrahedron, wedges, pyramids, Lagrange and Bezier hexahedra and wedges, the
+        # pentagonal prism, and a type VTK does not have, with the ids they had (mostly 10: a
+        # malformed hexahedron or wedge, an unsupported pyramid). (Not VTK_POLYHEDRON:
+        # vtkUnstructuredGrid itself crashes on one without faces.)
+        mesh.types[who] = [pick(rng, [VTK_TETRA, VTK_TETRA, VTK_HEXAHEDRON, 0, 25, 71, 78, 255,
+                                      11, 13, 14, 15, 26, 27, 29, 31, 32, 33, 72, 73, 74, 79, 80,
+                                      81]) for _ in who]
         case.note("cell_types: %s" % sorted(set(zip(who.tolist(), mesh.types[who].tolist())))[:6])
     if (rng := case.knob("cell_sizes")):
         # Some cells get 4, 9 or 11 ids (a 4-id VTK_TETRA is valid: its 4 vertices).
@@ -380,6 +392,14 @@ def apply_hostile_knobs(case, mesh, values, box):
         case.note("cell_sizes: sizes %s" % sorted(set(len(c) for c in cells)))
     if (rng := case.knob("ho_counts")):
         case.note("ho_counts: " + ho.hostile_counts(rng, mesh, int(rng.integers(1, 4))))
+    if (rng := case.knob("split_types")):
+        # Cells given a hexahedron's, wedge's or pyramid's type and any number of ids (of the
+        # mesh's points): malformed, of too high an order, unsupported, or read (then mostly
+        # tangled, degenerate or curved: their nodes are anywhere).
+        what, cost = ho.hostile_split_cells(rng, mesh, int(rng.integers(1, 5)))
+        mesh.curved_cost += cost
+        mesh.bent = mesh.bent or cost > 0
+        case.note("split_types: " + what)
     if (rng := case.knob("conn_garbage")) and len(mesh.conn) > 1:
         count = int(rng.integers(1, 6))
         for _ in range(count):
@@ -413,7 +433,7 @@ def apply_hostile_knobs(case, mesh, values, box):
                       np.append(mesh.types, np.full(delta, VTK_QUADRATIC_TETRA, np.uint8)))
         case.note("types_length: %+d" % delta)
     if (rng := case.knob("ho_weights")):
-        bezier = [c for c in range(len(mesh.types)) if mesh.types[c] == ho.VTK_BEZIER_TETRAHEDRON]
+        bezier = [c for c in range(len(mesh.types)) if mesh.types[c] in ho.BEZIER_TYPES]
         mesh.weights, kind = ho.rational_weights(rng, len(mesh.points), bezier, mesh)
         mesh.weights_soa = rng.random() < 0.15
         case.note("ho_weights: %s, %s %s" % (kind, mesh.weights.dtype, mesh.weights.shape))
@@ -882,6 +902,10 @@ def check_output(V, caster, msgs, size, grid, field, colours, warnings=True):
     broken = {}
     ncells = grid.GetNumberOfCells()
     if msgs.errors:
+        if any(ho.NO_CELL in e for e in msgs.errors):
+            reasons, _, _, expected_error = invalid_cells(V, grid, field)
+            if reasons is not None:
+                ho.check_refusal(expected_error, msgs.errors, broken)
         return broken
     reasons, largest, varying, expected_error = invalid_cells(V, grid, field)
     if expected_error:
@@ -1026,8 +1050,8 @@ def run_case(V, seed, index, without=(), verbose=False):
         elif kind == "types":  # every cell's type toggled between Lagrange and Bezier
             types = grid.GetCellTypesArray()
             t = vtk_to_numpy(types)
-            t[:] = np.where(t == ho.VTK_LAGRANGE_TETRAHEDRON, ho.VTK_BEZIER_TETRAHEDRON,
-                            np.where(t == ho.VTK_BEZIER_TETRAHEDRON, ho.VTK_LAGRANGE_TETRAHEDRON, t))
+            # (Lagrange 71-74 and Bezier 78-81 tetrahedron, hexahedron, wedge, pyramid.)
+            t[:] = np.where((t >= 71) & (t <= 74), t + 7, np.where((t >= 78) & (t <= 81), t - 7, t))
             types.Modified()
         elif kind == "points":
             data = grid.GetPoints().GetData()
@@ -1289,7 +1313,7 @@ def run_tasks(tasks, seed, jobs, timeout, on_result, stop_at=None):
 
 PRIORITY = ["incomplete-output", "miss-not-clean", "hit-cell-out-of-range", "hit-bad-depth",
             "hit-bad-normal", "hit-zero-normal-on-varying-field", "miss-color-value", "hit-on-invalid-cell", "invalid-cell-rendered",
-            "hit-reads-past-color-array", "error-missing", "skip-counts", "warning-missing",
+            "hit-reads-past-color-array", "error-missing", "wrong-refusal", "skip-counts", "warning-missing",
             "cell-counts", "scale-variance"]
 
 

@@ -12,10 +12,12 @@ worker processes (each runs many cases; a crash or a hang costs one restart). A 
           inf, strings, floats for integers, huge integers, wrong VTK types, None), arrays
           edited in place without Modified() between Updates.
 Both also take meshes of Lagrange and Bezier tetrahedra of orders 1-5 mixed with VTK_TETRA and
-VTK_QUADRATIC_TETRA (higher_order_cases.py): hostile id counts, nodes bent by small to huge
+VTK_QUADRATIC_TETRA and straight hexahedra and wedges (higher_order_cases.py): hostile id counts,
+cells given hexahedron, wedge and pyramid types with any id count, nodes bent by small to huge
 amounts or NaN, fields near the largest double, RationalWeights of every kind and length, and
 weights, types or points edited after prepare; where their arrays are otherwise untouched, the
-skip counts, warnings and refusals must be those higher_order_cases.predict gives.
+skip counts, warnings and refusals must be those higher_order_cases.predict gives (so must the
+filter's refusal of a grid whose cells are all of types or id counts it does not read).
 Allowed: an image, or a refusal (a Python exception of the binding's kinds: TypeError,
 ValueError, RuntimeError, MemoryError, OverflowError; or the filter's error message). Failures:
 a crash, a hang, a Python traceback printed from inside VTK's pipeline, an exception of another
@@ -45,7 +47,7 @@ import numpy as np
 
 import higher_order_cases as ho
 
-VTK_TETRA, VTK_HEXAHEDRON, VTK_QUADRATIC_TETRA = 10, 12, 24
+VTK_TETRA, VTK_HEXAHEDRON, VTK_PYRAMID, VTK_PENTAGONAL_PRISM, VTK_QUADRATIC_TETRA = 10, 12, 14, 15, 24
 MID_EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
 ALLOWED = (TypeError, ValueError, RuntimeError, MemoryError, OverflowError)
 DTYPES = [np.bool_, np.float16, np.float32, np.float64, np.int8, np.uint8, np.int16, np.uint16,
@@ -117,11 +119,18 @@ def higher_order_mesh(case, hostile):
     mesh, what = ho.make_mesh(rng, points[cells[:, :4]], hostile)
     amplitude = float(pick(rng, [0.0, 0.0, 1e-3, 0.03] + ([0.3, 3.0, 1e150, 1e300, np.nan]
                                                           if hostile else [])))
+    if rng.random() < 0.3:  # straight hexahedra and wedges (split into tetrahedra by the core)
+        what += ", " + ho.straight_split_cells(rng, mesh, float(pick(rng, [0.2, 0.5, 1.0])))[0]
     moved = ho.bend(rng, mesh, amplitude, 0.5, vertices_too=hostile and rng.random() < 0.2) \
         if amplitude else []
     what += ", %d cells bent by %g" % (len(moved), amplitude)
+    cost = ho.curved_cost_cells(mesh, moved)
     if hostile and rng.random() < 0.3:
         what += ", " + ho.hostile_counts(rng, mesh, int(rng.integers(1, 3)))
+    if hostile and rng.random() < 0.3:  # hexahedron, wedge and pyramid types, any id count
+        made, split_cost = ho.hostile_split_cells(rng, mesh, int(rng.integers(1, 4)))
+        what += ", " + made
+        cost += split_cost
     centre = rng.uniform(-0.5, 0.5, 3)
     with np.errstate(all="ignore"):
         field = np.sum((mesh.points - centre) ** 2, axis=1)
@@ -129,11 +138,10 @@ def higher_order_mesh(case, hostile):
         field *= float(pick(rng, [1.7976931348623157e308, 1e308 / 35])) / np.nanmax(field)
     weights = None
     if rng.random() < 0.4:
-        bezier = [c for c in range(len(mesh.types)) if mesh.types[c] == ho.VTK_BEZIER_TETRAHEDRON]
+        bezier = [c for c in range(len(mesh.types)) if mesh.types[c] in ho.BEZIER_TYPES]
         weights, kind = ho.rational_weights(rng, len(mesh.points), bezier, mesh)
         what += ", weights %s %s %s" % (kind, weights.dtype, weights.shape)
     case.note("higher order: " + what)
-    cost = ho.curved_cost_cells(mesh, moved)
     rays = max(1, CURVED_HIGHER_ORDER_TESTS // (3 * cost)) if cost else None
     return mesh.points, mesh.types, mesh.offsets, mesh.conn, field, weights, rays
 
@@ -153,6 +161,7 @@ def check_prepare(case, arrays, ready, messages, summary, broken):
                                 np.asarray(arrays["field"], np.float64), weights)
     if reasons is None:
         return
+    ho.check_refusal(error, list(messages.errors), broken, "prepare:")
     if error:  # (an earlier error, e.g. of the component asked for, may come instead)
         if ready or not messages.errors:
             broken["prepare:error-missing: " + error] = "ready %s, errors %s" % (
@@ -413,8 +422,9 @@ SETTERS = {  # setter: how many arguments
 
 
 def run_filter(case):
+    from vtkmodules.util.misc import calldata_type
     from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
-    from vtkmodules.vtkCommonCore import vtkCommand, vtkPoints
+    from vtkmodules.vtkCommonCore import VTK_STRING, vtkCommand, vtkPoints
     from vtkmodules.vtkCommonDataModel import (vtkCellArray, vtkMultiBlockDataSet, vtkPlane,
                                                vtkUnstructuredGrid)
     from vtkmodules.vtkRenderingCore import vtkCamera
@@ -425,7 +435,7 @@ def run_filter(case):
     rng = case.rng("grid")
     grid = vtkUnstructuredGrid()
     what = pick(rng, ["plain"] * 5 + ["higher-order"] * 4 +
-                ["empty", "all-nan", "no-cells", "multiblock", "hex"])
+                ["empty", "all-nan", "no-cells", "multiblock", "unread"])
     case.note("grid: %s" % what)
     rays = None
     warnings = []
@@ -459,8 +469,13 @@ def run_filter(case):
             ca = vtkCellArray()
             ca.SetData(numpy_to_vtkIdTypeArray(np.arange(0, cells.size + 1, 10), deep=1),
                        numpy_to_vtkIdTypeArray(cells.ravel().copy(), deep=1))
-            types = np.full(len(cells), VTK_HEXAHEDRON if what == "hex" else VTK_QUADRATIC_TETRA,
+            # "unread": every cell (10 ids) of a type not read (a pyramid, a pentagonal prism) or
+            # of an id count its type is not read with (a hexahedron): refused.
+            unread = pick(rng, [VTK_PYRAMID, VTK_PENTAGONAL_PRISM, VTK_HEXAHEDRON])
+            types = np.full(len(cells), unread if what == "unread" else VTK_QUADRATIC_TETRA,
                             np.uint8)
+            if what == "unread":
+                case.note("unread: every cell of type %d" % unread)
             grid.SetCells(numpy_to_vtk(types, deep=1), ca)
         values = np.full_like(field, np.nan) if what == "all-nan" else field
         for name, v in (("f", values), ("g", points.copy())):
@@ -471,6 +486,13 @@ def run_filter(case):
     caster = vtkDirectSurfaceRayCaster()
     errors = []
     caster.AddObserver(vtkCommand.ErrorEvent, lambda o, e, *a: errors.append(e))
+    error_texts = []
+
+    @calldata_type(VTK_STRING)
+    def on_error(obj, event, text):
+        error_texts.append(str(text))
+
+    caster.AddObserver(vtkCommand.ErrorEvent, on_error)
     caster.SetInputDataObject(0, grid)
     caster.SetValue(0, 0.4)
     caster.AddObserver(vtkCommand.WarningEvent, lambda o, e, *a: warnings.append(
@@ -493,10 +515,16 @@ def run_filter(case):
             caster.SetInputArrayToProcess(1, 0, 0, 0, pick(srng, ["g", "f", "none"]))
         refused(lambda: getattr(caster, name)(*args), case, "%s%r" % (name, tuple(args)))
     errors.clear()
+    error_texts.clear()
     caster.Update()
     check_filter(caster, errors, broken, "first", vtk_to_numpy, len(cells))
-    if what == "higher-order" and not errors:
-        check_filter_counts(caster, grid, vtk_to_numpy, broken, "first:")
+    if what == "higher-order":
+        check_filter_counts(caster, grid, vtk_to_numpy, broken, "first:", errors, error_texts)
+    if what == "unread":  # refused, and (if for the cells) as predicted: none is read
+        if not errors:
+            broken["unread:not-refused"] = "no error, %d cells rendered" % (
+                caster.GetNumberOfRenderedCells())
+        ho.check_refusal(ho.NO_CELL + ": none of the", error_texts, broken, "unread:")
     refused_first = bool(errors)
     if what == "higher-order" and rng.random() < 0.5:  # edits after prepare, with Modified()
         edit = pick(rng, ["weights", "types", "points"])
@@ -506,7 +534,7 @@ def run_filter(case):
             grid.GetPointData().SetRationalWeights(array)
         elif edit == "types":
             t = vtk_to_numpy(grid.GetCellTypesArray())
-            t[:] = np.where(t == ho.VTK_LAGRANGE_TETRAHEDRON, ho.VTK_BEZIER_TETRAHEDRON, t)
+            t[:] = np.where((t >= 71) & (t <= 73), t + 7, t)  # Lagrange -> Bezier tet, hex, wedge
             grid.GetCellTypesArray().Modified()
         else:
             vtk_to_numpy(grid.GetPoints().GetData())[:5] = np.nan
@@ -514,10 +542,10 @@ def run_filter(case):
         case.note("edited %s after prepare, Modified()" % edit)
         caster.Modified()  # the pipeline does not see an array's Modified(): the filter's own check
         errors.clear()
+        error_texts.clear()
         caster.Update()
         check_filter(caster, errors, broken, "edited", vtk_to_numpy, len(cells))
-        if not errors:
-            check_filter_counts(caster, grid, vtk_to_numpy, broken, "edited:")
+        check_filter_counts(caster, grid, vtk_to_numpy, broken, "edited:", errors, error_texts)
     if what == "plain" and rng.random() < 0.5:  # edited in place without Modified()
         edit = pick(rng, ["ids", "points", "field"])
         if edit == "ids":
@@ -545,8 +573,9 @@ def run_filter(case):
     return broken
 
 
-def check_filter_counts(caster, grid, vtk_to_numpy, broken, where):
-    """The filter's skip counters against higher_order_cases.predict on its input."""
+def check_filter_counts(caster, grid, vtk_to_numpy, broken, where, errors, error_texts):
+    """The filter's skip counters against higher_order_cases.predict on its input (after an
+    Update without errors), or its refusal for the cells (after one with)."""
     cells = grid.GetCells()
     weights = grid.GetPointData().GetRationalWeights()
     reasons, error = ho.predict(
@@ -556,6 +585,9 @@ def check_filter_counts(caster, grid, vtk_to_numpy, broken, where):
         vtk_to_numpy(grid.GetPointData().GetArray("f")).astype(np.float64),
         None if weights is None else vtk_to_numpy(weights))
     if reasons is None:
+        return
+    if errors:
+        ho.check_refusal(error, error_texts, broken, where)
         return
     if error:
         broken[where + "error-missing: " + error] = "no error"

@@ -7,9 +7,13 @@ GetParametricCoords), so this module is imported in the fuzzers' workers only, w
 The oracle follows the order in which the core reads a cell (docs/reliability-and-limits.md,
 "What is checked"): its type; its id count (4 for VTK_TETRA, 10 for VTK_QUADRATIC_TETRA, a
 tetrahedral number for Lagrange and Bezier tetrahedra: orders 1 to 4 read, any higher order
-skipped as "order above 4", any other count malformed); ids in range; ids distinct; a Bezier
-cell's rational weights (when the point data has them) equal, positive and finite; then finite
-coordinates and values at every node. Geometry (degenerate shapes, tangled or out-of-scale
+skipped as "order too high", any other count malformed; the hexahedra and wedges the core splits
+into tetrahedra (SplitCells.cpp, splitShapeOf): fixed counts, cube numbers for Lagrange and Bezier
+hexahedra (order 1 read), (p + 1)^2 (p + 2) / 2 for Lagrange and Bezier wedges (orders 1 and 2
+read), VTK_TRIQUADRATIC_HEXAHEDRON and VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON of too high a degree;
+pyramids of a type not read); ids in range; ids distinct; a Bezier cell's rational weights (when
+the point data has them) equal, positive and finite; then finite coordinates and values at every
+node of the cell (a split cell's own nodes). Geometry (degenerate shapes, tangled or out-of-scale
 cells) is not predicted: those cells are allowed to be skipped, never required to be."""
 import os
 import sys
@@ -21,12 +25,38 @@ VTK_TETRA, VTK_QUADRATIC_TETRA = 10, 24
 VTK_LAGRANGE_TETRAHEDRON, VTK_BEZIER_TETRAHEDRON = 71, 78
 READ_TYPES = (VTK_TETRA, VTK_QUADRATIC_TETRA, VTK_LAGRANGE_TETRAHEDRON, VTK_BEZIER_TETRAHEDRON)
 MAX_ORDER = 4
+# Hexahedra and wedges (read by splitting them into tetrahedra), and the pyramids (not read).
+VTK_VOXEL, VTK_HEXAHEDRON, VTK_WEDGE, VTK_PYRAMID, VTK_PENTAGONAL_PRISM = 11, 12, 13, 14, 15
+VTK_QUADRATIC_HEXAHEDRON, VTK_QUADRATIC_WEDGE, VTK_QUADRATIC_PYRAMID = 25, 26, 27
+VTK_TRIQUADRATIC_HEXAHEDRON, VTK_QUADRATIC_LINEAR_WEDGE = 29, 31
+VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON = 32, 33
+VTK_TRIQUADRATIC_PYRAMID = 37
+VTK_LAGRANGE_HEXAHEDRON, VTK_LAGRANGE_WEDGE, VTK_LAGRANGE_PYRAMID = 72, 73, 74
+VTK_BEZIER_HEXAHEDRON, VTK_BEZIER_WEDGE, VTK_BEZIER_PYRAMID = 79, 80, 81
+# The id count each fixed-size type the core splits is read with.
+SPLIT_FIXED = {VTK_VOXEL: 8, VTK_HEXAHEDRON: 8, VTK_QUADRATIC_HEXAHEDRON: 20, VTK_WEDGE: 6,
+               VTK_QUADRATIC_LINEAR_WEDGE: 12, VTK_QUADRATIC_WEDGE: 15,
+               VTK_BIQUADRATIC_QUADRATIC_WEDGE: 18}
+# Types of too high a degree at exactly this id count (malformed at any other).
+SPLIT_TOO_HIGH = {VTK_TRIQUADRATIC_HEXAHEDRON: 27, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON: 24}
+# The highest order of Lagrange and Bezier hexahedra ((p + 1)^3 ids) and wedges
+# ((p + 1)^2 (p + 2) / 2 ids) read (order p: total degree 3p and 2p); higher: order too high.
+MAX_HEX_ORDER, MAX_WEDGE_ORDER = 1, 2
+BEZIER_TYPES = (VTK_BEZIER_TETRAHEDRON, VTK_BEZIER_HEXAHEDRON, VTK_BEZIER_WEDGE)
+PYRAMIDS = (VTK_PYRAMID, VTK_QUADRATIC_PYRAMID, VTK_TRIQUADRATIC_PYRAMID, VTK_LAGRANGE_PYRAMID,
+            VTK_BEZIER_PYRAMID)
+# Every type the core reads, and the id counts worth trying on the hexahedra, wedges and
+# pyramids: each type's own, its neighbours', higher orders' and none.
+SPLIT_TYPES = tuple(SPLIT_FIXED) + tuple(SPLIT_TOO_HIGH) + (
+    VTK_LAGRANGE_HEXAHEDRON, VTK_BEZIER_HEXAHEDRON, VTK_LAGRANGE_WEDGE, VTK_BEZIER_WEDGE)
+SPLIT_COUNTS = [0, 1, 4, 5, 6, 7, 8, 9, 10, 12, 13, 14, 15, 18, 19, 20, 21, 24, 27, 40, 64, 75, 125]
 
 # Why a cell must be skipped, in the order the core checks, with its counter's name
 # (GetNumberOf<name>Cells in the filters, the binding's summary key).
-UNSUPPORTED, MALFORMED, ORDER_TOO_HIGH = "unsupported type", "malformed", "order above 4"
+UNSUPPORTED, MALFORMED, ORDER_TOO_HIGH = "unsupported type", "malformed", "order too high"
 INVALID_ID, REPEATED_ID, RATIONAL = "id out of range", "repeated id", "rational weights"
 NONFINITE = "non-finite coordinate or value"
+NO_CELL = "No cell can be rendered"  # the refusals for cells (MeshInput.cpp describeSkipped)
 COUNTER_OF = {UNSUPPORTED: "Unsupported", MALFORMED: "Malformed", ORDER_TOO_HIGH: "OrderTooHigh",
               INVALID_ID: "InvalidId", REPEATED_ID: "Degenerate", RATIONAL: "Rational",
               NONFINITE: "NonFinite"}
@@ -39,11 +69,10 @@ SUMMARY_KEY = {"Unsupported": "unsupported", "Malformed": "malformed",
 EXACT = ("Unsupported", "Malformed", "OrderTooHigh", "InvalidId", "Rational", "NonFinite")
 # The warning each counter gives (MeshInput.cpp), as "Skipped <count><this>".
 WARNING_OF = {"Unsupported": " cells of a type TetDSR does not read",
-              "OrderTooHigh": " VTK_LAGRANGE_TETRAHEDRON or VTK_BEZIER_TETRAHEDRON cells of order "
-                              "above 4",
+              "OrderTooHigh": " cells of an order TetDSR does not read",
               "Malformed": " malformed cells",
               "InvalidId": " cells with node ids outside",
-              "Rational": " rational VTK_BEZIER_TETRAHEDRON cells",
+              "Rational": " rational Bezier cells",
               "NonFinite": " cells with NaN or Inf values"}
 # Id counts no tetrahedron of orders 1-4 has (or of order 5 and 6: 56, 84), and huge ones:
 # 47905 (order 64), 50116 (order 65), 10^6 (no tetrahedral number).
@@ -55,12 +84,42 @@ def lattice_count(order):
     return (order + 1) * (order + 2) * (order + 3) // 6
 
 
-def order_of(count):
-    """The order P of a tetrahedron of `count` nodes (count = lattice_count(P)), 0 if none."""
+def order_of(count, nodes=lattice_count):
+    """The order P of a cell of `count` nodes (count = nodes(P), P >= 1), 0 if none: a
+    tetrahedron's by default."""
     p = 1
-    while lattice_count(p) < count:
+    while nodes(p) < count:
         p += 1
-    return p if lattice_count(p) == count else 0
+    return p if nodes(p) == count else 0
+
+
+def hexahedron_count(order):
+    return (order + 1) ** 3
+
+
+def wedge_count(order):
+    return (order + 1) ** 2 * (order + 2) // 2
+
+
+def read_status(vtk_type, count):
+    """What reading a cell of this type and id count gives, as the core does (Cells.h cellLayout
+    for tetrahedra, SplitCells.cpp splitShapeOf for the others): "" (read) or UNSUPPORTED,
+    MALFORMED, ORDER_TOO_HIGH."""
+    if vtk_type in READ_TYPES:
+        order = {VTK_TETRA: 1 if count == 4 else 0,
+                 VTK_QUADRATIC_TETRA: 2 if count == 10 else 0}.get(vtk_type, order_of(count))
+        return MALFORMED if order == 0 else ORDER_TOO_HIGH if order > MAX_ORDER else ""
+    if vtk_type in SPLIT_FIXED:
+        return "" if count == SPLIT_FIXED[vtk_type] else MALFORMED
+    if vtk_type in SPLIT_TOO_HIGH:
+        return ORDER_TOO_HIGH if count == SPLIT_TOO_HIGH[vtk_type] else MALFORMED
+    if vtk_type in (VTK_LAGRANGE_HEXAHEDRON, VTK_BEZIER_HEXAHEDRON):
+        order = order_of(count, hexahedron_count)
+        return MALFORMED if order == 0 else ORDER_TOO_HIGH if order > MAX_HEX_ORDER else ""
+    if vtk_type in (VTK_LAGRANGE_WEDGE, VTK_BEZIER_WEDGE):
+        order = order_of(count, wedge_count)  # (VTK's 21-node wedge: malformed)
+        return MALFORMED if order == 0 else ORDER_TOO_HIGH if order > MAX_WEDGE_ORDER else ""
+    return UNSUPPORTED  # pyramids and every other type
 
 
 @lru_cache(maxsize=None)
@@ -138,10 +197,111 @@ def bend(rng, mesh, amplitude, fraction, vertices_too=False):
     return moved
 
 
+def curved_pieces(vtk_type, count):
+    """How many tetrahedra of order 3 or 4 the core renders a cell of this type and id count as:
+    1 for a Lagrange or Bezier tetrahedron of order 3 or 4, 6 (Kuhn's) for a hexahedron and 3 for
+    a wedge whose polynomials are of total degree 3 or 4 (every hexahedron read, the wedges but
+    VTK_WEDGE and order 1), else 0."""
+    if read_status(vtk_type, count):
+        return 0
+    if vtk_type in READ_TYPES:
+        return 1 if vtk_type in (VTK_LAGRANGE_TETRAHEDRON, VTK_BEZIER_TETRAHEDRON) and \
+            order_of(count) in (3, 4) else 0
+    if vtk_type in (VTK_VOXEL, VTK_HEXAHEDRON, VTK_QUADRATIC_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON,
+                    VTK_BEZIER_HEXAHEDRON):
+        return 6
+    return 3 if count > 6 else 0
+
+
 def curved_cost_cells(mesh, moved):
-    """How many of the moved cells are of order 3 or 4: each ray test of such a curved cell is a
-    subdivision solve, 100-300 us in the release build and about 5 times that under ASan."""
-    return sum(1 for c in moved if mesh.orders[c] in (3, 4))
+    """How many tetrahedra of order 3 or 4 the moved cells are rendered as: each ray test of such
+    a curved tetrahedron is a subdivision solve, 100-300 us in the release build and about 5 times
+    that under ASan."""
+    return sum(curved_pieces(int(mesh.types[c]), len(mesh.cell_nodes(c))) for c in moved)
+
+
+def set_cells(mesh, cells):
+    """The mesh's connectivity and offsets from a list of cells' id lists."""
+    mesh.conn = np.array([i for c in cells for i in c], dtype=np.int64)
+    mesh.offsets = np.concatenate([[0], np.cumsum([len(c) for c in cells])]).astype(np.int64)
+
+
+def hostile_split_cells(rng, mesh, count):
+    """`count` cells (ids of the mesh's) given a hexahedron's, wedge's or pyramid's type (or a
+    pentagonal prism's), half of them also a number of ids of another type's or none's (padded
+    with valid ids of the mesh, or cut): malformed, of too high an order, unsupported or read
+    (then most are tangled or degenerate: their nodes are other cells'). Returns (description,
+    how many tetrahedra of order 3-4 the read ones become: curved_cost_cells)."""
+    if len(mesh.offsets) != len(mesh.types) + 1 or len(mesh.types) == 0:
+        return "no cells", 0
+    cells = [list(mesh.cell_nodes(c)) for c in range(len(mesh.types))]
+    npts = len(mesh.points)
+    made, cost = [], 0
+    for c in rng.integers(0, len(cells), count):
+        vtk_type = pick(rng, list(SPLIT_TYPES) + list(PYRAMIDS) + [VTK_PENTAGONAL_PRISM])
+        if rng.random() < 0.5:
+            size = pick(rng, SPLIT_COUNTS) if rng.random() < 0.98 else pick(rng, HUGE_COUNTS)
+        else:
+            size = SPLIT_FIXED.get(vtk_type, SPLIT_TOO_HIGH.get(vtk_type, pick(rng, [5, 6, 8, 13,
+                                                                                     14, 18])))
+        cells[c] = (cells[c] + list(rng.integers(0, max(npts, 1), max(0, size - len(cells[c])))))[:size]
+        mesh.types[c] = vtk_type
+        if len(mesh.orders) == len(cells):
+            mesh.orders[c] = 0
+        cost += curved_pieces(vtk_type, size)
+        made.append((int(vtk_type), size))
+    set_cells(mesh, cells)
+    return "hexahedra, wedges, pyramids (type, ids) %s" % sorted(made)[:8], cost
+
+
+@lru_cache(maxsize=None)
+def split_nodes(vtk_type, count):
+    """(count, 3) parametric coordinates of a hexahedron's or wedge's nodes in VTK's order, from
+    VTK (Testing/Python/hex_wedge_grids.py)."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    sys.path.insert(0, os.path.join(here, "..", "Python"))
+    import hex_wedge_grids  # noqa: E402 (VTK, in the workers only)
+    return hex_wedge_grids.node_parametric(vtk_type, count)
+
+
+# Every (type, id count) the core reads as a hexahedron or wedge.
+READ_SPLIT = [(t, n) for t, n in SPLIT_FIXED.items()] + [
+    (VTK_LAGRANGE_HEXAHEDRON, 8), (VTK_BEZIER_HEXAHEDRON, 8), (VTK_LAGRANGE_WEDGE, 6),
+    (VTK_LAGRANGE_WEDGE, 18), (VTK_BEZIER_WEDGE, 6), (VTK_BEZIER_WEDGE, 18)]
+
+
+def straight_split_cells(rng, mesh, fraction):
+    """A `fraction` of the cells replaced by straight (affine) hexahedra and wedges of the kinds
+    the core reads, on nodes of their own: the parametric cell mapped by the affine map of the
+    cell's first four nodes (its vertices), so positive where the tetrahedron was; they overlap
+    their neighbours. Returns (description, cells made)."""
+    if len(mesh.offsets) != len(mesh.types) + 1:
+        return "no cells", []
+    cells = [list(mesh.cell_nodes(c)) for c in range(len(mesh.types))]
+    points = [mesh.points]
+    total = next_id = len(mesh.points)
+    kind = pick(rng, ["one", "mixed"])
+    one = pick(rng, READ_SPLIT)
+    made = []
+    for c in range(len(cells)):
+        ids = np.asarray(cells[c])
+        if rng.random() >= fraction or len(ids) < 4 or np.any((ids[:4] < 0) | (ids[:4] >= total)):
+            continue
+        vtk_type, count = one if kind == "one" else pick(rng, READ_SPLIT)
+        v = mesh.points[ids[:4]]
+        pc = split_nodes(vtk_type, count)
+        nodes = v[0] + pc @ (v[1:] - v[0])
+        cells[c] = list(range(next_id, next_id + count))
+        next_id += count
+        points.append(nodes)
+        mesh.types[c] = vtk_type
+        if len(mesh.orders) == len(cells):
+            mesh.orders[c] = 0
+        made.append(c)
+    mesh.points = np.vstack(points)
+    set_cells(mesh, cells)
+    return "%d straight hexahedra and wedges (%s)" % (
+        len(made), one if kind == "one" else "mixed"), made
 
 
 def hostile_counts(rng, mesh, count):
@@ -158,8 +318,7 @@ def hostile_counts(rng, mesh, count):
         mesh.types[c] = pick(rng, [VTK_LAGRANGE_TETRAHEDRON, VTK_BEZIER_TETRAHEDRON])
         mesh.orders[c] = 0
         made.append(size)
-    mesh.conn = np.array([i for c in cells for i in c], dtype=np.int64)
-    mesh.offsets = np.concatenate([[0], np.cumsum([len(c) for c in cells])]).astype(np.int64)
+    set_cells(mesh, cells)
     return "id counts %s" % sorted(made)
 
 
@@ -225,30 +384,41 @@ def predict(types, offsets, conn, points, values, weights):
     for c in range(len(types)):
         ids = conn[offsets[c]:offsets[c + 1]]
         t = int(types[c])
-        if t not in READ_TYPES:
-            reasons[c] = UNSUPPORTED
-            continue
-        order = {VTK_TETRA: 1 if len(ids) == 4 else 0,
-                 VTK_QUADRATIC_TETRA: 2 if len(ids) == 10 else 0}.get(t, order_of(len(ids)))
-        if order == 0:
-            reasons[c] = MALFORMED
-        elif order > MAX_ORDER:
-            reasons[c] = ORDER_TOO_HIGH
+        # (A read cell's id count is its node count: the checks below take all its ids.)
+        if (read := read_status(t, len(ids))):
+            reasons[c] = read
         elif np.any((ids < 0) | (ids >= npts)):
             reasons[c] = INVALID_ID
         elif len(np.unique(ids)) != len(ids):
             reasons[c] = REPEATED_ID
-        elif t == VTK_BEZIER_TETRAHEDRON and w is not None and not (
+        elif t in BEZIER_TYPES and w is not None and not (
                 np.isfinite(w[ids[0]]) and w[ids[0]] > 0 and np.all(w[ids] == w[ids[0]])):
             reasons[c] = RATIONAL
         elif not (np.all(finite_point[ids]) and np.all(finite_value[ids])):
+            # (A split cell's pieces take its map and field at new points too: any non-finite
+            # node of its own makes them all non-finite, and nothing else may.)
             reasons[c] = NONFINITE
     if error is None and len(types) and np.all(np.isin(reasons, [UNSUPPORTED, MALFORMED,
                                                                  ORDER_TOO_HIGH])):
-        error = "No cell can be rendered: none of the"
+        error = NO_CELL + ": none of the"
     elif error is None and len(types) and np.all(reasons != ""):
-        error = "No cell can be rendered: all"
+        error = NO_CELL + ": all"
     return reasons, error
+
+
+def check_refusal(expected, errors, broken, where=""):
+    """A refusal of the mesh for its cells ("No cell can be rendered: ...", among the error texts
+    `errors`) must be the one predicted: "none of the" when no cell is of a type and id count
+    read, "all" when every cell was skipped for some other reason too (and no refusal of either
+    kind says that a cell is readable when none is). Other errors may come first."""
+    told = [e for e in errors if NO_CELL in e]
+    if not told or (expected and not expected.startswith(NO_CELL)):
+        return
+    none_of = NO_CELL + ": none of the"
+    if expected == none_of and not any(none_of in e for e in told) or \
+            expected != none_of and any(none_of in e for e in told):
+        broken[where + "wrong-refusal: expected %s" % (expected or "none or 'all'")] = \
+            told[0][told[0].find(NO_CELL):][:160]
 
 
 def check_counts(reasons, counts, warnings, broken, where=""):

@@ -22,8 +22,7 @@ WEDGE_TYPES = {VTK_WEDGE, VTK_QUADRATIC_WEDGE, VTK_QUADRATIC_LINEAR_WEDGE,
                VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_LAGRANGE_WEDGE, VTK_BEZIER_WEDGE}
 BEZIER_TYPES = {VTK_BEZIER_HEXAHEDRON, VTK_BEZIER_WEDGE}
 
-# Every (type, node count) TetDSR reads, with the highest degree of the polynomials each spans in
-# x, y and z separately and in total (which analytic fields a straight cell holds exactly).
+# Every (type, node count) TetDSR reads.
 KINDS = [
     ("VTK_HEXAHEDRON", VTK_HEXAHEDRON, 8),
     ("VTK_VOXEL", VTK_VOXEL, 8),

@@ -11,7 +11,8 @@ import unittest
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkCommand, vtkDoubleArray
-from vtkmodules.vtkCommonDataModel import (VTK_HEXAHEDRON, VTK_TETRA, vtkPlane, vtkUnstructuredGrid)
+from vtkmodules.vtkCommonDataModel import (VTK_PENTAGONAL_PRISM, VTK_PYRAMID, VTK_TETRA, vtkPlane,
+                                           vtkUnstructuredGrid)
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction
 
@@ -409,16 +410,18 @@ class BadInput(unittest.TestCase):
     def test_other_cell_types_skipped_and_linear_tets_rendered(self):
         mesh = self.mesh()
         base = mesh.GetNumberOfPoints()
-        for p in range(8):  # a hexahedron far away, and a linear tet
+        for p in range(10):  # a pyramid and a pentagonal prism far away (types TetDSR does not
+            # read), and a linear tet
             mesh.GetPoints().InsertNextPoint(5 + (p & 1), 5 + ((p >> 1) & 1), 5 + (p >> 2))
             mesh.GetPointData().GetArray("sphere").InsertNextValue(-1.0)
-        mesh.InsertNextCell(VTK_HEXAHEDRON, 8, [base + k for k in (0, 1, 3, 2, 4, 5, 7, 6)])
+        mesh.InsertNextCell(VTK_PYRAMID, 5, [base + k for k in (0, 1, 3, 2, 4)])
+        mesh.InsertNextCell(VTK_PENTAGONAL_PRISM, 10, [base + k for k in range(10)])
         mesh.InsertNextCell(VTK_TETRA, 4, [base, base + 1, base + 2, base + 4])
         caster, messages = self.run_filter(mesh)
-        self.assertEqual(caster.GetNumberOfUnsupportedCells(), 1)
+        self.assertEqual(caster.GetNumberOfUnsupportedCells(), 2)
         self.assertEqual(caster.GetNumberOfRenderedCells(), 7)
-        self.assertTrue(any("Skipped 1 cells" in w and "VTK_TETRA" in w for w in messages.warnings),
-                        messages.warnings)
+        self.assertTrue(any("Skipped 2 cells of a type TetDSR does not read" in w and "VTK_TETRA" in w
+                            for w in messages.warnings), messages.warnings)
 
     def test_float32_points_give_the_same_image(self):
         # The bundled cube's coordinates (-1, 0, 1) are exact in float32: same image bit for bit.

@@ -339,7 +339,7 @@ class RationalWeights(unittest.TestCase):
         self.assertEqual(caster.GetNumberOfRenderedCells(), 48 - users)
         text = " ".join(messages.warnings)
         print(f"one weight 1.5 ({users} cells): {messages.warnings}")
-        self.assertIn(f"Skipped {users} rational VTK_BEZIER_TETRAHEDRON cells (rational weights that "
+        self.assertIn(f"Skipped {users} rational Bezier cells (rational weights that "
                       "differ within the cell", text)
         self.assertIn("TetDSR renders polynomial Bezier cells only", text)
 

@@ -10,7 +10,7 @@ import sys
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
 from vtkmodules.vtkCommonCore import vtkPoints
-from vtkmodules.vtkCommonDataModel import (VTK_BEZIER_TETRAHEDRON, VTK_HEXAHEDRON,
+from vtkmodules.vtkCommonDataModel import (VTK_BEZIER_TETRAHEDRON, VTK_PENTAGONAL_PRISM,
                                            VTK_LAGRANGE_TETRAHEDRON, VTK_QUADRATIC_TETRA, VTK_TETRA,
                                            vtkCellArray, vtkPlane, vtkUnstructuredGrid)
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
@@ -115,14 +115,15 @@ def flow(cls, data):
 
 
 def mixed_cells(cls, data):
-    """The sphere in a cell, plus a hexahedron (skipped) and a linear tet: the copying path."""
+    """The sphere in a cell, plus a pentagonal prism (a type TetDSR does not read: skipped) and a
+    linear tet: the copying path."""
     mesh = vtkUnstructuredGrid()
     mesh.DeepCopy(read(data, "sphere_in_cell.vtu"))
     base = mesh.GetNumberOfPoints()
-    for p in range(8):
+    for p in range(10):
         mesh.GetPoints().InsertNextPoint(0.2 + 0.5 * (p & 1), 0.2 + 0.5 * ((p >> 1) & 1), 1.5 + 0.5 * (p >> 2))
         mesh.GetPointData().GetArray("sphere").InsertNextValue(-0.5 + 0.3 * p)
-    mesh.InsertNextCell(VTK_HEXAHEDRON, 8, [base + k for k in (0, 1, 3, 2, 4, 5, 7, 6)])
+    mesh.InsertNextCell(VTK_PENTAGONAL_PRISM, 10, [base + k for k in range(10)])
     mesh.InsertNextCell(VTK_TETRA, 4, [base, base + 1, base + 2, base + 4])
     cam = camera((1.5, 1.2, 5.0), (0.0, 0.0, 0.5), view_angle=35.0)
     return _caster(cls, mesh, [0.0], cam, (150, 150)), (mesh, cam), mesh.GetLength()

@@ -12,7 +12,7 @@ from tetdsr import _core
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
 from shared_helpers import lattice  # noqa: E402
 
-VTK_QUADRATIC_TETRA, VTK_TETRA, VTK_HEXAHEDRON = 24, 10, 12
+VTK_QUADRATIC_TETRA, VTK_TETRA, VTK_PYRAMID, VTK_PENTAGONAL_PRISM = 24, 10, 14, 15
 
 
 def mesh_arrays(n=2, points_dtype=np.float64, id_dtype=np.int64):
@@ -77,12 +77,19 @@ def test_prepared_mesh_reads_vtk_dtypes_and_tells_what_it_skipped():
                                        field=mesh_arrays()["field"].astype(np.float32))
     assert ready and single.summary["valid"] == valid, (messages.errors, single.summary)
     types = mesh_arrays()["cell_types"].copy()
-    types[[3, 7]] = VTK_HEXAHEDRON
+    # Types TetDSR does not read, whatever their ids (10 here): a pyramid (which the core's
+    # hexahedron and wedge reading turns away) and a pentagonal prism (which it never sees).
+    types[[3, 7]] = VTK_PYRAMID, VTK_PENTAGONAL_PRISM
     mesh, ready, messages = prepared(cell_types=types)
     assert ready and mesh.summary["unsupported"] == 2, mesh.summary
+    assert mesh.summary["valid"] == valid - 2, mesh.summary
     assert messages.warnings == ["Skipped 2 cells of a type TetDSR does not read (it reads VTK_TETRA, "
-                                 "VTK_QUADRATIC_TETRA, and VTK_LAGRANGE_TETRAHEDRON or VTK_BEZIER_TETRAHEDRON "
-                                 "of order 1 to 4)."], messages.warnings
+                                 "VTK_QUADRATIC_TETRA, VTK_LAGRANGE_TETRAHEDRON or VTK_BEZIER_TETRAHEDRON "
+                                 "of order 1 to 4; VTK_HEXAHEDRON, VTK_VOXEL, VTK_QUADRATIC_HEXAHEDRON, "
+                                 "VTK_LAGRANGE_HEXAHEDRON or VTK_BEZIER_HEXAHEDRON of order 1; VTK_WEDGE, "
+                                 "VTK_QUADRATIC_WEDGE, VTK_QUADRATIC_LINEAR_WEDGE, "
+                                 "VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_LAGRANGE_WEDGE or VTK_BEZIER_WEDGE "
+                                 "of order 1 or 2)."], messages.warnings
     _, ready, messages = prepared(field=np.zeros(5))
     assert not ready and messages.errors[-1].endswith("'r2' has 5 tuples for 125 points."), messages.errors
     short = reference.point_values(np.zeros((4, 3)), "speed", 1, "colour array", messages)

@@ -81,4 +81,4 @@ def test_rational_weights():
     assert caster.GetNumberOfRationalCells() == users, f"expected {users}, got {caster.GetNumberOfRationalCells()}"
     assert caster.GetNumberOfRenderedCells() == 48 - users
     text = " ".join(messages.warnings)
-    assert f"Skipped {users} rational VTK_BEZIER_TETRAHEDRON cells" in text, text
+    assert f"Skipped {users} rational Bezier cells" in text, text
