@@ -538,11 +538,12 @@ vtkSmartPointer<vtkUnstructuredGrid> MakeKindMesh(int n, int type, int nodes, bo
               double x = key[0] / (m - 1.0), y = key[1] / (m - 1.0), z = key[2] / (m - 1.0);
               if (curved)
               {
-                // (A period of 1 / (1.15 n): the vertices move too, so every cell, linear ones
-                // included, is bent.)
-                const double dx = bend * std::sin(2.3 * vtkMath::Pi() * n * y + 0.5);
-                const double dy = bend * std::sin(2.3 * vtkMath::Pi() * n * z + 0.5);
-                const double dz = bend * std::sin(2.3 * vtkMath::Pi() * n * x + 0.5);
+                // (Products of two coordinates' waves of period 1 / (1.15 n): the vertices move
+                // by a non-affine map too, so every cell, linear ones included, is bent.)
+                auto wave = [&](double u) { return std::sin(2.3 * vtkMath::Pi() * n * u + 0.5); };
+                const double dx = bend * wave(y) * wave(z);
+                const double dy = bend * wave(z) * wave(x);
+                const double dz = bend * wave(x) * wave(y);
                 x += dx, y += dy, z += dz;
               }
               id = points->InsertNextPoint(x, y, z);
