@@ -4,7 +4,9 @@
  *
  * vtkDirectSurfaceRayCaster renders isosurfaces of a point scalar field on a
  * vtkUnstructuredGrid of tetrahedra (VTK_TETRA, VTK_QUADRATIC_TETRA, and
- * VTK_LAGRANGE_TETRAHEDRON / VTK_BEZIER_TETRAHEDRON of orders 1 to 4, mixed freely) by direct
+ * VTK_LAGRANGE_TETRAHEDRON / VTK_BEZIER_TETRAHEDRON of orders 1 to 4) and hexahedra and wedges
+ * (VTK_HEXAHEDRON, VTK_VOXEL, VTK_QUADRATIC_HEXAHEDRON, VTK_WEDGE, the 12-, 15- and 18-node
+ * wedges, Lagrange and Bezier hexahedra of order 1 and wedges of orders 1-2), mixed freely, by direct
  * surface rendering (Simpson, "An efficient, high quality method for rendering irregular,
  * quadratic, volume data"): one ray per pixel, the field along the ray inside each straight cell
  * taken exactly (in closed form as a quadratic for order 2, its first root with the stable
