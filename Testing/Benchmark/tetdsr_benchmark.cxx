@@ -422,6 +422,54 @@ vtkSmartPointer<vtkUnstructuredGrid> MakeOrderMesh(int n, int order, int type, b
 }
 } // namespace
 
+/// One row's timings on the "wave" field at iso 0.3: preprocessing (a 1-pixel image), its kept
+/// memory and curved cells, a first frame and the best of 3 camera moves at image x image, and
+/// vtkContourFilter's time and triangles.
+struct WaveTimings
+{
+  double preprocess, kept, first, cameraMove, contourTime;
+  vtkIdType curvedCells, triangles;
+};
+
+WaveTimings TimeWave(vtkUnstructuredGrid* mesh, int image)
+{
+  vtkNew<vtkCamera> camera;
+  SetCamera(camera);
+  double preprocess, kept;
+  vtkIdType curvedCells;
+  {
+    vtkNew<vtkDirectSurfaceRayCaster> caster;
+    caster->SetInputData(mesh);
+    caster->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
+    caster->SetValue(0, 0.3);
+    caster->SetCamera(camera);
+    caster->SetImageSize(1, 1);
+    preprocess = Seconds([&] { caster->Update(); });
+    kept = caster->GetPreprocessedBytes() / 1e6;
+    curvedCells = caster->GetNumberOfCurvedCells();
+  }
+  vtkNew<vtkDirectSurfaceRayCaster> caster;
+  caster->SetInputData(mesh);
+  caster->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
+  caster->SetValue(0, 0.3);
+  caster->SetCamera(camera);
+  caster->SetImageSize(image, image);
+  const double first = Seconds([&] { caster->Update(); });
+  double cameraMove = std::numeric_limits<double>::infinity();
+  for (int repeat = 0; repeat < 3; ++repeat)
+  {
+    camera->Azimuth(repeat % 2 ? -10.0 : 10.0);
+    cameraMove = std::min(cameraMove, Seconds([&] { caster->Update(); }));
+  }
+  vtkNew<vtkContourFilter> contour;
+  contour->SetInputData(mesh);
+  contour->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
+  contour->SetValue(0, 0.3);
+  const double contourTime = Seconds([&] { contour->Update(); });
+  return { preprocess, kept, first, cameraMove, contourTime, curvedCells,
+    contour->GetOutput()->GetNumberOfCells() };
+}
+
 /// Per order: preprocessing (1-pixel image), its memory, a first frame, a camera move (best of
 /// 3) and its rays per second, and vtkContourFilter's time, on the wave field at iso 0.3; straight
 /// cells at size x size, curved ones (every node bent) at size / 4 (each of their ray tests is a
@@ -455,45 +503,13 @@ int Orders(int size, int n)
         types->SetValue(c, VTK_QUADRATIC_TETRA);
     }
     const int image = row.curved ? size / 4 : size;
-    vtkNew<vtkCamera> camera;
-    SetCamera(camera);
-    double preprocess, kept;
-    vtkIdType curvedCells;
-    {
-      vtkNew<vtkDirectSurfaceRayCaster> caster;
-      caster->SetInputData(mesh);
-      caster->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
-      caster->SetValue(0, 0.3);
-      caster->SetCamera(camera);
-      caster->SetImageSize(1, 1);
-      preprocess = Seconds([&] { caster->Update(); });
-      kept = caster->GetPreprocessedBytes() / 1e6;
-      curvedCells = caster->GetNumberOfCurvedCells();
-    }
-    vtkNew<vtkDirectSurfaceRayCaster> caster;
-    caster->SetInputData(mesh);
-    caster->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
-    caster->SetValue(0, 0.3);
-    caster->SetCamera(camera);
-    caster->SetImageSize(image, image);
-    const double first = Seconds([&] { caster->Update(); });
-    double cameraMove = std::numeric_limits<double>::infinity();
-    for (int repeat = 0; repeat < 3; ++repeat)
-    {
-      camera->Azimuth(repeat % 2 ? -10.0 : 10.0);
-      cameraMove = std::min(cameraMove, Seconds([&] { caster->Update(); }));
-    }
-    vtkNew<vtkContourFilter> contour;
-    contour->SetInputData(mesh);
-    contour->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
-    contour->SetValue(0, 0.3);
-    const double contourTime = Seconds([&] { contour->Update(); });
+    const WaveTimings t = TimeWave(mesh, image);
     std::printf("| %lld | %s | %d | %s (%lld curved) | %d | %.1f | %.3f | %.1f | %d^2 | %.3f | %.3f | %.3f | %.3f | %lld |\n",
       static_cast<long long>(mesh->GetNumberOfCells()), row.name, row.order,
-      row.curved ? "curved" : "straight", static_cast<long long>(curvedCells),
-      tetdsr::latticeCount(row.order), 1024.0 * mesh->GetActualMemorySize() / 1e6, preprocess, kept,
-      image, first, cameraMove, image * double(image) / cameraMove / 1e6, contourTime,
-      static_cast<long long>(contour->GetOutput()->GetNumberOfCells()));
+      row.curved ? "curved" : "straight", static_cast<long long>(t.curvedCells),
+      tetdsr::latticeCount(row.order), 1024.0 * mesh->GetActualMemorySize() / 1e6, t.preprocess, t.kept,
+      image, t.first, t.cameraMove, image * double(image) / t.cameraMove / 1e6, t.contourTime,
+      static_cast<long long>(t.triangles));
     std::fflush(stdout);
   }
   return EXIT_SUCCESS;
@@ -585,45 +601,13 @@ int Kinds(int size, int n)
       const tetdsr::SplitShape* shape = nullptr;
       tetdsr::splitShapeOf(row.type, row.nodes, shape);
       const int image = curved ? size / 4 : size;
-      vtkNew<vtkCamera> camera;
-      SetCamera(camera);
-      double preprocess, kept;
-      vtkIdType curvedCells;
-      {
-        vtkNew<vtkDirectSurfaceRayCaster> caster;
-        caster->SetInputData(mesh);
-        caster->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
-        caster->SetValue(0, 0.3);
-        caster->SetCamera(camera);
-        caster->SetImageSize(1, 1);
-        preprocess = Seconds([&] { caster->Update(); });
-        kept = caster->GetPreprocessedBytes() / 1e6;
-        curvedCells = caster->GetNumberOfCurvedCells();
-      }
-      vtkNew<vtkDirectSurfaceRayCaster> caster;
-      caster->SetInputData(mesh);
-      caster->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
-      caster->SetValue(0, 0.3);
-      caster->SetCamera(camera);
-      caster->SetImageSize(image, image);
-      const double first = Seconds([&] { caster->Update(); });
-      double cameraMove = std::numeric_limits<double>::infinity();
-      for (int repeat = 0; repeat < 3; ++repeat)
-      {
-        camera->Azimuth(repeat % 2 ? -10.0 : 10.0);
-        cameraMove = std::min(cameraMove, Seconds([&] { caster->Update(); }));
-      }
-      vtkNew<vtkContourFilter> contour;
-      contour->SetInputData(mesh);
-      contour->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "wave");
-      contour->SetValue(0, 0.3);
-      const double contourTime = Seconds([&] { contour->Update(); });
+      const WaveTimings t = TimeWave(mesh, image);
       std::printf("| %lld | %s | %d | %s (%lld curved) | %d (%d) | %.1f | %.3f | %.1f | %d^2 | %.3f | %.3f | %.3f | %.3f | %lld |\n",
         static_cast<long long>(mesh->GetNumberOfCells()), row.name, row.nodes,
-        curved ? "curved" : "straight", static_cast<long long>(curvedCells), shape->pieces,
-        shape->degree, 1024.0 * mesh->GetActualMemorySize() / 1e6, preprocess, kept, image, first,
-        cameraMove, image * double(image) / cameraMove / 1e6, contourTime,
-        static_cast<long long>(contour->GetOutput()->GetNumberOfCells()));
+        curved ? "curved" : "straight", static_cast<long long>(t.curvedCells), shape->pieces,
+        shape->degree, 1024.0 * mesh->GetActualMemorySize() / 1e6, t.preprocess, t.kept, image,
+        t.first, t.cameraMove, image * double(image) / t.cameraMove / 1e6, t.contourTime,
+        static_cast<long long>(t.triangles));
       std::fflush(stdout);
     }
   }

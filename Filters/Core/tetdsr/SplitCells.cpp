@@ -30,26 +30,6 @@ constexpr int kWedgeEdges[9][2] = { { 0, 1 }, { 1, 2 }, { 2, 0 }, { 3, 4 }, { 4,
   { 0, 3 }, { 1, 4 }, { 2, 5 } };
 constexpr int kWedgeQuads[3][4] = { { 0, 1, 4, 3 }, { 1, 2, 5, 4 }, { 2, 0, 3, 5 } };
 
-Point corner(const Corner& c)
-{
-  return { static_cast<double>(c[0]), static_cast<double>(c[1]), static_cast<double>(c[2]) };
-}
-
-/// The mean of some corners (an edge's or face's centre).
-template <std::size_t N>
-Point centre(const Corner* corners, const int (&which)[N])
-{
-  Point p{ 0.0, 0.0, 0.0 };
-  for (const int v : which)
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      p[a] += corners[v][a] / static_cast<double>(N);
-    }
-  }
-  return p;
-}
-
 /// The pieces' corners: Kuhn's six tetrahedra of the cube (from (0,0,0) to (1,1,1) along the
 /// axes in each order), the wedge's three; each ordered for a positive volume.
 std::vector<std::array<Corner, 4>> pieceCorners(bool wedge)
@@ -465,41 +445,13 @@ std::vector<Point> wedgeNodes(int p)
   return points;
 }
 
-std::vector<Point> cornersOf(const Corner* corners, int count)
+/// The first `count` nodes of a Lagrange cell of order 2: VTK's fixed quadratic hexahedra and
+/// wedges order their nodes as it does, and stop early (the 20- and 24-node hexahedra; the 12-node
+/// wedge without vertical edges, the 15-node one without faces).
+std::vector<Point> firstNodes(std::vector<Point> nodes, int count)
 {
-  std::vector<Point> points;
-  for (int v = 0; v < count; ++v)
-  {
-    points.push_back(corner(corners[v]));
-  }
-  return points;
-}
-
-std::vector<Point> hexahedron20Nodes()
-{
-  std::vector<Point> points = cornersOf(kCubeCorners, 8);
-  for (const auto& edge : kHexEdges)
-  {
-    points.push_back(centre(kCubeCorners, edge));
-  }
-  return points;
-}
-
-std::vector<Point> wedgeWithEdges(bool vertical, bool quads)
-{
-  std::vector<Point> points = cornersOf(kWedgeCorners, 6);
-  for (int e = 0; e < (vertical ? 9 : 6); ++e)
-  {
-    points.push_back(centre(kWedgeCorners, kWedgeEdges[e]));
-  }
-  if (quads)
-  {
-    for (const auto& quad : kWedgeQuads)
-    {
-      points.push_back(centre(kWedgeCorners, quad));
-    }
-  }
-  return points;
+  nodes.resize(static_cast<std::size_t>(count));
+  return nodes;
 }
 
 /// The 20-node serendipity space: Q2's monomials with at most one exponent equal to 2 ... and
@@ -545,7 +497,7 @@ const SplitShape& voxelShape()
 }
 const SplitShape& hexahedron20Shape()
 {
-  static const SplitShape shape = makeShape("VTK_QUADRATIC_HEXAHEDRON", false, hexahedron20Nodes(), Basis::Monomials, 2, serendipity20());
+  static const SplitShape shape = makeShape("VTK_QUADRATIC_HEXAHEDRON", false, firstNodes(hexahedronNodes(2), 20), Basis::Monomials, 2, serendipity20());
   return shape;
 }
 const SplitShape& hexahedron24Shape()
@@ -553,11 +505,6 @@ const SplitShape& hexahedron24Shape()
   // VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON: the 20 nodes and the centres of the faces r = 0, 1 and
   // s = 0, 1; its space is Q2's without r^2 s^2 t^c (c = 0, 1, 2), total degree 5.
   static const SplitShape shape = [] {
-    std::vector<Point> nodes = hexahedron20Nodes();
-    for (const Point& p : std::vector<Point>{ { 0, 0.5, 0.5 }, { 1, 0.5, 0.5 }, { 0.5, 0, 0.5 }, { 0.5, 1, 0.5 } })
-    {
-      nodes.push_back(p);
-    }
     std::vector<Corner> space;
     for (const Corner& c : tensorMonomials(2, 2, 2))
     {
@@ -566,7 +513,7 @@ const SplitShape& hexahedron24Shape()
         space.push_back(c);
       }
     }
-    return makeShape("VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON", false, nodes, Basis::Monomials, 2, space);
+    return makeShape("VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON", false, firstNodes(hexahedronNodes(2), 24), Basis::Monomials, 2, space);
   }();
   return shape;
 }
@@ -577,12 +524,12 @@ const SplitShape& wedgeShape()
 }
 const SplitShape& wedge12Shape()
 {
-  static const SplitShape shape = makeShape("VTK_QUADRATIC_LINEAR_WEDGE", true, wedgeWithEdges(false, false), Basis::Monomials, 2, wedgeMonomials(2, 1));
+  static const SplitShape shape = makeShape("VTK_QUADRATIC_LINEAR_WEDGE", true, firstNodes(wedgeNodes(2), 12), Basis::Monomials, 2, wedgeMonomials(2, 1));
   return shape;
 }
 const SplitShape& wedge15Shape()
 {
-  static const SplitShape shape = makeShape("VTK_QUADRATIC_WEDGE", true, wedgeWithEdges(true, false), Basis::Monomials, 2, quadraticWedge15());
+  static const SplitShape shape = makeShape("VTK_QUADRATIC_WEDGE", true, firstNodes(wedgeNodes(2), 15), Basis::Monomials, 2, quadraticWedge15());
   return shape;
 }
 const SplitShape& wedge18Shape()
