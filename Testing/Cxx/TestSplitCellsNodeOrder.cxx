@@ -369,11 +369,11 @@ int TestSplitCellsNodeOrder(int, char*[])
   for (const int type : types)
   {
     // Every id count up to that of order-6 Lagrange hexahedra: the shapes the split builds
-    // (also those of total degree above 4 it does not read yet).
+    // (every one it reads).
     for (int ids = 1; ids <= 343; ++ids)
     {
       const tetdsr::SplitShape* shape = nullptr;
-      if (tetdsr::splitShapeOfAnyDegree(type, ids, shape) != 0)
+      if (tetdsr::splitShapeOf(type, ids, shape) != 0)
       {
         continue;
       }

@@ -34,20 +34,24 @@ VTK_TRIQUADRATIC_PYRAMID = 37
 VTK_LAGRANGE_HEXAHEDRON, VTK_LAGRANGE_WEDGE, VTK_LAGRANGE_PYRAMID = 72, 73, 74
 VTK_BEZIER_HEXAHEDRON, VTK_BEZIER_WEDGE, VTK_BEZIER_PYRAMID = 79, 80, 81
 # The id count each fixed-size type the core splits is read with.
-SPLIT_FIXED = {VTK_VOXEL: 8, VTK_HEXAHEDRON: 8, VTK_QUADRATIC_HEXAHEDRON: 20, VTK_WEDGE: 6,
+SPLIT_FIXED = {VTK_VOXEL: 8, VTK_HEXAHEDRON: 8, VTK_QUADRATIC_HEXAHEDRON: 20,
+               VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON: 24, VTK_TRIQUADRATIC_HEXAHEDRON: 27, VTK_WEDGE: 6,
                VTK_QUADRATIC_LINEAR_WEDGE: 12, VTK_QUADRATIC_WEDGE: 15,
                VTK_BIQUADRATIC_QUADRATIC_WEDGE: 18}
-# Types of too high a degree at exactly this id count (malformed at any other).
-SPLIT_TOO_HIGH = {VTK_TRIQUADRATIC_HEXAHEDRON: 27, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON: 24}
+# Their polynomials' total degree (the order of the tetrahedra they are rendered as).
+SPLIT_FIXED_DEGREE = {VTK_VOXEL: 3, VTK_HEXAHEDRON: 3, VTK_QUADRATIC_HEXAHEDRON: 4,
+                      VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON: 5, VTK_TRIQUADRATIC_HEXAHEDRON: 6, VTK_WEDGE: 2,
+                      VTK_QUADRATIC_LINEAR_WEDGE: 3, VTK_QUADRATIC_WEDGE: 3,
+                      VTK_BIQUADRATIC_QUADRATIC_WEDGE: 4}
 # The highest order of Lagrange and Bezier hexahedra ((p + 1)^3 ids) and wedges
 # ((p + 1)^2 (p + 2) / 2 ids) read (order p: total degree 3p and 2p); higher: order too high.
-MAX_HEX_ORDER, MAX_WEDGE_ORDER = 1, 2
+MAX_HEX_ORDER, MAX_WEDGE_ORDER = 4, 4
 BEZIER_TYPES = (VTK_BEZIER_TETRAHEDRON, VTK_BEZIER_HEXAHEDRON, VTK_BEZIER_WEDGE)
 PYRAMIDS = (VTK_PYRAMID, VTK_QUADRATIC_PYRAMID, VTK_TRIQUADRATIC_PYRAMID, VTK_LAGRANGE_PYRAMID,
             VTK_BEZIER_PYRAMID)
 # Every type the core reads, and the id counts worth trying on the hexahedra, wedges and
 # pyramids: each type's own, its neighbours', higher orders' and none.
-SPLIT_TYPES = tuple(SPLIT_FIXED) + tuple(SPLIT_TOO_HIGH) + (
+SPLIT_TYPES = tuple(SPLIT_FIXED) + (
     VTK_LAGRANGE_HEXAHEDRON, VTK_BEZIER_HEXAHEDRON, VTK_LAGRANGE_WEDGE, VTK_BEZIER_WEDGE)
 SPLIT_COUNTS = [0, 1, 4, 5, 6, 7, 8, 9, 10, 12, 13, 14, 15, 18, 19, 20, 21, 24, 27, 40, 64, 75, 125]
 
@@ -111,8 +115,6 @@ def read_status(vtk_type, count):
         return MALFORMED if order == 0 else ORDER_TOO_HIGH if order > MAX_ORDER else ""
     if vtk_type in SPLIT_FIXED:
         return "" if count == SPLIT_FIXED[vtk_type] else MALFORMED
-    if vtk_type in SPLIT_TOO_HIGH:
-        return ORDER_TOO_HIGH if count == SPLIT_TOO_HIGH[vtk_type] else MALFORMED
     if vtk_type in (VTK_LAGRANGE_HEXAHEDRON, VTK_BEZIER_HEXAHEDRON):
         order = order_of(count, hexahedron_count)
         return MALFORMED if order == 0 else ORDER_TOO_HIGH if order > MAX_HEX_ORDER else ""
@@ -198,25 +200,34 @@ def bend(rng, mesh, amplitude, fraction, vertices_too=False):
 
 
 def curved_pieces(vtk_type, count):
-    """How many tetrahedra of order 3 or 4 the core renders a cell of this type and id count as:
-    1 for a Lagrange or Bezier tetrahedron of order 3 or 4, 6 (Kuhn's) for a hexahedron and 3 for
-    a wedge whose polynomials are of total degree 3 or 4 (every hexahedron read, the wedges but
-    VTK_WEDGE and order 1), else 0."""
+    """What a curved cell of this type and id count costs a ray, in curved tetrahedra of order 3 or
+    4: 1 for a Lagrange or Bezier tetrahedron of order 3 or 4; for a hexahedron (6 pieces,
+    Kuhn's) or a wedge (3) whose polynomials are of total degree D >= 3, its pieces times
+    (D / 4)^5 (at least 1: a bent hexahedron of order 2, 3, 4 costs about 1 : 8 : 35 per ray,
+    degree 6, 9, 12), else 0."""
     if read_status(vtk_type, count):
         return 0
     if vtk_type in READ_TYPES:
         return 1 if vtk_type in (VTK_LAGRANGE_TETRAHEDRON, VTK_BEZIER_TETRAHEDRON) and \
             order_of(count) in (3, 4) else 0
-    if vtk_type in (VTK_VOXEL, VTK_HEXAHEDRON, VTK_QUADRATIC_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON,
-                    VTK_BEZIER_HEXAHEDRON):
-        return 6
-    return 3 if count > 6 else 0
+    if vtk_type in SPLIT_FIXED:
+        degree = SPLIT_FIXED_DEGREE[vtk_type]
+    elif vtk_type in (VTK_LAGRANGE_HEXAHEDRON, VTK_BEZIER_HEXAHEDRON):
+        degree = 3 * order_of(count, hexahedron_count)
+    else:
+        degree = 2 * order_of(count, wedge_count)
+    if degree < 3:
+        return 0
+    hexahedron = vtk_type in (VTK_VOXEL, VTK_HEXAHEDRON, VTK_QUADRATIC_HEXAHEDRON,
+                              VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON, VTK_TRIQUADRATIC_HEXAHEDRON,
+                              VTK_LAGRANGE_HEXAHEDRON, VTK_BEZIER_HEXAHEDRON)
+    return (6 if hexahedron else 3) * max(1, int(round((degree / 4.0) ** 5)))
 
 
 def curved_cost_cells(mesh, moved):
-    """How many tetrahedra of order 3 or 4 the moved cells are rendered as: each ray test of such
-    a curved tetrahedron is a subdivision solve, 100-300 us in the release build and about 5 times
-    that under ASan."""
+    """How many curved tetrahedra of order 3 or 4 the moved cells cost (curved_pieces): each ray
+    test of such a tetrahedron is a subdivision solve, 100-300 us in the release build and about 5
+    times that under ASan."""
     return sum(curved_pieces(int(mesh.types[c]), len(mesh.cell_nodes(c))) for c in moved)
 
 
@@ -242,8 +253,7 @@ def hostile_split_cells(rng, mesh, count):
         if rng.random() < 0.5:
             size = pick(rng, SPLIT_COUNTS) if rng.random() < 0.98 else pick(rng, HUGE_COUNTS)
         else:
-            size = SPLIT_FIXED.get(vtk_type, SPLIT_TOO_HIGH.get(vtk_type, pick(rng, [5, 6, 8, 13,
-                                                                                     14, 18])))
+            size = SPLIT_FIXED.get(vtk_type, pick(rng, [5, 6, 8, 13, 14, 18]))
         cells[c] = (cells[c] + list(rng.integers(0, max(npts, 1), max(0, size - len(cells[c])))))[:size]
         mesh.types[c] = vtk_type
         if len(mesh.orders) == len(cells):
@@ -266,8 +276,9 @@ def split_nodes(vtk_type, count):
 
 # Every (type, id count) the core reads as a hexahedron or wedge.
 READ_SPLIT = [(t, n) for t, n in SPLIT_FIXED.items()] + [
-    (VTK_LAGRANGE_HEXAHEDRON, 8), (VTK_BEZIER_HEXAHEDRON, 8), (VTK_LAGRANGE_WEDGE, 6),
-    (VTK_LAGRANGE_WEDGE, 18), (VTK_BEZIER_WEDGE, 6), (VTK_BEZIER_WEDGE, 18)]
+    (t, hexahedron_count(p)) for t in (VTK_LAGRANGE_HEXAHEDRON, VTK_BEZIER_HEXAHEDRON)
+    for p in range(1, MAX_HEX_ORDER + 1)] + [
+    (t, wedge_count(p)) for t in (VTK_LAGRANGE_WEDGE, VTK_BEZIER_WEDGE) for p in range(1, MAX_WEDGE_ORDER + 1)]
 
 
 def straight_split_cells(rng, mesh, fraction):

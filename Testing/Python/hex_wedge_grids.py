@@ -13,10 +13,10 @@ import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
 from vtkmodules.vtkCommonCore import vtkPoints
 from vtkmodules.vtkCommonDataModel import (
-    VTK_BEZIER_HEXAHEDRON, VTK_BEZIER_WEDGE, VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_HEXAHEDRON,
-    VTK_LAGRANGE_HEXAHEDRON, VTK_LAGRANGE_WEDGE, VTK_QUADRATIC_HEXAHEDRON,
-    VTK_QUADRATIC_LINEAR_WEDGE, VTK_QUADRATIC_WEDGE, VTK_VOXEL, VTK_WEDGE, vtkCellArray,
-    vtkUnstructuredGrid)
+    VTK_BEZIER_HEXAHEDRON, VTK_BEZIER_WEDGE, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON,
+    VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON, VTK_LAGRANGE_WEDGE,
+    VTK_QUADRATIC_HEXAHEDRON, VTK_QUADRATIC_LINEAR_WEDGE, VTK_QUADRATIC_WEDGE,
+    VTK_TRIQUADRATIC_HEXAHEDRON, VTK_VOXEL, VTK_WEDGE, vtkCellArray, vtkUnstructuredGrid)
 
 WEDGE_TYPES = {VTK_WEDGE, VTK_QUADRATIC_WEDGE, VTK_QUADRATIC_LINEAR_WEDGE,
                VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_LAGRANGE_WEDGE, VTK_BEZIER_WEDGE}
@@ -27,16 +27,28 @@ KINDS = [
     ("VTK_HEXAHEDRON", VTK_HEXAHEDRON, 8),
     ("VTK_VOXEL", VTK_VOXEL, 8),
     ("VTK_QUADRATIC_HEXAHEDRON", VTK_QUADRATIC_HEXAHEDRON, 20),
+    ("VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON", VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON, 24),
+    ("VTK_TRIQUADRATIC_HEXAHEDRON", VTK_TRIQUADRATIC_HEXAHEDRON, 27),
     ("VTK_LAGRANGE_HEXAHEDRON order 1", VTK_LAGRANGE_HEXAHEDRON, 8),
+    ("VTK_LAGRANGE_HEXAHEDRON order 2", VTK_LAGRANGE_HEXAHEDRON, 27),
+    ("VTK_LAGRANGE_HEXAHEDRON order 3", VTK_LAGRANGE_HEXAHEDRON, 64),
+    ("VTK_LAGRANGE_HEXAHEDRON order 4", VTK_LAGRANGE_HEXAHEDRON, 125),
     ("VTK_BEZIER_HEXAHEDRON order 1", VTK_BEZIER_HEXAHEDRON, 8),
+    ("VTK_BEZIER_HEXAHEDRON order 2", VTK_BEZIER_HEXAHEDRON, 27),
+    ("VTK_BEZIER_HEXAHEDRON order 3", VTK_BEZIER_HEXAHEDRON, 64),
+    ("VTK_BEZIER_HEXAHEDRON order 4", VTK_BEZIER_HEXAHEDRON, 125),
     ("VTK_WEDGE", VTK_WEDGE, 6),
     ("VTK_QUADRATIC_LINEAR_WEDGE", VTK_QUADRATIC_LINEAR_WEDGE, 12),
     ("VTK_QUADRATIC_WEDGE", VTK_QUADRATIC_WEDGE, 15),
     ("VTK_BIQUADRATIC_QUADRATIC_WEDGE", VTK_BIQUADRATIC_QUADRATIC_WEDGE, 18),
     ("VTK_LAGRANGE_WEDGE order 1", VTK_LAGRANGE_WEDGE, 6),
     ("VTK_LAGRANGE_WEDGE order 2", VTK_LAGRANGE_WEDGE, 18),
+    ("VTK_LAGRANGE_WEDGE order 3", VTK_LAGRANGE_WEDGE, 40),
+    ("VTK_LAGRANGE_WEDGE order 4", VTK_LAGRANGE_WEDGE, 75),
     ("VTK_BEZIER_WEDGE order 1", VTK_BEZIER_WEDGE, 6),
     ("VTK_BEZIER_WEDGE order 2", VTK_BEZIER_WEDGE, 18),
+    ("VTK_BEZIER_WEDGE order 3", VTK_BEZIER_WEDGE, 40),
+    ("VTK_BEZIER_WEDGE order 4", VTK_BEZIER_WEDGE, 75),
 ]
 
 
@@ -104,11 +116,15 @@ def grid(n, vtk_type, nodes, fields, warp=None):
     points = physical.copy()
     bezier = vtk_type in BEZIER_TYPES
     if bezier:
-        # Control points: per cell, B c = the nodes' positions (shared control points agree:
-        # neighbours have the same polynomial on a shared face).
         B = basis_at(vtk_type, nodes, node_parametric(vtk_type, nodes))
-        per_cell = np.linalg.solve(B[None], physical[inverse])
-        points[inverse.ravel()] = per_cell.reshape(-1, 3)
+        if warp is not None:
+            # Control points: per cell, B c = the nodes' positions (shared control points agree:
+            # neighbours have the same polynomial on a shared face).
+            per_cell = np.linalg.solve(B[None], physical[inverse])
+            points[inverse.ravel()] = per_cell.reshape(-1, 3)
+        # (Unwarped, the map is affine, and an affine map's control points are its values at
+        # the parametric lattice points, the nodes' places: exact, where the solve would round
+        # them off their places by up to ~1e-13 at order 4.)
     ug = vtkUnstructuredGrid()
     p = vtkPoints()
     p.SetData(numpy_to_vtk(np.ascontiguousarray(points), deep=1))

@@ -11,10 +11,10 @@ import unittest
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import (
-    VTK_BEZIER_HEXAHEDRON, VTK_BEZIER_WEDGE, VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_HEXAHEDRON,
-    VTK_LAGRANGE_HEXAHEDRON, VTK_LAGRANGE_WEDGE, VTK_PYRAMID, VTK_QUADRATIC_HEXAHEDRON,
-    VTK_QUADRATIC_LINEAR_WEDGE, VTK_QUADRATIC_TETRA, VTK_QUADRATIC_WEDGE, VTK_VOXEL, VTK_WEDGE, vtkPlane,
-    vtkUnstructuredGrid)
+    VTK_BEZIER_HEXAHEDRON, VTK_BEZIER_WEDGE, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON,
+    VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON, VTK_LAGRANGE_WEDGE, VTK_PYRAMID,
+    VTK_QUADRATIC_HEXAHEDRON, VTK_QUADRATIC_LINEAR_WEDGE, VTK_QUADRATIC_TETRA, VTK_QUADRATIC_WEDGE,
+    VTK_TRIQUADRATIC_HEXAHEDRON, VTK_VOXEL, VTK_WEDGE, vtkPlane, vtkUnstructuredGrid)
 
 import hex_wedge_grids as hw
 import higher_order_grids as hog
@@ -24,7 +24,11 @@ from test_higher_order import (DIAGONAL, caster_for, camera, contour_pixels, max
                                quadratic_field, truth)
 
 N = 2  # cubes per axis: 8 hexahedra or 16 wedges
-CURVED_SIZE = (80, 60)  # curved cells cost ~20x more per ray (subdivision solver)
+# Curved cells cost ~20x more per ray (subdivision solver) at total degree <= 4, and more with the
+# degree (a bent hexahedron of order 2, 3, 4, degree 6, 9, 12: about 1 : 8 : 35 per ray): the
+# curved images' size by degree (the same camera, fewer rays).
+CURVED_SIZES = {2: (80, 60), 3: (80, 60), 4: (80, 60), 5: (64, 48), 6: (64, 48), 8: (48, 36), 9: (32, 24),
+                12: (24, 18)}
 CENTRE = np.array([0.48, 0.52, 0.47])
 
 
@@ -80,16 +84,62 @@ SPACES = {
                                      2 * c + 1.6 * a * a * c + a * b * c),
                     0.33 ** 2, 4),
               about_centre(lambda a, b, c: a * b * c * c + b * b * c - a * a)),
+    # P3(x, y) x P3(z): the wedges of order 3 (degree 6 with x^3 z^3).
+    "P3xP3": (analytic(lambda a, b, c: a * a + b * b + c * c + 0.6 * a ** 3 * c ** 3 + 0.5 * a * b * b * c * c,
+                    lambda a, b, c: (2 * a + 1.8 * a * a * c ** 3 + 0.5 * b * b * c * c, 2 * b + a * b * c * c,
+                                     2 * c + 1.8 * a ** 3 * c * c + a * b * b * c),
+                    0.33 ** 2, 6),
+              about_centre(lambda a, b, c: a * b * b * c ** 3 - a * a + c)),
+    # P4(x, y) x P4(z): the wedges of order 4 (degree 8 with x^4 z^4).
+    "P4xP4": (analytic(lambda a, b, c: a * a + b * b + c * c + 0.5 * a ** 4 * c ** 4 + 0.7 * a * a * b * b * c ** 3,
+                    lambda a, b, c: (2 * a + 2 * a ** 3 * c ** 4 + 1.4 * a * b * b * c ** 3,
+                                     2 * b + 1.4 * a * a * b * c ** 3,
+                                     2 * c + 2 * a ** 4 * c ** 3 + 2.1 * a * a * b * b * c * c),
+                    0.33 ** 2, 8),
+              about_centre(lambda a, b, c: a * a * b * b * c ** 4 - b ** 4 + a)),
+    # VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON: Q2 without x^2 y^2 z^k (degree 5 with x^2 y z^2).
+    "hex24": (analytic(lambda a, b, c: a * a + b * b + c * c + 0.8 * a * a * b * c * c + 0.5 * a * b * b * c * c,
+                    lambda a, b, c: (2 * a + 1.6 * a * b * c * c + 0.5 * b * b * c * c,
+                                     2 * b + 0.8 * a * a * c * c + a * b * c * c,
+                                     2 * c + 1.6 * a * a * b * c + a * b * b * c),
+                    0.33 ** 2, 5),
+              about_centre(lambda a, b, c: a * b * b * c * c - a * a + b * c)),
+    # Triquadratic (Q2): VTK_TRIQUADRATIC_HEXAHEDRON, Lagrange and Bezier hexahedra of order 2.
+    "Q2": (analytic(lambda a, b, c: a * a + b * b + c * c + 3.0 * a * a * b * b * c * c,
+                 lambda a, b, c: (2 * a + 6 * a * b * b * c * c, 2 * b + 6 * a * a * b * c * c,
+                                  2 * c + 6 * a * a * b * b * c),
+                 0.33 ** 2, 6),
+           about_centre(lambda a, b, c: a * a * b * b * c * c - b * b + c * a)),
+    # Q3: hexahedra of order 3 (degree 9 with x^3 y^3 z^3).
+    "Q3": (analytic(lambda a, b, c: a * a + b * b + c * c + 0.8 * a * a * b * c + 4.0 * a ** 3 * b ** 3 * c ** 3,
+                 lambda a, b, c: (2 * a + 1.6 * a * b * c + 12 * a * a * b ** 3 * c ** 3,
+                                  2 * b + 0.8 * a * a * c + 12 * a ** 3 * b * b * c ** 3,
+                                  2 * c + 0.8 * a * a * b + 12 * a ** 3 * b ** 3 * c * c),
+                 0.33 ** 2, 9),
+           about_centre(lambda a, b, c: a ** 3 * b ** 3 * c ** 3 - b ** 3 + a * c)),
+    # Q4: hexahedra of order 4 (degree 12 with x^4 y^4 z^4).
+    "Q4": (analytic(lambda a, b, c: a * a + b * b + c * c + 0.5 * a ** 4 + 8.0 * a ** 4 * b ** 4 * c ** 4,
+                 lambda a, b, c: (2 * a + 2 * a ** 3 + 32 * a ** 3 * b ** 4 * c ** 4,
+                                  2 * b + 32 * a ** 4 * b ** 3 * c ** 4,
+                                  2 * c + 32 * a ** 4 * b ** 4 * c ** 3),
+                 0.33 ** 2, 12),
+           about_centre(lambda a, b, c: a ** 4 * b ** 4 * c ** 4 - b ** 4 + a * c)),
 }
-# Each kind's space and the total degree of its polynomials (TetDSR counts cells of degree 3
-# and 4 as higher-order cells), by (type, node count): every kind of hex_wedge_grids.KINDS (one
+# Each kind's space and the total degree of its polynomials (TetDSR counts cells of degree 3 and
+# more as higher-order cells), by (type, node count): every kind of hex_wedge_grids.KINDS (one
 # added there without a space here is reported as a skipped subtest).
 SPACE_OF = {(VTK_HEXAHEDRON, 8): ("Q1", 3), (VTK_VOXEL, 8): ("Q1", 3), (VTK_LAGRANGE_HEXAHEDRON, 8): ("Q1", 3),
             (VTK_BEZIER_HEXAHEDRON, 8): ("Q1", 3), (VTK_QUADRATIC_HEXAHEDRON, 20): ("serendipity", 4),
+            (VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON, 24): ("hex24", 5), (VTK_TRIQUADRATIC_HEXAHEDRON, 27): ("Q2", 6),
+            (VTK_LAGRANGE_HEXAHEDRON, 27): ("Q2", 6), (VTK_BEZIER_HEXAHEDRON, 27): ("Q2", 6),
+            (VTK_LAGRANGE_HEXAHEDRON, 64): ("Q3", 9), (VTK_BEZIER_HEXAHEDRON, 64): ("Q3", 9),
+            (VTK_LAGRANGE_HEXAHEDRON, 125): ("Q4", 12), (VTK_BEZIER_HEXAHEDRON, 125): ("Q4", 12),
             (VTK_WEDGE, 6): ("P1xP1", 2), (VTK_LAGRANGE_WEDGE, 6): ("P1xP1", 2), (VTK_BEZIER_WEDGE, 6): ("P1xP1", 2),
             (VTK_QUADRATIC_LINEAR_WEDGE, 12): ("P2xP1", 3), (VTK_QUADRATIC_WEDGE, 15): ("wedge15", 3),
             (VTK_BIQUADRATIC_QUADRATIC_WEDGE, 18): ("P2xP2", 4), (VTK_LAGRANGE_WEDGE, 18): ("P2xP2", 4),
-            (VTK_BEZIER_WEDGE, 18): ("P2xP2", 4)}
+            (VTK_BEZIER_WEDGE, 18): ("P2xP2", 4), (VTK_LAGRANGE_WEDGE, 40): ("P3xP3", 6),
+            (VTK_BEZIER_WEDGE, 40): ("P3xP3", 6), (VTK_LAGRANGE_WEDGE, 75): ("P4xP4", 8),
+            (VTK_BEZIER_WEDGE, 75): ("P4xP4", 8)}
 
 
 def skip_unless_covered(test, name, vtk_type, nodes):
@@ -153,11 +203,11 @@ class EveryKind(unittest.TestCase):
     """Every kind of SPACE_OF in hex_wedge_grids.KINDS, straight with a polynomial of its space
     and curved with a plane."""
 
-    def assert_image(self, label, result, cells, caster, messages, curved):
+    def assert_image(self, label, result, cells, caster, messages, curved, min_pixels=2000):
         print(f"{label}: {cells} cells, {result['pixels']} pixels ({result['grazing']} grazing), "
               f"{result['missed']} missed, {result['false']} false, max depth error {result['depth']:.3g} "
               f"of the diagonal, max normal error {result['angle']:.3g} rad")
-        self.assertGreater(result["pixels"], 2000,
+        self.assertGreater(result["pixels"], min_pixels,
                            f"{label}: expected a visible surface, got {result['pixels']} pixels")
         self.assertEqual(result["missed"], 0, f"{label}: expected 0 missed pixels, got {result['missed']}")
         self.assertEqual(result["false"], 0, f"{label}: expected 0 false pixels, got {result['false']}")
@@ -221,16 +271,16 @@ class EveryKind(unittest.TestCase):
 
     def test_curved_cells_hold_a_plane(self):
         warp = hw.bulge()
-        w, h = CURVED_SIZE
         cam = camera()
-        if not CURVED_TRUTH:
-            origins, directions = hog.pixel_rays(cam.GetPosition(), cam.GetFocalPoint(), cam.GetViewUp(),
-                                                 cam.GetViewAngle(), w, h)
-            CURVED_TRUTH["plane"] = hog.first_crossing(PLANE, origins, directions) + (origins, directions)
-        t, grazing, origins, directions = CURVED_TRUTH["plane"]
         for name, vtk_type, nodes in hw.KINDS:
             with self.subTest(kind=name):
                 skip_unless_covered(self, name, vtk_type, nodes)
+                w, h = CURVED_SIZES[SPACE_OF[(vtk_type, nodes)][1]]
+                if (w, h) not in CURVED_TRUTH:
+                    origins, directions = hog.pixel_rays(cam.GetPosition(), cam.GetFocalPoint(), cam.GetViewUp(),
+                                                         cam.GetViewAngle(), w, h)
+                    CURVED_TRUTH[(w, h)] = hog.first_crossing(PLANE, origins, directions) + (origins, directions)
+                t, grazing, origins, directions = CURVED_TRUTH[(w, h)]
                 mesh = hw.grid(N, vtk_type, nodes, {"f": PLANE.value, "colour": linear_colour}, warp=warp)
 
                 def configure(c):
@@ -245,8 +295,8 @@ class EveryKind(unittest.TestCase):
                 result = compare(out, t, grazing, origins, directions, PLANE)
                 curved = curved_cells(vtk_type, nodes, warp)
                 self.assertGreater(curved, 0)
-                self.assert_image(f"{name} curved ({curved} curved), plane", result, mesh.GetNumberOfCells(),
-                                  caster, messages, curved)
+                self.assert_image(f"{name} curved ({curved} curved, {w} x {h}), plane", result,
+                                  mesh.GetNumberOfCells(), caster, messages, curved, min_pixels=0.25 * w * h)
                 self.colour_error(name, out, linear_colour, result["both"], origins, directions, t)
 
 

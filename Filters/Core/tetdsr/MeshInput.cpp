@@ -197,11 +197,11 @@ bool describeSkipped(const PreprocessSummary& summary, NodeId numberOfCells, Nod
   if (summary.orderTooHighCells > 0)
   {
     warnings.push_back(text("Skipped ", summary.orderTooHighCells,
-      " cells of an order TetDSR does not read: polynomials of total degree above ", kMaxTetOrder,
-      " (VTK_LAGRANGE_TETRAHEDRON or VTK_BEZIER_TETRAHEDRON of order above ", kMaxTetOrder,
-      ", more than ", latticeCount(kMaxTetOrder), " nodes; VTK_TRIQUADRATIC_HEXAHEDRON, "
-      "VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON, Lagrange or Bezier hexahedra of order 2 and above; "
-      "Lagrange or Bezier wedges of order 3 and above)."));
+      " cells of an order TetDSR does not read: Lagrange or Bezier tetrahedra of order above ",
+      kMaxTetOrder, " (more than ", latticeCount(kMaxTetOrder), " nodes), hexahedra of order above ",
+      kMaxSplitOrder, " (more than ", (kMaxSplitOrder + 1) * (kMaxSplitOrder + 1) * (kMaxSplitOrder + 1),
+      " nodes), wedges of order above ", kMaxSplitOrder, " (more than ",
+      (kMaxSplitOrder + 1) * (kMaxSplitOrder + 1) * (kMaxSplitOrder + 2) / 2, " nodes)."));
   }
   if (summary.malformedCells > 0)
   {

@@ -112,9 +112,12 @@ struct PreprocessSummary
   /// a number of ids that does not match the type, or offsets out of order or past the end of
   /// the connectivity
   NodeId malformedCells = 0;
-  NodeId orderTooHighCells = 0; ///< a Lagrange or Bezier tetrahedron of order above kMaxTetOrder
+  /// a Lagrange or Bezier tetrahedron of order above kMaxTetOrder, hexahedron or wedge of order
+  /// above kMaxSplitOrder
+  NodeId orderTooHighCells = 0;
   NodeId rationalCells = 0; ///< a Bezier tetrahedron whose rational weights differ within it
-  /// valid, of order 3 or 4 (HigherOrderTetCell, CurvedHigherOrderTetCell)
+  /// valid, of order 3 or more (HigherOrderTetCell, CurvedHigherOrderTetCell; a hexahedron or
+  /// wedge whose polynomials are of total degree 3 or more)
   NodeId higherOrderCells = 0;
 };
 

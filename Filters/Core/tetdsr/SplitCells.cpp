@@ -2,6 +2,7 @@
 
 #include "tetdsr/HigherOrderTet.h"
 #include "tetdsr/Messages.h"
+#include "tetdsr/QuadraticTetCell.h"
 
 #include <algorithm>
 #include <cmath>
@@ -272,10 +273,23 @@ SplitShape makeShape(const char* name, bool wedge, std::vector<Point> nodePoints
     }
     return -1;
   };
-  auto addNewPoint = [&](const std::vector<double>& weights) {
+  auto addNewPoint = [&](const std::vector<double>& weights, const Point& x) {
     shape.newWeights.insert(shape.newWeights.end(), weights.begin(), weights.end());
+    shape.newPoints.push_back(x);
     return shape.newPointCount++;
   };
+  // The affine frame: the nodes at the origin and the unit points of r, s and t.
+  for (int axis = 0; axis < 4; ++axis)
+  {
+    const Point target = { axis == 1 ? 1.0 : 0.0, axis == 2 ? 1.0 : 0.0, axis == 3 ? 1.0 : 0.0 };
+    for (int j = 0; j < n; ++j)
+    {
+      if (shape.nodePoints[static_cast<std::size_t>(j)] == target)
+      {
+        shape.frame[axis] = j;
+      }
+    }
+  }
   // Each piece node's lattice point of the cell (spacing 1/D) and parametric point.
   auto latticePoint = [&](const std::array<Corner, 4>& piece, int node, Corner& q, Point& x) {
     double L[4];
@@ -316,7 +330,7 @@ SplitShape makeShape(const char* name, bool wedge, std::vector<Point> nodePoints
           {
             std::vector<double> weights(static_cast<std::size_t>(n));
             shape.basis(x.data(), weights.data());
-            known = -1 - addNewPoint(weights);
+            known = -1 - addNewPoint(weights, x);
           }
         }
         shape.pieceNode.push_back(known > 0 ? known - 1 : known);
@@ -330,10 +344,13 @@ SplitShape makeShape(const char* name, bool wedge, std::vector<Point> nodePoints
   {
     std::vector<long double> values(static_cast<std::size_t>(shape.pieceNodes * n));
     std::vector<double> weights(static_cast<std::size_t>(n));
+    // The piece's parametric map is affine, so its control points (those of the cell's map
+    // where that is affine too) are the lattice points' images.
+    std::vector<Point> lattice(static_cast<std::size_t>(shape.pieceNodes));
     for (int node = 0; node < shape.pieceNodes; ++node)
     {
       Corner q;
-      Point x;
+      Point& x = lattice[static_cast<std::size_t>(node)];
       latticePoint(piece, node, q, x);
       shape.basis(x.data(), weights.data());
       std::copy(weights.begin(), weights.end(), values.begin() + static_cast<std::ptrdiff_t>(node * n));
@@ -352,7 +369,7 @@ SplitShape makeShape(const char* name, bool wedge, std::vector<Point> nodePoints
         weights[static_cast<std::size_t>(j)] =
           static_cast<double>(coefficients[static_cast<std::size_t>(node * n + j)]);
       }
-      shape.pieceNode.push_back(-1 - addNewPoint(weights));
+      shape.pieceNode.push_back(-1 - addNewPoint(weights, lattice[static_cast<std::size_t>(node)]));
     }
   }
   return shape;
@@ -537,25 +554,35 @@ const SplitShape& wedge18Shape()
   static const SplitShape shape = makeShape("VTK_BIQUADRATIC_QUADRATIC_WEDGE", true, wedgeNodes(2), Basis::Monomials, 2, wedgeMonomials(2, 2));
   return shape;
 }
+
+/// A Lagrange or Bezier hexahedron or wedge of order 2 to 4, built on first use and once (a
+/// static local: thread-safe). Those of order 4 take about a second (their pieces' Bernstein
+/// weights are a solve of 455 equations), so none is built before a mesh has such a cell.
+template <bool Wedge, bool Bezier, int Order>
+const SplitShape& builtShape()
+{
+  static const SplitShape shape = makeShape(
+    Wedge ? (Bezier ? "VTK_BEZIER_WEDGE" : "VTK_LAGRANGE_WEDGE")
+          : (Bezier ? "VTK_BEZIER_HEXAHEDRON" : "VTK_LAGRANGE_HEXAHEDRON"),
+    Wedge, Wedge ? wedgeNodes(Order) : hexahedronNodes(Order),
+    Wedge ? (Bezier ? Basis::BezierWedge : Basis::LagrangeWedge)
+          : (Bezier ? Basis::BezierHex : Basis::LagrangeHex),
+    Order);
+  return shape;
+}
+
 /// Lagrange and Bezier hexahedra of orders 2 to 4 (VTK_TRIQUADRATIC_HEXAHEDRON is the Lagrange
 /// one of order 2: the same nodes), wedges of orders 2 to 4.
 const SplitShape& higherOrderShape(bool wedge, bool bezier, int order)
 {
-  static const SplitShape shapes[2][2][3] = {
-    { { makeShape("VTK_LAGRANGE_HEXAHEDRON", false, hexahedronNodes(2), Basis::LagrangeHex, 2),
-        makeShape("VTK_LAGRANGE_HEXAHEDRON", false, hexahedronNodes(3), Basis::LagrangeHex, 3),
-        makeShape("VTK_LAGRANGE_HEXAHEDRON", false, hexahedronNodes(4), Basis::LagrangeHex, 4) },
-      { makeShape("VTK_BEZIER_HEXAHEDRON", false, hexahedronNodes(2), Basis::BezierHex, 2),
-        makeShape("VTK_BEZIER_HEXAHEDRON", false, hexahedronNodes(3), Basis::BezierHex, 3),
-        makeShape("VTK_BEZIER_HEXAHEDRON", false, hexahedronNodes(4), Basis::BezierHex, 4) } },
-    { { makeShape("VTK_LAGRANGE_WEDGE", true, wedgeNodes(2), Basis::LagrangeWedge, 2),
-        makeShape("VTK_LAGRANGE_WEDGE", true, wedgeNodes(3), Basis::LagrangeWedge, 3),
-        makeShape("VTK_LAGRANGE_WEDGE", true, wedgeNodes(4), Basis::LagrangeWedge, 4) },
-      { makeShape("VTK_BEZIER_WEDGE", true, wedgeNodes(2), Basis::BezierWedge, 2),
-        makeShape("VTK_BEZIER_WEDGE", true, wedgeNodes(3), Basis::BezierWedge, 3),
-        makeShape("VTK_BEZIER_WEDGE", true, wedgeNodes(4), Basis::BezierWedge, 4) } }
+  using Builder = const SplitShape& (*)();
+  static constexpr Builder kBuilders[2][2][3] = {
+    { { builtShape<false, false, 2>, builtShape<false, false, 3>, builtShape<false, false, 4> },
+      { builtShape<false, true, 2>, builtShape<false, true, 3>, builtShape<false, true, 4> } },
+    { { builtShape<true, false, 2>, builtShape<true, false, 3>, builtShape<true, false, 4> },
+      { builtShape<true, true, 2>, builtShape<true, true, 3>, builtShape<true, true, 4> } }
   };
-  return shapes[wedge][bezier][order - 2];
+  return kBuilders[wedge][bezier][order - 2]();
 }
 
 /// The 1D Lagrange polynomial of equispaced node i (of 0..p) at x in [0, 1].
@@ -620,6 +647,46 @@ int wedgeOrder(long long ids)
   }
   return 0;
 }
+
+/// Whether a cell's map is affine (every node where the affine map through its frame nodes puts
+/// it, within the rounding a straight tetrahedron's nodes are allowed: QuadraticTetCell's
+/// tolerance for the frame's tetrahedron), and that map: origin frame[0], axes frame[1..3].
+bool affineFrame(const SplitShape& shape, const MeshView& input, const NodeId* ids, glm::dvec3 frame[4])
+{
+  auto node = [&](int j) {
+    const double* q = input.points + 3 * ids[j];
+    return glm::dvec3(q[0], q[1], q[2]);
+  };
+  glm::dvec3 vertices[4];
+  for (int k = 0; k < 4; ++k)
+  {
+    vertices[k] = node(shape.frame[k]);
+  }
+  double tolerance = 0.0;
+  if (!(QuadraticTetCell::validateVertices(vertices, input.pointRounding, tolerance) & kValid))
+  {
+    return false; // its pieces say why (degenerate, out of scale)
+  }
+  frame[0] = vertices[0];
+  for (int k = 1; k < 4; ++k)
+  {
+    frame[k] = vertices[k] - vertices[0];
+  }
+  for (int j = 0; j < shape.nodes; ++j)
+  {
+    const auto& r = shape.nodePoints[static_cast<std::size_t>(j)];
+    const glm::dvec3 expected = frame[0] + r[0] * frame[1] + r[1] * frame[2] + r[2] * frame[3];
+    const glm::dvec3 at = node(j);
+    // (A non-finite node is off its place: the weights then make its cell's points non-finite,
+    // and the cell is told as such.)
+    if (!isFinite(at) || QuadraticTetCell::offItsPlace(at, expected, tolerance))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
 } // namespace
 
 void SplitShape::basis(const double parametric[3], double* weights) const
@@ -699,15 +766,6 @@ bool isSplitType(int vtkType)
 }
 
 std::uint16_t splitShapeOf(int vtkType, long long ids, const SplitShape*& shape)
-{
-  const std::uint16_t status = splitShapeOfAnyDegree(vtkType, ids, shape);
-  // Pieces of order 5 to 12 render exactly but their curved ray test is far too slow (an
-  // order-3 hexahedron bent: 205 s for 160 x 120 pixels of 8 cells): not read until a
-  // tensor-product solver replaces them.
-  return status == 0 && shape->degree > kMaxTetOrder ? static_cast<std::uint16_t>(kOrderTooHigh) : status;
-}
-
-std::uint16_t splitShapeOfAnyDegree(int vtkType, long long ids, const SplitShape*& shape)
 {
   auto fixed = [&](const SplitShape& s) -> std::uint16_t {
     shape = &s;
@@ -940,7 +998,10 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
             node >= 0 ? ids[node] : out.FirstNew[c] + (-1 - node);
         }
       }
-      // The new points: the cell's map and field there.
+      // The new points: the cell's map and field there (the map as the affine one where the
+      // cell is straight).
+      glm::dvec3 frame[4];
+      const bool affine = affineFrame(shape, input, ids, frame);
       for (int p = 0; p < shape.newPointCount; ++p)
       {
         const double* w = shape.newWeights.data() + static_cast<std::size_t>(p) * shape.nodes;
@@ -953,6 +1014,14 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
           y += w[j] * q[1];
           z += w[j] * q[2];
           value += w[j] * input.values[ids[j]];
+        }
+        if (affine)
+        {
+          const auto& r = shape.newPoints[static_cast<std::size_t>(p)];
+          const glm::dvec3 at = frame[0] + r[0] * frame[1] + r[1] * frame[2] + r[2] * frame[3];
+          x = at.x;
+          y = at.y;
+          z = at.z;
         }
         if (!(std::isfinite(x) && std::isfinite(y) && std::isfinite(z) && std::isfinite(value)))
         {

@@ -6,11 +6,14 @@
 // triangle times [0, 1]) into tetrahedra (6 along the cube's diagonal, Kuhn's split; 3 for the
 // wedge): on each, the cell's polynomials restricted to that tetrahedron are polynomials of total
 // degree D in its barycentric coordinates (D = 3 for a trilinear hexahedron, 4 for the serendipity
-// one, 2 to 4 for wedges), so a Lagrange tetrahedron of order D whose nodes are the cell's map
-// and field evaluated at the tetrahedron's lattice points represents them exactly. The pieces
-// are then ordinary cells of the core (straight when the cell's map is affine, isoparametric
-// otherwise): every step (validation, Bernstein bounds, certified roots, tangled cells, colour
-// arrays) is theirs, and the hit's cell id is mapped back to the input cell.
+// one, 5 and 6 for the 24- and 27-node ones, 3p for Lagrange and Bezier hexahedra of order p, 2p
+// for wedges), so a tetrahedron of order D whose nodes (D <= 4: Lagrange) or control points
+// (above: Bezier) come from the cell's map and field represents them exactly. The pieces are
+// then ordinary cells of the core (straight when the cell's map is affine, then placed by that
+// map; isoparametric otherwise): every step (validation, Bernstein bounds, certified roots,
+// tangled cells, colour arrays) is theirs, and the hit's cell id is mapped back to the input
+// cell. A curved piece's ray test is a subdivision solve whose cost grows steeply with D
+// (docs/performance.md gives the figures per kind).
 //
 // Neighbours stay watertight: two cells sharing a face have the same polynomial map on it (the
 // same nodes), and each cell's pieces cover its whole face, however each splits it.
@@ -92,6 +95,13 @@ struct SplitShape
   /// (newPointCount x nodes).
   std::vector<double> newWeights;
   int newPointCount = 0;
+  /// Each new point's parametric point (where an affine cell's map puts it exactly).
+  std::vector<std::array<double, 3>> newPoints;
+  /// The nodes at parametric (0, 0, 0), (1, 0, 0), (0, 1, 0) and (0, 0, 1): a cell whose nodes
+  /// all lie where the affine map through these puts them is straight, and its new points are
+  /// placed by that map (so its pieces are straight to rounding: the weights of high orders
+  /// would move them by up to 4e-12 of the cell, enough to make them curved).
+  int frame[4] = { 0, 0, 0, 0 };
 
   /// The cell's shape functions at a parametric point (nodes values).
   void basis(const double parametric[3], double* weights) const;
@@ -111,11 +121,8 @@ bool isSplitType(int vtkType);
 
 /// The shape of a cell of a hexahedron or wedge type with `ids` node ids; 0 if it is read, else
 /// the status saying why not (kMalformed: an id count that does not fit the type; kOrderTooHigh:
-/// polynomials of total degree above kMaxTetOrder; kUnsupported: pyramids).
+/// a Lagrange or Bezier cell of order above kMaxSplitOrder; kUnsupported: pyramids).
 std::uint16_t splitShapeOf(int vtkType, long long ids, const SplitShape*& shape);
-/// The same without the degree limit: every shape the split can build (the node-order test
-/// checks them all against VTK's cells).
-std::uint16_t splitShapeOfAnyDegree(int vtkType, long long ids, const SplitShape*& shape);
 
 /// A mesh whose hexahedra and wedges are split into tetrahedra (the other cells kept as they
 /// are), with the map back to the input's cells: a MeshView the Scene reads, owning its arrays.
