@@ -10,6 +10,9 @@ Usage:
       (serial) writes the Lagrange torus as two pieces (a .pvtu) and the serial results;
   mpirun -np 2 pvbatch test_higher_order_plugin.py <TetDSR.so> <work directory> compare
       the same from the .pvtu, one piece per rank, against the serial results.
+  reference and compare take an optional last argument, the mesh: "torus" (the default) or
+  "mixed": hex_wedge_grids.mixed_mesh, curved (20-node hexahedra, 15- and 18-node wedges and
+  quadratic tetrahedra, sharing faces), holding a sphere cut by the pieces' boundary.
 """
 import os
 import sys
@@ -26,9 +29,11 @@ from vtkmodules.vtkIOImage import vtkPNGReader
 from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLImageDataWriter, vtkXMLUnstructuredGridWriter
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
+import hex_wedge_grids as hw  # noqa: E402
 import higher_order_grids as hog  # noqa: E402
 
 plugin_path, work_dir, mode = sys.argv[1:4]
+MESH = sys.argv[4] if len(sys.argv) > 4 else "torus"
 os.makedirs(work_dir, exist_ok=True)
 LoadPlugin(plugin_path, remote=False, ns=globals())
 simple._DisableFirstRenderCameraReset()
@@ -42,11 +47,13 @@ def check(condition, message):
         print("FAILED:", message)
 
 
-W, H = 320, 240
+W, H = (320, 240) if MESH == "torus" else (200, 150)  # (curved hexahedra: a solve per ray)
 CAMERA = dict(CameraPosition=[1.7, 1.35, 2.5], CameraFocalPoint=[0.5, 0.5, 0.5],
               CameraViewUp=[0.0, 1.0, 0.0], CameraViewAngle=24.0)
 ARRAYS = ["Colors", "Depth", "Normals", "CellId", "ColorValues"]
 TORUS = hog.torus()
+SPHERE = hog.sphere(np.array([0.47, 0.53, 0.51]), 0.3)
+ISO = TORUS.iso if MESH == "torus" else SPHERE.iso
 
 
 def colour(x):
@@ -123,8 +130,10 @@ def screenshot(source, iso, name, colour_array=None):
     return vtk_to_numpy(png.GetOutput().GetPointData().GetScalars())[:, :3].astype(int)
 
 
-def torus_grid():
-    return hog.grid(2, VTK_LAGRANGE_TETRAHEDRON, 4, {"f": TORUS.value, "colour": colour})
+def mesh_grid():
+    if MESH == "torus":
+        return hog.grid(2, VTK_LAGRANGE_TETRAHEDRON, 4, {"f": TORUS.value, "colour": colour})
+    return hw.mixed_mesh(hw.bulge(), {"f": SPHERE.value, "colour": colour})
 
 
 if mode == "serial":
@@ -166,10 +175,12 @@ if mode == "serial":
         check(error <= 1, f"{name}: expected the quadratic cells' picture, got a difference of {error}/255")
 elif mode == "reference":
     check(ranks == 1, f"reference: expected one process, got {ranks}")
-    grid = torus_grid()
-    # Two pieces: the cells on either side of x = 0.5 (the torus is cut through).
-    centroid_x = vtk_to_numpy(grid.GetPoints().GetData())[
-        vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, 35)[:, :4], 0].mean(axis=1)
+    grid = mesh_grid()
+    # Two pieces: the cells whose nodes' mean lies on either side of x = 0.5 (the surface is cut).
+    offsets = vtk_to_numpy(grid.GetCells().GetOffsetsArray())
+    connectivity = vtk_to_numpy(grid.GetCells().GetConnectivityArray())
+    x = vtk_to_numpy(grid.GetPoints().GetData())[:, 0]
+    centroid_x = np.array([x[connectivity[a:b]].mean() for a, b in zip(offsets[:-1], offsets[1:])])
     from vtkmodules.vtkCommonCore import vtkIdList
     from vtkmodules.vtkFiltersCore import vtkExtractCells
     for piece, cells in enumerate([np.flatnonzero(centroid_x < 0.5), np.flatnonzero(centroid_x >= 0.5)]):
@@ -181,7 +192,7 @@ elif mode == "reference":
         extract.SetCellList(ids)
         extract.Update()
         write(extract.GetOutput(), f"piece{piece}.vtu")
-    with open(os.path.join(work_dir, "torus.pvtu"), "w") as out:
+    with open(os.path.join(work_dir, "mesh.pvtu"), "w") as out:
         out.write("""<?xml version="1.0"?>
 <VTKFile type="PUnstructuredGrid" version="0.1" byte_order="LittleEndian" header_type="UInt32">
   <PUnstructuredGrid GhostLevel="0">
@@ -200,15 +211,15 @@ elif mode == "reference":
   </PUnstructuredGrid>
 </VTKFile>
 """)
-    whole = XMLUnstructuredGridReader(FileName=[write(grid, "torus.vtu")])
-    serial = screenshot(whole, TORUS.iso, "serial_view.png", "colour")
+    whole = XMLUnstructuredGridReader(FileName=[write(grid, "mesh.vtu")])
+    serial = screenshot(whole, ISO, "serial_view.png", "colour")
     np.save(os.path.join(work_dir, "serial_view.npy"), serial)
     half = screenshot(XMLUnstructuredGridReader(FileName=[os.path.join(work_dir, "piece0.vtu")]),
-                      TORUS.iso, "piece0_view.png", "colour")
+                      ISO, "piece0_view.png", "colour")
     differing = int(np.any(half != serial, axis=1).sum())
     check(differing > 2000, f"the second piece should change more than 2000 pixels of the picture, "
                             f"got {differing}")  # (else a lost piece could go unnoticed)
-    images = run_filter(whole, TORUS.iso, "colour")
+    images = run_filter(whole, ISO, "colour")
     from vtkmodules.util.numpy_support import numpy_to_vtk
     from vtkmodules.vtkCommonDataModel import vtkImageData
     image = vtkImageData()
@@ -225,9 +236,9 @@ elif mode == "reference":
     print(f"reference written to {work_dir}: {int(np.isfinite(images['Depth']).sum())} surface pixels")
 else:
     check(ranks == 2, f"compare: expected 2 MPI ranks, got {ranks}")
-    pieces = XMLPartitionedUnstructuredGridReader(FileName=[os.path.join(work_dir, "torus.pvtu")])
+    pieces = XMLPartitionedUnstructuredGridReader(FileName=[os.path.join(work_dir, "mesh.pvtu")])
     pieces.UpdatePipeline()
-    pixels = screenshot(pieces, TORUS.iso, "mpi_view.png", "colour")
+    pixels = screenshot(pieces, ISO, "mpi_view.png", "colour")
     serial = np.load(os.path.join(work_dir, "serial_view.npy"))
     difference = np.abs(pixels - serial).max(axis=1)
     print(f"representation, 2 ranks: {int((difference > 0).sum())} of {W * H} pixels differ from the "
@@ -238,7 +249,7 @@ else:
         vtk_to_numpy(servermanager.Fetch(XMLUnstructuredGridReader(
             FileName=[os.path.join(work_dir, f"piece{k}.vtu")])).GetCellData().GetArray(
             "vtkOriginalCellIds")) for k in range(2)])
-    ours = run_filter(pieces, TORUS.iso, "colour")
+    ours = run_filter(pieces, ISO, "colour")
     reader = vtkXMLImageDataReader()
     reader.SetFileName(os.path.join(work_dir, "serial_filter.vti"))
     reader.Update()

@@ -16,7 +16,9 @@ from vtkmodules.vtkCommonDataModel import (
     VTK_BEZIER_HEXAHEDRON, VTK_BEZIER_WEDGE, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON,
     VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON, VTK_LAGRANGE_WEDGE,
     VTK_QUADRATIC_HEXAHEDRON, VTK_QUADRATIC_LINEAR_WEDGE, VTK_QUADRATIC_WEDGE,
-    VTK_TRIQUADRATIC_HEXAHEDRON, VTK_VOXEL, VTK_WEDGE, vtkCellArray, vtkUnstructuredGrid)
+    VTK_QUADRATIC_TETRA, VTK_TRIQUADRATIC_HEXAHEDRON, VTK_VOXEL, VTK_WEDGE, vtkCellArray, vtkUnstructuredGrid)
+
+import higher_order_grids as hog
 
 WEDGE_TYPES = {VTK_WEDGE, VTK_QUADRATIC_WEDGE, VTK_QUADRATIC_LINEAR_WEDGE,
                VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_LAGRANGE_WEDGE, VTK_BEZIER_WEDGE}
@@ -154,3 +156,85 @@ def bulge(amount=0.06):
         s = np.sin(np.pi * x[:, 0]) * np.sin(np.pi * x[:, 1]) * np.sin(np.pi * x[:, 2])
         return x + amount * s[:, None] * np.array([1.0, -0.7, 0.5])
     return warp
+
+
+# The mixed mesh: blocks of side SIDE; a square's two triangles, split along its (0, 0)-(1, 1)
+# diagonal as Kuhn's tetrahedra split the cube's faces (counter-clockwise: positive wedges).
+SIDE = 0.5
+TRIANGLES = (np.array([[0, 0], [1, 0], [1, 1]], float), np.array([[0, 0], [1, 1], [0, 1]], float))
+
+
+def wedge_cells(vtk_type, nodes, base, axis):
+    """The two wedges of the block at `base`: triangles in the plane across `axis` (2: z, 0: x)."""
+    pc = node_parametric(vtk_type, nodes)
+    cells = []
+    for tri in TRIANGLES:
+        across = tri[0] + pc[:, :1] * (tri[1] - tri[0]) + pc[:, 1:2] * (tri[2] - tri[0])
+        local = np.c_[across, pc[:, 2]] if axis == 2 else np.c_[pc[:, 2], across]
+        cells.append((vtk_type, base + SIDE * local))
+    return cells
+
+
+def block_cells(kind, base, wedge18):
+    if kind == "tetrahedra":
+        bary = hog.node_parametric(VTK_QUADRATIC_TETRA, 2)
+        bary = np.c_[1.0 - bary.sum(axis=1), bary]
+        return [(VTK_QUADRATIC_TETRA, base + SIDE * (bary @ corners)) for corners in hog.kuhn_tets(1)]
+    if kind == "hexahedron":
+        return [(VTK_QUADRATIC_HEXAHEDRON, base + SIDE * node_parametric(VTK_QUADRATIC_HEXAHEDRON, 20))]
+    vtk_type, nodes = (VTK_BIQUADRATIC_QUADRATIC_WEDGE, 18) if wedge18 else (VTK_QUADRATIC_WEDGE, 15)
+    return wedge_cells(vtk_type, nodes, base, 2 if kind == "wedges along z" else 0)
+
+
+def mixed_mesh(warp=None, fields=()):
+    """A conforming mesh of the unit cube mixing VTK_QUADRATIC_TETRA, VTK_QUADRATIC_WEDGE,
+    VTK_BIQUADRATIC_QUADRATIC_WEDGE and VTK_QUADRATIC_HEXAHEDRON cells (straight, or its nodes
+    moved by `warp`), with point arrays {name: f(points)} (the first the active scalars). The
+    cube's 2 x 2 x 2 blocks of side 1/2, for each of the two y layers:
+
+        z in [1/2, 1]:  6 Kuhn tetrahedra    | 2 wedges along x (triangles in x = const)
+        z in [0, 1/2]:  2 wedges along z     | 1 hexahedron
+                        x in [0, 1/2]          x in [1/2, 1]
+
+    so tetrahedra meet wedge triangles and hexahedra meet wedge quadrilaterals; the wedges are
+    15-node in one y layer and 18-node in the other where they lie along z, the other way round
+    along x. An 18-node wedge's quadrilateral centre node, curved, is placed where its 8-node
+    neighbour's face puts its centre (so both sides are the same surface)."""
+    cells = []
+    for j in range(2):
+        for kind, (i, k) in (("wedges along z", (0, 0)), ("hexahedron", (1, 0)),
+                             ("tetrahedra", (0, 1)), ("wedges along x", (1, 1))):
+            wedge18 = (j == 1) == (kind == "wedges along z")
+            cells += block_cells(kind, SIDE * np.array([i, j, k], float), wedge18)
+    positions = np.concatenate([p for _, p in cells])
+    keys = np.rint(positions * 48).astype(np.int64)
+    unique, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    points = positions[first]
+    sizes = [len(p) for _, p in cells]
+    ug = vtkUnstructuredGrid()
+    ca = vtkCellArray()
+    ca.SetData(numpy_to_vtkIdTypeArray(np.r_[0, np.cumsum(sizes)].astype(np.int64), deep=1),
+               numpy_to_vtkIdTypeArray(np.ascontiguousarray(inverse.ravel(), dtype=np.int64), deep=1))
+    ug.SetCells(numpy_to_vtk(np.array([t for t, _ in cells], np.uint8), deep=1), ca)
+    p = vtkPoints()
+    p.SetData(numpy_to_vtk(np.ascontiguousarray(points), deep=1))
+    ug.SetPoints(p)
+    if warp is not None:
+        points = warp(points)
+        # An 18-node wedge's quadrilateral centre: where the 8 other face nodes' serendipity
+        # interpolation puts it (corners -1/4, mid-edge nodes 1/2), VTK's face node order.
+        for c in range(ug.GetNumberOfCells()):
+            cell = ug.GetCell(c)
+            for f in range(cell.GetNumberOfFaces()):
+                face = cell.GetFace(f)
+                if face.GetNumberOfPoints() == 9:
+                    ids = [face.GetPointId(k) for k in range(9)]
+                    points[ids[8]] = -0.25 * points[ids[:4]].sum(axis=0) + 0.5 * points[ids[4:8]].sum(axis=0)
+        p.SetData(numpy_to_vtk(np.ascontiguousarray(points), deep=1))
+    for k, (name, function) in enumerate(dict(fields).items()):
+        array = numpy_to_vtk(np.ascontiguousarray(function(points), dtype=np.float64), deep=1)
+        array.SetName(name)
+        ug.GetPointData().AddArray(array)
+        if k == 0:
+            ug.GetPointData().SetActiveScalars(name)
+    return ug

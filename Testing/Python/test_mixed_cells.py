@@ -19,15 +19,14 @@ x = z = 1/2. The wedges are 15-node in one y layer and 18-node in the other wher
 z, the other way round along x, so 15- and 18-node quadrilaterals meet too (y = 1/2). An 18-node
 wedge's quadrilateral has a centre node its 8-node neighbours lack: curved, that node is placed
 where the 8-node face puts its centre (so both sides are the same surface); straight, it is the
-centre anyway."""
+centre anyway (hex_wedge_grids.mixed_mesh builds it)."""
 import unittest
 
 import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
-from vtkmodules.vtkCommonCore import reference, vtkPoints
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonCore import reference
 from vtkmodules.vtkCommonDataModel import (VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_QUADRATIC_HEXAHEDRON,
-                                           VTK_QUADRATIC_TETRA, VTK_QUADRATIC_WEDGE, vtkCellArray,
-                                           vtkUnstructuredGrid)
+                                           VTK_QUADRATIC_TETRA, VTK_QUADRATIC_WEDGE)
 from vtkmodules.vtkRenderingCore import vtkCamera
 
 import hex_wedge_grids as hw
@@ -35,78 +34,17 @@ import higher_order_grids as hog
 from shared_helpers import Messages
 from tetdsr import vtkDirectSurfaceRayCaster
 
-SIDE = 0.5
-# The two triangles of a square, split along its (0, 0)-(1, 1) diagonal as Kuhn's tetrahedra
-# split the cube's faces (counter-clockwise: positive wedges).
-TRIANGLES = (np.array([[0, 0], [1, 0], [1, 1]], float), np.array([[0, 0], [1, 1], [0, 1]], float))
 PLANE_NORMAL = np.array([0.3, 0.5, 0.8]) / np.linalg.norm([0.3, 0.5, 0.8])
 SPHERE_CENTRE = np.array([0.47, 0.53, 0.51])
 NEAR = 1e-6  # how far (in field value) a missing iso-surface passes beside a ray
 
 
-def wedge_cells(vtk_type, nodes, base, axis):
-    """The two wedges of the block at `base`: triangles in the plane across `axis` (2: z, 0: x)."""
-    pc = hw.node_parametric(vtk_type, nodes)
-    cells = []
-    for tri in TRIANGLES:
-        across = tri[0] + pc[:, :1] * (tri[1] - tri[0]) + pc[:, 1:2] * (tri[2] - tri[0])
-        local = np.c_[across, pc[:, 2]] if axis == 2 else np.c_[pc[:, 2], across]
-        cells.append((vtk_type, base + SIDE * local))
-    return cells
-
-
-def block_cells(kind, base, wedge18):
-    if kind == "tetrahedra":
-        bary = hog.node_parametric(VTK_QUADRATIC_TETRA, 2)
-        bary = np.c_[1.0 - bary.sum(axis=1), bary]
-        return [(VTK_QUADRATIC_TETRA, base + SIDE * (bary @ corners)) for corners in hog.kuhn_tets(1)]
-    if kind == "hexahedron":
-        return [(VTK_QUADRATIC_HEXAHEDRON, base + SIDE * hw.node_parametric(VTK_QUADRATIC_HEXAHEDRON, 20))]
-    vtk_type, nodes = (VTK_BIQUADRATIC_QUADRATIC_WEDGE, 18) if wedge18 else (VTK_QUADRATIC_WEDGE, 15)
-    return wedge_cells(vtk_type, nodes, base, 2 if kind == "wedges along z" else 0)
-
-
 def mixed_mesh(warp=None):
-    """The mesh (straight, or its nodes moved by `warp`), with point arrays of the plane, the
-    sphere's |x - c|^2 and the coordinates x, y, z."""
-    cells = []
-    for j in range(2):
-        for kind, (i, k) in (("wedges along z", (0, 0)), ("hexahedron", (1, 0)),
-                             ("tetrahedra", (0, 1)), ("wedges along x", (1, 1))):
-            wedge18 = (j == 1) == (kind == "wedges along z")
-            cells += block_cells(kind, SIDE * np.array([i, j, k], float), wedge18)
-    positions = np.concatenate([p for _, p in cells])
-    keys = np.rint(positions * 48).astype(np.int64)
-    unique, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
-    points = positions[first]
-    sizes = [len(p) for _, p in cells]
-    ug = vtkUnstructuredGrid()
-    ca = vtkCellArray()
-    ca.SetData(numpy_to_vtkIdTypeArray(np.r_[0, np.cumsum(sizes)].astype(np.int64), deep=1),
-               numpy_to_vtkIdTypeArray(np.ascontiguousarray(inverse.ravel(), dtype=np.int64), deep=1))
-    ug.SetCells(numpy_to_vtk(np.array([t for t, _ in cells], np.uint8), deep=1), ca)
-    p = vtkPoints()
-    p.SetData(numpy_to_vtk(np.ascontiguousarray(points), deep=1))
-    ug.SetPoints(p)
-    if warp is not None:
-        points = warp(points)
-        # An 18-node wedge's quadrilateral centre: where the 8 other face nodes' serendipity
-        # interpolation puts it (corners -1/4, mid-edge nodes 1/2), VTK's face node order.
-        for c in range(ug.GetNumberOfCells()):
-            cell = ug.GetCell(c)
-            for f in range(cell.GetNumberOfFaces()):
-                face = cell.GetFace(f)
-                if face.GetNumberOfPoints() == 9:
-                    ids = [face.GetPointId(k) for k in range(9)]
-                    points[ids[8]] = -0.25 * points[ids[:4]].sum(axis=0) + 0.5 * points[ids[4:8]].sum(axis=0)
-        p.SetData(numpy_to_vtk(np.ascontiguousarray(points), deep=1))
-    arrays = {"plane": points @ PLANE_NORMAL, "sphere": np.sum((points - SPHERE_CENTRE) ** 2, axis=1),
-              "x": points[:, 0], "y": points[:, 1], "z": points[:, 2]}
-    for name, values in arrays.items():
-        array = numpy_to_vtk(np.ascontiguousarray(values), deep=1)
-        array.SetName(name)
-        ug.GetPointData().AddArray(array)
-    return ug
+    """hex_wedge_grids.mixed_mesh with point arrays of the plane, the sphere's |x - c|^2 and the
+    coordinates x, y, z."""
+    return hw.mixed_mesh(warp, {"plane": lambda x: x @ PLANE_NORMAL,
+                                "sphere": lambda x: np.sum((x - SPHERE_CENTRE) ** 2, axis=1),
+                                "x": lambda x: x[:, 0], "y": lambda x: x[:, 1], "z": lambda x: x[:, 2]})
 
 
 def in_domain(x, margin=1e-9):

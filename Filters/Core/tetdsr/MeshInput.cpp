@@ -172,9 +172,10 @@ bool checkArrays(const MeshArrays& arrays, NodeId numberOfCells, Messages& messa
 /// The cell types the core reads, as messages list them.
 constexpr const char* kReadTypes =
   "VTK_TETRA, VTK_QUADRATIC_TETRA, VTK_LAGRANGE_TETRAHEDRON or VTK_BEZIER_TETRAHEDRON of order 1 "
-  "to 4; VTK_HEXAHEDRON, VTK_VOXEL, VTK_QUADRATIC_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON or "
-  "VTK_BEZIER_HEXAHEDRON of order 1; VTK_WEDGE, VTK_QUADRATIC_WEDGE, VTK_QUADRATIC_LINEAR_WEDGE, "
-  "VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_LAGRANGE_WEDGE or VTK_BEZIER_WEDGE of order 1 or 2";
+  "to 4; VTK_HEXAHEDRON, VTK_VOXEL, VTK_QUADRATIC_HEXAHEDRON, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON, "
+  "VTK_TRIQUADRATIC_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON or VTK_BEZIER_HEXAHEDRON of order 1 to 4; "
+  "VTK_WEDGE, VTK_QUADRATIC_WEDGE, VTK_QUADRATIC_LINEAR_WEDGE, VTK_BIQUADRATIC_QUADRATIC_WEDGE, "
+  "VTK_LAGRANGE_WEDGE or VTK_BEZIER_WEDGE of order 1 to 4";
 
 /// The warnings for every kind of cell the scene skipped, then whether any cell is left.
 bool describeSkipped(const PreprocessSummary& summary, NodeId numberOfCells, NodeId numberOfPoints,
