@@ -150,6 +150,37 @@ def higher_order(cls, data, vtk_type, order):
     return caster, keep, mesh.GetLength()
 
 
+def hexahedra_and_wedges(cls, data, kind):
+    """Hexahedra and wedges (hex_wedge_grids.py): "mixed", the curved mesh mixing 20-node
+    hexahedra, 15- and 18-node wedges and quadratic tetrahedra (a sphere, coloured by a cubic);
+    "lagrange_hex3", straight Lagrange hexahedra of order 3 (pieces of order 9) holding a Q3
+    polynomial, cut by a capped plane."""
+    import hex_wedge_grids as hw
+    from vtkmodules.vtkCommonDataModel import VTK_LAGRANGE_HEXAHEDRON
+    cam = camera((1.7, 1.35, 2.5), (0.5, 0.5, 0.5), view_angle=24.0)
+    colour = {"colour": lambda x: x[..., 0] ** 3 - x[..., 1] * x[..., 2]}
+    if kind == "mixed":
+        centre = np.array([0.47, 0.53, 0.51])
+        mesh = hw.mixed_mesh(hw.bulge(), {"f": lambda x: np.sum((x - centre) ** 2, axis=-1), **colour})
+        caster = _caster(cls, mesh, [0.09], cam, (120, 90))  # (curved hexahedra: a solve per ray)
+        keep = (mesh, cam)
+    else:
+        u = lambda x, k: x[..., k] - 0.5  # noqa: E731
+        mesh = hw.grid(2, VTK_LAGRANGE_HEXAHEDRON, 64, {
+            "f": lambda x: u(x, 0) ** 2 + u(x, 1) ** 2 + u(x, 2) ** 2 + 4.0 * (u(x, 0) * u(x, 1) * u(x, 2)) ** 3,
+            **colour})
+        caster = _caster(cls, mesh, [0.1], cam, (160, 120))
+        plane = vtkPlane()
+        plane.SetOrigin(0.5, 0.5, 0.55)
+        plane.SetNormal(0.2, 0.1, -1.0)
+        caster.AddClippingPlane(plane)
+        caster.SetCapping(1)  # CAP_BELOW_ISO_VALUE
+        keep = (mesh, cam, plane)
+    caster.ColorByArrayOn()
+    caster.SetInputArrayToProcess(1, 0, 0, 0, "colour")
+    return caster, keep, mesh.GetLength()
+
+
 SCENES = {
     "cube_perspective": lambda cls, data: cube(cls, data, False),
     "cube_parallel": lambda cls, data: cube(cls, data, True),
@@ -159,6 +190,8 @@ SCENES = {
     "mixed_cells": mixed_cells,
     "lagrange_torus": lambda cls, data: higher_order(cls, data, VTK_LAGRANGE_TETRAHEDRON, 4),
     "bezier_cubic": lambda cls, data: higher_order(cls, data, VTK_BEZIER_TETRAHEDRON, 3),
+    "mixed_hex_wedge": lambda cls, data: hexahedra_and_wedges(cls, data, "mixed"),
+    "lagrange_hex3": lambda cls, data: hexahedra_and_wedges(cls, data, "lagrange_hex3"),
 }
 OUTPUTS = ("Colors", "Depth", "Normals", "CellId", "ColorValues")
 
