@@ -1,11 +1,13 @@
 """vtkDirectSurfaceMapper on hexahedra and wedges in a real render window (Xvfb): the depth buffer
 against the analytic first crossing along each pixel's ray (higher_order_grids.first_crossing, as
 window depth) for straight VTK_QUADRATIC_HEXAHEDRON cells holding a degree-4 polynomial of their
-space and curved (bulged) VTK_BIQUADRATIC_QUADRATIC_WEDGE cells holding a plane."""
+space, curved (bulged) VTK_BIQUADRATIC_QUADRATIC_WEDGE cells holding a plane, and straight
+order-3 Lagrange hexahedra and order-4 Bezier wedges holding a Q3 and a P4 x P4 polynomial."""
 import unittest
 
 import numpy as np
-from vtkmodules.vtkCommonDataModel import VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_QUADRATIC_HEXAHEDRON
+from vtkmodules.vtkCommonDataModel import (VTK_BEZIER_WEDGE, VTK_BIQUADRATIC_QUADRATIC_WEDGE,
+                                           VTK_LAGRANGE_HEXAHEDRON, VTK_QUADRATIC_HEXAHEDRON)
 
 import hex_wedge_grids as hw
 import higher_order_grids as hog
@@ -20,7 +22,11 @@ class HexWedgeMapper(unittest.TestCase):
                 ("VTK_QUADRATIC_HEXAHEDRON straight, serendipity field", VTK_QUADRATIC_HEXAHEDRON, 20,
                  SPACES["serendipity"][0], None),
                 ("VTK_BIQUADRATIC_QUADRATIC_WEDGE curved, plane", VTK_BIQUADRATIC_QUADRATIC_WEDGE, 18, PLANE,
-                 hw.bulge())):
+                 hw.bulge()),
+                ("VTK_LAGRANGE_HEXAHEDRON order 3 straight, Q3 field", VTK_LAGRANGE_HEXAHEDRON, 64,
+                 SPACES["Q3"][0], None),
+                ("VTK_BEZIER_WEDGE order 4 straight, P4xP4 field", VTK_BEZIER_WEDGE, 75, SPACES["P4xP4"][0],
+                 None)):
             mesh = hw.grid(N, vtk_type, nodes, {"f": field.value}, warp=warp)
             window, renderer, mapper, _ = scene(mesh, iso=field.iso, configure=look_at_the_unit_cube)
             window.Render()
