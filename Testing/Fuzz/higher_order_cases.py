@@ -359,8 +359,8 @@ def rational_weights(rng, npts, bezier_cells, mesh):
     elif kind == "components":
         w = np.c_[w, w]
     elif kind == "int_equal":
-        w = np.full(npts, int(pick(rng, [1, 3, 0, -2])), dtype=pick(rng, [np.int32, np.uint8,
-                                                                           np.int64]))
+        # (astype: -2 wraps to 254 in uint8, where numpy 2's np.full refuses it.)
+        w = np.full(npts, int(pick(rng, [1, 3, 0, -2]))).astype(pick(rng, [np.int32, np.uint8, np.int64]))
     elif kind == "float32":
         w = w.astype(np.float32)  # 1e300 and 1e-300 become Inf and 0
     return w, kind
