@@ -9,9 +9,8 @@ The oracle follows the order in which the core reads a cell (docs/reliability-an
 tetrahedral number for Lagrange and Bezier tetrahedra: orders 1 to 4 read, any higher order
 skipped as "order too high", any other count malformed; the hexahedra and wedges the core splits
 into tetrahedra (SplitCells.cpp, splitShapeOf): fixed counts, cube numbers for Lagrange and Bezier
-hexahedra (order 1 read), (p + 1)^2 (p + 2) / 2 for Lagrange and Bezier wedges (orders 1 and 2
-read), VTK_TRIQUADRATIC_HEXAHEDRON and VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON of too high a degree;
-pyramids of a type not read); ids in range; ids distinct; a Bezier cell's rational weights (when
+hexahedra and (p + 1)^2 (p + 2) / 2 for Lagrange and Bezier wedges (orders 1 to 4 read, higher
+skipped as "order too high"); pyramids of a type not read); ids in range; ids distinct; a Bezier cell's rational weights (when
 the point data has them) equal, positive and finite; then finite coordinates and values at every
 node of the cell (a split cell's own nodes). Geometry (degenerate shapes, tangled or out-of-scale
 cells) is not predicted: those cells are allowed to be skipped, never required to be."""
