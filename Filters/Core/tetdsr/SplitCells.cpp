@@ -278,17 +278,10 @@ SplitShape makeShape(const char* name, bool wedge, std::vector<Point> nodePoints
     shape.newPoints.push_back(x);
     return shape.newPointCount++;
   };
-  // The affine frame: the nodes at the origin and the unit points of r, s and t.
+  // The affine frame: the nodes at the origin and the unit points of r, s and t (corners).
   for (int axis = 0; axis < 4; ++axis)
   {
-    const Point target = { axis == 1 ? 1.0 : 0.0, axis == 2 ? 1.0 : 0.0, axis == 3 ? 1.0 : 0.0 };
-    for (int j = 0; j < n; ++j)
-    {
-      if (shape.nodePoints[static_cast<std::size_t>(j)] == target)
-      {
-        shape.frame[axis] = j;
-      }
-    }
+    shape.frame[axis] = nodeAt({ axis == 1, axis == 2, axis == 3 }, 1);
   }
   // Each piece node's lattice point of the cell (spacing 1/D) and parametric point.
   auto latticePoint = [&](const std::array<Corner, 4>& piece, int node, Corner& q, Point& x) {
@@ -1009,10 +1002,6 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
         double x = 0.0, y = 0.0, z = 0.0, value = 0.0;
         for (int j = 0; j < shape.nodes; ++j)
         {
-          const double* q = input.points + 3 * ids[j];
-          x += w[j] * q[0];
-          y += w[j] * q[1];
-          z += w[j] * q[2];
           value += w[j] * input.values[ids[j]];
         }
         if (affine)
@@ -1022,6 +1011,16 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
           x = at.x;
           y = at.y;
           z = at.z;
+        }
+        else
+        {
+          for (int j = 0; j < shape.nodes; ++j)
+          {
+            const double* q = input.points + 3 * ids[j];
+            x += w[j] * q[0];
+            y += w[j] * q[1];
+            z += w[j] * q[2];
+          }
         }
         if (!(std::isfinite(x) && std::isfinite(y) && std::isfinite(z) && std::isfinite(value)))
         {
