@@ -14,7 +14,9 @@
 /// "quadric" = |x - c|^2 (exactly quadratic), "wave" (smooth, not polynomial), "bubbles" (1 at
 /// vertex nodes, 0.9 at mid-edge nodes: in every cell f = 0.8 + 0.2 sum L_i^2, dipping to 0.85 at
 /// the centroid; at iso 0.86 each cell holds a closed surface that no nodal value straddles: the
-/// paper's widened nodal range [0.875, 1.025] and vtkContourFilter miss all of them).
+/// paper's widened nodal range [0.875, 1.025] and vtkContourFilter miss all of them), "blobs"
+/// (a sum of 12 Gaussians of width 0.09 at fixed spread-out centres: at iso 0.4 a ray crosses
+/// several separate surfaces and many transverse cells before its first hit).
 struct Lattice
 {
   explicit Lattice(int n)
@@ -26,6 +28,15 @@ struct Lattice
     quadric.resize(count);
     wave.resize(count);
     bubbles.resize(count);
+    blobs.resize(count);
+    // Centres: a fixed scrambled lattice of 12 points in [0.15, 0.85]^3.
+    double centres[12][3];
+    for (int b = 0; b < 12; ++b)
+    {
+      centres[b][0] = 0.15 + 0.7 * ((b * 5) % 12) / 11.0;
+      centres[b][1] = 0.15 + 0.7 * ((b * 7 + 3) % 12) / 11.0;
+      centres[b][2] = 0.15 + 0.7 * ((b * 11 + 6) % 12) / 11.0;
+    }
     for (int k = 0; k < m; ++k)
       for (int j = 0; j < m; ++j)
         for (int i = 0; i < m; ++i)
@@ -39,6 +50,13 @@ struct Lattice
           wave[p] = std::sin(7.0 * x) * std::cos(5.0 * y) + std::sin(6.0 * z + 1.0);
           const bool vertexNode = i % 2 == 0 && j % 2 == 0 && k % 2 == 0;
           bubbles[p] = vertexNode ? 1.0 : 0.9;
+          double sum = 0.0;
+          for (const double* c : centres)
+          {
+            const double r2 = (x - c[0]) * (x - c[0]) + (y - c[1]) * (y - c[1]) + (z - c[2]) * (z - c[2]);
+            sum += std::exp(-r2 / (2.0 * 0.09 * 0.09));
+          }
+          blobs[p] = sum;
         }
     // Each cube is cut along its main diagonal into the 6 tets of the axis permutations; the
     // odd permutations swap two vertices to keep the orientation positive.
@@ -100,5 +118,5 @@ struct Lattice
   std::vector<std::uint8_t> cellTypes;
   std::vector<tetdsr::NodeId> offsets;
   tetdsr::NodeId cells = 0;
-  std::vector<double> quadric, wave, bubbles;
+  std::vector<double> quadric, wave, bubbles, blobs;
 };

@@ -15,6 +15,10 @@
 //   (the same lattice as tetrahedra of orders 1 to 4, VTK_LAGRANGE_TETRAHEDRON and
 //   VTK_BEZIER_TETRAHEDRON: preprocessing, memory and rays per second per order; prints a
 //   Markdown table)
+//   tetdsr-benchmark --frames <image size> <lattice n> [frames]
+//   (camera moves only: an orbit of 10-degree steps on the fields quadric, wave and blobs, each
+//   frame of the filter timed; min / median seconds and M rays per second per core; prints a
+//   Markdown table. The run to profile with perf.)
 //   tetdsr-benchmark --kinds <image size> <lattice n>
 //   (the lattice's cubes as hexahedra, or two wedges each, of every kind TetDSR reads, straight
 //   and bent: the same columns per cell kind; prints a Markdown table)
@@ -102,7 +106,8 @@ vtkSmartPointer<vtkUnstructuredGrid> MakeMesh(int n)
   auto mesh = vtkSmartPointer<vtkUnstructuredGrid>::New();
   mesh->SetPoints(points);
   for (const auto& field : { std::make_pair("quadric", &lattice.quadric),
-         std::make_pair("wave", &lattice.wave), std::make_pair("bubbles", &lattice.bubbles) })
+         std::make_pair("wave", &lattice.wave), std::make_pair("bubbles", &lattice.bubbles),
+         std::make_pair("blobs", &lattice.blobs) })
   {
     vtkNew<vtkDoubleArray> values;
     values->SetName(field.first);
@@ -633,8 +638,53 @@ int Kinds(int size, int n)
   return EXIT_SUCCESS;
 }
 
+/// Camera moves only: the filter's whole frame (rays, shading, output arrays) per 10-degree step.
+int Frames(int size, int n, int frames)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> mesh = MakeMesh(n);
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  std::printf("| cells | field | iso | image | frames | s min / median | M rays/s (all cores) | M rays/s per "
+              "core | pixels covered |\n|---|---|---|---|---|---|---|---|---|\n");
+  const std::pair<const char*, double> fields[] = { { "quadric", 0.09 }, { "wave", 0.3 }, { "blobs", 0.4 } };
+  for (const auto& field : fields)
+  {
+    vtkNew<vtkCamera> camera;
+    SetCamera(camera);
+    vtkNew<vtkDirectSurfaceRayCaster> caster;
+    caster->SetInputData(mesh);
+    caster->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, field.first);
+    caster->SetValue(0, field.second);
+    caster->SetCamera(camera);
+    caster->SetImageSize(size, size);
+    caster->Update(); // preprocessing and the surface index, not timed
+    std::vector<double> times;
+    for (int f = 0; f < frames; ++f)
+    {
+      camera->Azimuth(10.0);
+      times.push_back(Seconds([&] { caster->Update(); }));
+    }
+    std::sort(times.begin(), times.end());
+    const double median = times[times.size() / 2];
+    const double rays = static_cast<double>(size) * size;
+    vtkDataArray* depth = caster->GetOutput()->GetPointData()->GetArray("Depth");
+    long covered = 0;
+    for (vtkIdType p = 0; depth && p < depth->GetNumberOfTuples(); ++p)
+    {
+      covered += std::isfinite(depth->GetComponent(p, 0)) ? 1 : 0;
+    }
+    std::printf("| %lld | %s | %g | %d x %d | %d | %.4f / %.4f | %.2f | %.2f | %ld |\n",
+      static_cast<long long>(mesh->GetNumberOfCells()), field.first, field.second, size, size, frames,
+      times.front(), median, rays / median * 1e-6, rays / median * 1e-6 / cores, covered);
+  }
+  return EXIT_SUCCESS;
+}
+
 int main(int argc, char* argv[])
 {
+  if ((argc == 4 || argc == 5) && std::string(argv[1]) == "--frames")
+  {
+    return Frames(std::atoi(argv[2]), std::atoi(argv[3]), argc == 5 ? std::atoi(argv[4]) : 12);
+  }
   if (argc == 4 && std::string(argv[1]) == "--normals")
   {
     return NormalSchemes(std::atoi(argv[2]), std::atoi(argv[3]));
