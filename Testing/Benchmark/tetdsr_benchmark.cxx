@@ -19,6 +19,10 @@
 //   (camera moves only: an orbit of 10-degree steps on the fields quadric, wave and blobs, each
 //   frame of the filter timed; min / median seconds and M rays per second per core; prints a
 //   Markdown table. The run to profile with perf.)
+//   tetdsr-benchmark --reprojection <image size> <lattice n>
+//   (the core alone on one thread: an orbit of 2-degree steps, each frame cast in full and again
+//   with the last frame's hits reprojected as hints; CPU seconds per frame and whether the images
+//   agree; prints a Markdown table)
 //   tetdsr-benchmark --kinds <image size> <lattice n>
 //   (the lattice's cubes as hexahedra, or two wedges each, of every kind TetDSR reads, straight
 //   and bent: the same columns per cell kind; prints a Markdown table)
@@ -48,8 +52,12 @@
 #include "tetdsr/SplitCells.h"
 #include "tetdsr/HigherOrderTet.h"
 #include "tetdsr/QuadraticTet.h"
+#include "tetdsr/Renderer.h"
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <chrono>
+#include <ctime>
 #include <malloc.h>
 #include <cmath>
 #include <cstdio>
@@ -70,6 +78,14 @@ double Seconds(const std::function<void()>& work)
   const auto start = std::chrono::steady_clock::now();
   work();
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// CPU time of the whole process (all threads).
+double CpuSeconds()
+{
+  timespec now;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
 // Resident and peak resident memory of this process, in bytes (Linux /proc).
@@ -644,12 +660,20 @@ int Frames(int size, int n, int frames)
   vtkSmartPointer<vtkUnstructuredGrid> mesh = MakeMesh(n);
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   std::printf("| cells | field | iso | image | frames | s min / median | M rays/s (all cores) | M rays/s per "
-              "core | pixels covered |\n|---|---|---|---|---|---|---|---|---|\n");
-  const std::pair<const char*, double> fields[] = { { "quadric", 0.09 }, { "wave", 0.3 }, { "blobs", 0.4 } };
+              "core | M rays per CPU s | pixels covered |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  // The last row looks away from the mesh: no ray meets it, so the frame is the floor every
+  // frame pays (set-up, output arrays, writing the background).
+  const std::pair<const char*, double> fields[] = { { "quadric", 0.09 }, { "wave", 0.3 }, { "blobs", 0.4 },
+    { "wave", 0.3 } };
   for (const auto& field : fields)
   {
+    const bool away = &field == &fields[3];
     vtkNew<vtkCamera> camera;
     SetCamera(camera);
+    if (away)
+    {
+      camera->SetFocalPoint(3.7, 2.7, 5.5); // beyond the position, looking away from the mesh
+    }
     vtkNew<vtkDirectSurfaceRayCaster> caster;
     caster->SetInputData(mesh);
     caster->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, field.first);
@@ -657,12 +681,16 @@ int Frames(int size, int n, int frames)
     caster->SetCamera(camera);
     caster->SetImageSize(size, size);
     caster->Update(); // preprocessing and the surface index, not timed
+    // Wall time per frame, and the process's CPU time over all frames (what the rays cost
+    // whatever else the machine runs).
     std::vector<double> times;
+    const double cpuBefore = CpuSeconds();
     for (int f = 0; f < frames; ++f)
     {
       camera->Azimuth(10.0);
       times.push_back(Seconds([&] { caster->Update(); }));
     }
+    const double cpu = CpuSeconds() - cpuBefore;
     std::sort(times.begin(), times.end());
     const double median = times[times.size() / 2];
     const double rays = static_cast<double>(size) * size;
@@ -672,15 +700,117 @@ int Frames(int size, int n, int frames)
     {
       covered += std::isfinite(depth->GetComponent(p, 0)) ? 1 : 0;
     }
-    std::printf("| %lld | %s | %g | %d x %d | %d | %.4f / %.4f | %.2f | %.2f | %ld |\n",
-      static_cast<long long>(mesh->GetNumberOfCells()), field.first, field.second, size, size, frames,
-      times.front(), median, rays / median * 1e-6, rays / median * 1e-6 / cores, covered);
+    std::printf("| %lld | %s%s | %g | %d x %d | %d | %.4f / %.4f | %.2f | %.2f | %.2f | %ld |\n",
+      static_cast<long long>(mesh->GetNumberOfCells()), field.first, away ? " (camera looking away)" : "", field.second, size, size, frames,
+      times.front(), median, rays / median * 1e-6, rays / median * 1e-6 / cores,
+      rays * frames / cpu * 1e-6, covered);
+  }
+  return EXIT_SUCCESS;
+}
+
+/// Reprojection (Renderer.h's reprojectHits) in the core alone, one thread: each frame of a
+/// 2-degree orbit cast without hints and with the last hinted frame's hits as hints.
+int Reprojection(int size, int n)
+{
+  const Lattice lattice(n);
+  std::printf("| field | iso | image | frames | CPU s per frame: plain | reprojection + cast with hints | plain / hinted | "
+              "pixels with a hint | depth differences | max depth difference / diagonal |\n"
+              "|---|---|---|---|---|---|---|---|---|---|\n");
+  const std::pair<const char*, const std::vector<double>*> fields[] = { { "quadric", &lattice.quadric },
+    { "wave", &lattice.wave }, { "blobs", &lattice.blobs } };
+  const double isos[] = { 0.09, 0.3, 0.4 };
+  const int frames = 12;
+  for (int f = 0; f < 3; ++f)
+  {
+    const tetdsr::Scene scene(lattice.view(*fields[f].second));
+    const tetdsr::SurfaceIndex surface(scene, tetdsr::IsoValues({ isos[f] }));
+    const std::size_t pixels = static_cast<std::size_t>(size) * size;
+    struct Buffers
+    {
+      std::vector<std::uint8_t> colors;
+      std::vector<double> depth, normals;
+      std::vector<tetdsr::NodeId> cellIds;
+      std::vector<std::uint32_t> entries;
+      tetdsr::ImageView view(int size)
+      {
+        tetdsr::ImageView image;
+        image.width = image.height = size;
+        image.colors = colors.data();
+        image.depth = depth.data();
+        image.normals = normals.data();
+        image.cellIds = cellIds.data();
+        image.hitEntries = entries.data();
+        return image;
+      }
+    } plain, hinted, last;
+    for (Buffers* b : { &plain, &hinted, &last })
+    {
+      b->colors.resize(4 * pixels);
+      b->depth.resize(pixels);
+      b->normals.resize(3 * pixels);
+      b->cellIds.resize(pixels);
+      b->entries.resize(pixels);
+    }
+    std::vector<std::uint32_t> hints(pixels);
+    const glm::dmat4 projection = glm::perspective(glm::radians(30.0), 1.0, 1.0, 10.0);
+    auto view = [](int frame) {
+      const double angle = glm::radians(2.0 * frame);
+      const glm::dvec3 offset(1.6, 1.1, 2.5);
+      const glm::dvec3 eye(0.5 + std::cos(angle) * offset.x + std::sin(angle) * offset.z, 0.5 + offset.y,
+        0.5 - std::sin(angle) * offset.x + std::cos(angle) * offset.z);
+      return glm::lookAt(eye, glm::dvec3(0.5), glm::dvec3(0.0, 1.0, 0.0));
+    };
+    tetdsr::RenderSettings settings;
+    settings.lighting.lights.push_back(tetdsr::Light{});
+    settings.lighting.headlightOnly = true;
+    auto cast = [&](int frame, Buffers& into, const std::uint32_t* hintsIn) {
+      const glm::dmat4 worldToNdc = projection * view(frame);
+      const tetdsr::RayGenerator rays(glm::inverse(worldToNdc), size, size);
+      tetdsr::ImageView image = into.view(size);
+      image.entryHints = hintsIn;
+      const tetdsr::Renderer renderer(surface, rays, settings, image);
+      const double start = CpuSeconds();
+      renderer.renderTiles(0, renderer.numberOfTiles());
+      return CpuSeconds() - start;
+    };
+    double plainTime = 0.0, hintedTime = 0.0, reprojectTime = 0.0, worst = 0.0;
+    long differences = 0, hinted_pixels = 0;
+    cast(0, last, nullptr);
+    for (int frame = 1; frame <= frames; ++frame)
+    {
+      const glm::dmat4 worldToNdc = projection * view(frame);
+      const double start = CpuSeconds();
+      tetdsr::reprojectHits(tetdsr::RayGenerator(glm::inverse(projection * view(frame - 1)), size, size),
+        size, size, last.depth.data(), last.entries.data(), worldToNdc, size, size, hints.data());
+      reprojectTime += CpuSeconds() - start;
+      hintedTime += cast(frame, hinted, hints.data());
+      plainTime += cast(frame, plain, nullptr);
+      for (std::size_t p = 0; p < pixels; ++p)
+      {
+        hinted_pixels += hints[p] != tetdsr::kNoEntry ? 1 : 0;
+        const double a = plain.depth[p], b = hinted.depth[p];
+        if (a != b)
+        {
+          ++differences;
+          worst = std::max(worst, std::isfinite(a) && std::isfinite(b) ? std::abs(a - b) : 1.0 / 0.0);
+        }
+      }
+      std::swap(last, hinted);
+    }
+    std::printf("| %s | %g | %d x %d | %d | %.4f | %.4f + %.4f | %.2f | %.1f%% | %ld | %.2g |\n", fields[f].first,
+      isos[f], size, size, frames, plainTime / frames, reprojectTime / frames, hintedTime / frames,
+      plainTime / (hintedTime + reprojectTime),
+      100.0 * hinted_pixels / (static_cast<double>(pixels) * frames), differences, worst / scene.diagonal());
   }
   return EXIT_SUCCESS;
 }
 
 int main(int argc, char* argv[])
 {
+  if (argc == 4 && std::string(argv[1]) == "--reprojection")
+  {
+    return Reprojection(std::atoi(argv[2]), std::atoi(argv[3]));
+  }
   if ((argc == 4 || argc == 5) && std::string(argv[1]) == "--frames")
   {
     return Frames(std::atoi(argv[2]), std::atoi(argv[3]), argc == 5 ? std::atoi(argv[4]) : 12);

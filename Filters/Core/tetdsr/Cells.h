@@ -280,7 +280,13 @@ struct SurfaceHit
   /// Where this crossing ends: t, or for a cell where the field equals the iso-value throughout,
   /// where the ray leaves that cell (the whole stretch is one crossing).
   double regionEnd = 0.0;
+  /// The hit cell's entry in the SurfaceIndex that found it (kNoEntry: not known), which a
+  /// later ray can be asked to test first (SurfaceIndex::firstHit's hint).
+  std::uint32_t entry = 0xFFFFFFFFu;
 };
+
+/// No SurfaceIndex entry.
+constexpr std::uint32_t kNoEntry = 0xFFFFFFFFu;
 
 /// Barycentric tolerance by which a cell is widened when clipping a ray to it. Rounding in the
 /// two cells that share a face gives slightly different barycentric coordinates there; without

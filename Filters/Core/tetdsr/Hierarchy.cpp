@@ -391,6 +391,48 @@ void Hierarchy::collapse(const std::vector<Binary>& binary)
   collapseNode(&root, 1);
 }
 
+bool Hierarchy::meetsFrustum(const Frustum& frustum) const
+{
+  if (Nodes_.empty())
+  {
+    return false;
+  }
+  // Per plane, the children's box corners farthest along its normal: a box is outside when even
+  // that corner is. The stored boxes are padded, and the pad is added once more for the planes'
+  // float rounding (their points lie within the root box's size of it).
+  std::uint32_t stack[kStackSize];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0)
+  {
+    const Node& node = Nodes_[stack[--top]];
+    Int4 inside = Int4{ -1, -1, -1, -1 };
+    for (int p = 0; p < 4; ++p)
+    {
+      Float4 reach = Float4{ 0.0f, 0.0f, 0.0f, 0.0f } + (frustum.d[p] + Pad_);
+      for (int a = 0; a < 3; ++a)
+      {
+        const float n = frustum.n[p][a];
+        reach += n * (n > 0.0f ? node.hi[a] : node.lo[a]);
+      }
+      inside &= reach >= Float4{ 0.0f, 0.0f, 0.0f, 0.0f };
+    }
+    for (int c = 0; c < node.size; ++c)
+    {
+      if (!inside[c])
+      {
+        continue;
+      }
+      if (node.count[c] != 0)
+      {
+        return true;
+      }
+      stack[top++] = node.child[c];
+    }
+  }
+  return false;
+}
+
 std::size_t Hierarchy::memoryBytes() const
 {
   return Nodes_.capacity() * sizeof(Node) + Ids_.capacity() * sizeof(std::uint32_t);

@@ -46,6 +46,9 @@ public:
   /// The box around all items (box units).
   const float* lo() const { return Lo_; }
   const float* hi() const { return Hi_; }
+  /// How much the stored boxes are padded (box units): far above the float rounding of a point
+  /// or plane within the root box (see setRootBox).
+  float pad() const { return Pad_; }
   std::size_t memoryBytes() const;
 
   /// A ray in box units: origin, unit direction, and the box units per unit of the caller's
@@ -64,6 +67,17 @@ public:
   /// exact ray meets within [tMin, tMax] is visited.
   template <typename Leaf>
   void traverse(const BoxRay& ray, double tMin, double& tMax, Leaf&& leaf) const;
+
+  /// A convex region of space bounded by four planes in box units, n . x + d >= 0 inside (n
+  /// unit): the rays of a block of pixels (Renderer).
+  struct Frustum
+  {
+    float n[4][3];
+    float d[4];
+  };
+  /// Whether any leaf's box may meet the frustum: false only if every leaf box lies wholly
+  /// outside one of its planes (by more than the pad); a box test, so conservative.
+  bool meetsFrustum(const Frustum& frustum) const;
 
   /// Visits the leaves whose boxes contain `point` (box units) until `leaf(first, count)`
   /// returns true; returns whether one did.

@@ -139,9 +139,60 @@ void Renderer::forEachPixel(NodeId tileBegin, NodeId tileEnd, PixelFunction&& fu
   }
 }
 
+bool Renderer::blockMayHit(int i0, int j0, int i1, int j1) const
+{
+  if (Settings_.cap != CapRegion::None || i1 - i0 < 2 || j1 - j0 < 2)
+  {
+    return true; // a cap can lie where no surface does; a strip is not worth a test
+  }
+  const Ray corners[4] = { Rays_.pixelRay(i0, j0), Rays_.pixelRay(i1 - 1, j0),
+    Rays_.pixelRay(i1 - 1, j1 - 1), Rays_.pixelRay(i0, j1 - 1) };
+  return Surface_.blockMayHit(corners);
+}
+
+void Renderer::renderBlock(int i0, int j0, int i1, int j1, bool mayHit) const
+{
+  for (int j = j0; j < j1; ++j)
+  {
+    for (int i = i0; i < i1; ++i)
+    {
+      if (mayHit)
+      {
+        renderPixel(i, j);
+      }
+      else
+      {
+        writeMiss(static_cast<std::size_t>(j) * Image_.width + i);
+      }
+    }
+  }
+}
+
 void Renderer::renderTiles(NodeId tileBegin, NodeId tileEnd) const
 {
-  forEachPixel(tileBegin, tileEnd, [this](int i, int j) { renderPixel(i, j); });
+  // Frustum culling: a tile whose rays can meet no transverse cell's box is all misses; else
+  // each of its blocks of kBlockSize pixels a side is tested the same way before its rays are
+  // cast. Only misses are skipped, so the image is the same as casting every ray.
+  for (NodeId tile = tileBegin; tile < tileEnd; ++tile)
+  {
+    const int i0 = static_cast<int>(tile % TilesPerRow_) * kTileSize;
+    const int j0 = static_cast<int>(tile / TilesPerRow_) * kTileSize;
+    const int i1 = std::min(i0 + kTileSize, Image_.width);
+    const int j1 = std::min(j0 + kTileSize, Image_.height);
+    if (!blockMayHit(i0, j0, i1, j1))
+    {
+      renderBlock(i0, j0, i1, j1, false);
+      continue;
+    }
+    for (int bj = j0; bj < j1; bj += kBlockSize)
+    {
+      for (int bi = i0; bi < i1; bi += kBlockSize)
+      {
+        const int bi1 = std::min(bi + kBlockSize, i1), bj1 = std::min(bj + kBlockSize, j1);
+        renderBlock(bi, bj, bi1, bj1, blockMayHit(bi, bj, bi1, bj1));
+      }
+    }
+  }
 }
 
 bool Renderer::clipInterval(const Ray& ray, double& tMin, double& tMax, int& enteringPlane) const
@@ -233,6 +284,10 @@ bool Renderer::capAt(const Ray& ray, double t, int plane, std::size_t pixel) con
   const glm::dvec3& normal = Settings_.clipPlanes[static_cast<std::size_t>(plane)].normal;
   Image_.depth[pixel] = t;
   Image_.cellIds[pixel] = Scene_.sourceCell(cellId);
+  if (Image_.hitEntries)
+  {
+    Image_.hitEntries[pixel] = kNoEntry;
+  }
   for (int c = 0; c < 3; ++c)
   {
     Image_.normals[3 * pixel + c] = normal[c];
@@ -283,7 +338,8 @@ void Renderer::renderPixel(int i, int j) const
   for (int layer = 0; layer < kMaxLayers && opacity < kOpaque; ++layer)
   {
     SurfaceHit hit;
-    if (!Surface_.firstHit(ray, hit, tFrom, tMax))
+    const std::uint32_t hint = layer == 0 && Image_.entryHints ? Image_.entryHints[pixel] : kNoEntry;
+    if (!Surface_.firstHit(ray, hit, tFrom, tMax, hint))
     {
       break;
     }
@@ -308,6 +364,10 @@ void Renderer::renderPixel(int i, int j) const
     {
       Image_.depth[pixel] = hit.t;
       Image_.cellIds[pixel] = Scene_.sourceCell(hit.cellId);
+      if (Image_.hitEntries)
+      {
+        Image_.hitEntries[pixel] = hit.entry;
+      }
       for (int c = 0; c < 3; ++c)
       {
         Image_.normals[3 * pixel + c] = unitNormal[c];
@@ -483,9 +543,74 @@ void Renderer::writeMiss(std::size_t pixel) const
   Image_.depth[pixel] = std::numeric_limits<double>::infinity();
   normal[0] = normal[1] = normal[2] = 0.0;
   Image_.cellIds[pixel] = -1;
+  if (Image_.hitEntries)
+  {
+    Image_.hitEntries[pixel] = kNoEntry;
+  }
   if (Image_.colorValues)
   {
     Image_.colorValues[pixel] = std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+void reprojectHits(const RayGenerator& lastRays, int lastWidth, int lastHeight,
+  const double* lastDepth, const std::uint32_t* lastEntries, const glm::dmat4& worldToNdc,
+  int width, int height, std::uint32_t* hints)
+{
+  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  std::fill(hints, hints + pixels, kNoEntry);
+  std::vector<float> nearest(pixels, std::numeric_limits<float>::infinity());
+  for (int j = 0; j < lastHeight; ++j)
+  {
+    for (int i = 0; i < lastWidth; ++i)
+    {
+      const std::size_t last = static_cast<std::size_t>(j) * lastWidth + i;
+      if (lastEntries[last] == kNoEntry || !std::isfinite(lastDepth[last]))
+      {
+        continue;
+      }
+      const Ray ray = lastRays.pixelRay(i, j);
+      const glm::dvec4 clip = worldToNdc * glm::dvec4(ray.origin + lastDepth[last] * ray.direction, 1.0);
+      if (!(clip.w > 0.0))
+      {
+        continue; // behind the new eye
+      }
+      const glm::dvec3 ndc = glm::dvec3(clip) / clip.w;
+      // Pixel i's centre is at ndc 2 (i + 0.5) / width - 1 (RayGenerator).
+      const double x = std::floor(0.5 * (ndc.x + 1.0) * width);
+      const double y = std::floor(0.5 * (ndc.y + 1.0) * height);
+      if (!(x >= 0.0 && x < width && y >= 0.0 && y < height))
+      {
+        continue;
+      }
+      const std::size_t now = static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x);
+      const auto z = static_cast<float>(ndc.z);
+      if (z < nearest[now])
+      {
+        nearest[now] = z;
+        hints[now] = lastEntries[last];
+      }
+    }
+  }
+  // Holes (the new view magnifies, or uncovers what was hidden): a marked neighbour's cell.
+  std::vector<std::uint32_t> marked(hints, hints + pixels);
+  for (int j = 0; j < height; ++j)
+  {
+    for (int i = 0; i < width; ++i)
+    {
+      std::uint32_t& hint = hints[static_cast<std::size_t>(j) * width + i];
+      for (int dj = -1; dj <= 1 && hint == kNoEntry; ++dj)
+      {
+        for (int di = -1; di <= 1 && hint == kNoEntry; ++di)
+        {
+          const int ni = i + di, nj = j + dj;
+          if (ni >= 0 && ni < width && nj >= 0 && nj < height)
+          {
+            hint = marked[static_cast<std::size_t>(nj) * width + ni];
+          }
+        }
+      }
+    }
   }
 }
 

@@ -147,7 +147,23 @@ struct ImageView
   /// Optional input: per pixel, the ray parameter beyond which nothing is seen (opaque geometry
   /// drawn by others); +inf where nothing limits the ray.
   const double* rayLimits = nullptr;
+  /// Optional output: per pixel, the SurfaceIndex entry of the nearest surface's cell
+  /// (SurfaceHit::entry), kNoEntry on misses and caps; what reprojectHits takes.
+  std::uint32_t* hitEntries = nullptr;
+  /// Optional input: per pixel, an entry for the first ray to test first (reprojectHits). It
+  /// changes how soon the nearest hit is found, not which it is.
+  const std::uint32_t* entryHints = nullptr;
 };
+
+/// Frames that re-use the last one: the last frame's hits (its rays, its depth and hitEntries)
+/// carried to the pixels of a new view, whose points `worldToNdc` takes to normalised device
+/// coordinates (x, y in [-1, 1] across the image, z in [-1, 1] near to far; the rays' own
+/// coordinates, e.g. a mapper's model coordinates). Each old hit marks the pixel it lands in
+/// with its cell (the nearest where several land); a pixel none lands in takes a marked
+/// neighbour's (3 x 3), else kNoEntry. `hints` has width x height entries.
+void reprojectHits(const RayGenerator& lastRays, int lastWidth, int lastHeight,
+  const double* lastDepth, const std::uint32_t* lastEntries, const glm::dmat4& worldToNdc,
+  int width, int height, std::uint32_t* hints);
 
 /// Shading of a hit seen along `viewDirection` (unit, camera to hit) with `color` as ambient and
 /// diffuse colour. The normal is flipped towards the viewer, so the visible side of the surface
@@ -197,6 +213,10 @@ private:
   template <typename PixelFunction>
   void forEachPixel(NodeId tileBegin, NodeId tileEnd, PixelFunction&& function) const;
   void renderPixel(int i, int j) const;
+  /// Frustum culling's blocks (renderTiles): pixels [i0, i1) x [j0, j1).
+  static constexpr int kBlockSize = 4;
+  bool blockMayHit(int i0, int j0, int i1, int j1) const;
+  void renderBlock(int i0, int j0, int i1, int j1, bool mayHit) const;
   bool clipInterval(const Ray& ray, double& tMin, double& tMax, int& enteringPlane) const;
   bool capAt(const Ray& ray, double t, int plane, std::size_t pixel) const;
   /// A vector along the field's gradient at the hit (only its direction is used).
