@@ -12,4 +12,4 @@ cd "$(dirname "$0")/.."
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DPython3_EXECUTABLE=/usr/bin/python3 -DTETDSR_SANITIZE=ON -Wno-dev
 cmake --build build-asan
-xvfb-run -a ctest --test-dir build-asan --output-on-failure -E '^TetDSRSpeedVsError\.' "$@"
+xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --test-dir build-asan --output-on-failure -E '^TetDSRSpeedVsError\.' "$@"

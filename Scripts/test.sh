@@ -7,7 +7,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash Scripts/setup.sh
-xvfb-run -a ctest --test-dir build --output-on-failure
+xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --test-dir build --output-on-failure
 # Then the same code with AddressSanitizer + UBSan (build-asan/): any report fails the run.
 bash Scripts/sanitize.sh
 # The pip route: pyproject.toml's wheel, pip's VTK and PyVista, the ParaView Python plugin.

@@ -34,7 +34,10 @@ def start_server():
     the lowest free one, which every other -displayfd user on the machine picks too: two servers
     racing for a stale lock of :0 were seen to leave a rank's connection refused on every
     attempt), ready when it writes its number back through -displayfd; another number if that
-    one fails to start."""
+    one fails to start. -noreset: without it Xvfb resets when its last client disconnects and
+    refuses connections meanwhile (a rank's ParaView opens and closes a display to probe OpenGL
+    before it opens its window); measured here (400 open/close cycles on a fresh server: 5 and
+    400 refused without it, 0 of 800 with it)."""
     for _ in range(20):
         number = random.randrange(100, 900)
         if os.path.exists(f"/tmp/.X{number}-lock"):
@@ -42,7 +45,7 @@ def start_server():
         read, write = os.pipe()
         server = subprocess.Popen(
             ["Xvfb", f":{number}", "-displayfd", str(write), "-screen", "0", "1280x1024x24",
-             "-nolisten", "tcp"],
+             "-nolisten", "tcp", "-noreset"],
             pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=SERVER_ENVIRONMENT)
         os.close(write)
         written = b""

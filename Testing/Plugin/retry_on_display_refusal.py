@@ -26,7 +26,7 @@ OWN_SERVER = shutil.which("xvfb-run")
 for attempt in range(1, ATTEMPTS + 1):
     command = sys.argv[1:]
     if attempt >= 3 and OWN_SERVER:
-        command = [OWN_SERVER, "-a"] + command
+        command = [OWN_SERVER, "-a", "-s", "-screen 0 1280x1024x24 -noreset"] + command
     run = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                          errors="replace")
     sys.stdout.write(run.stdout)
