@@ -844,7 +844,8 @@ int main(int argc, char* argv[])
     double iso;
     double isoChanged;
   };
-  const Field fields[] = { { "quadric", 0.09, 0.1 }, { "wave", 0.3, 0.5 }, { "bubbles", 0.86, 0.87 } };
+  const Field fields[] = { { "quadric", 0.09, 0.1 }, { "wave", 0.3, 0.5 }, { "blobs", 0.4, 0.5 },
+    { "bubbles", 0.86, 0.87 } };
 
   std::printf("n\tcells\tfield\tiso\tmesh_MB\tpre_s\tfirst_s\tcamera_s\tiso_s\tMrays_s\textra_MB\t"
               "filter_MB\tcontour_s\ttriangles\trender_s\tcovered\tthreads\theuristic_missed_cells\t"
