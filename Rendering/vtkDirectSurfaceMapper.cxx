@@ -38,11 +38,14 @@
 #include "vtkDirectSurfaceReporting.h"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <map>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -51,6 +54,30 @@ vtkStandardNewMacro(vtkDirectSurfaceMapper);
 namespace
 {
 namespace adapter = tetdsr::vtkadapter;
+
+/// How often the event loop asks whether a background cast is done: 25 times a second, so the
+/// refined frame follows within a frame time of a fluid interaction.
+constexpr unsigned long kRefinementPollMilliseconds = 40;
+
+/// Whether two image signatures describe one scene up to rounding: a camera set again from its
+/// own parameters (as ParaView does before a still render) moves the matrices and lights by an
+/// ulp or two; 1e-12 of the numbers' size (at least 1) is far below a visible change, and keeps
+/// modification times below 1e12 apart.
+bool SameScene(const std::vector<double>& a, const std::vector<double>& b)
+{
+  if (a.size() != b.size())
+  {
+    return false;
+  }
+  for (std::size_t k = 0; k < a.size(); ++k)
+  {
+    if (!(std::abs(a[k] - b[k]) <= 1e-12 * std::max({ 1.0, std::abs(a[k]), std::abs(b[k]) })))
+    {
+      return false;
+    }
+  }
+  return true;
+}
 
 /// Row-major vtkMatrix4x4 to glm's column-major matrix.
 glm::dmat4 ToGlm(const vtkMatrix4x4* matrix)
@@ -144,14 +171,114 @@ void ChooseColors(vtkMapper* mapper, vtkUnstructuredGrid* grid, adapter::Prepare
 }
 
 /// The colour and depth images drawn by a full-screen quad: colour as RGBA8, window depth as
-/// R32F; a depth of 1 (a miss) is discarded.
-const char* const kQuadDeclarations = "uniform sampler2D colorTexture;\n"
-                                      "uniform sampler2D depthTexture;\n";
-const char* const kQuadImplementation =
-  "  float depth = texture(depthTexture, texCoord).r;\n"
-  "  if (depth >= 1.0) { discard; }\n"
-  "  gl_FragDepth = depth;\n"
-  "  gl_FragData[0] = texture(colorTexture, texCoord);\n";
+/// R32F; a depth of 1 (a miss) is discarded. An image of the viewport's size is drawn pixel for
+/// pixel; a smaller one (interaction) is upsampled edge- and depth-aware (`upsample`).
+const char* const kQuadDeclarations = R"(
+uniform sampler2D colorTexture;
+uniform sampler2D depthTexture;
+uniform int upsample;
+
+// Window depth of the cast pixel p; 2 outside the image (a miss is 1).
+float castDepth(ivec2 p)
+{
+  ivec2 size = textureSize(depthTexture, 0);
+  if (any(lessThan(p, ivec2(0))) || any(greaterThanEqual(p, size)))
+  {
+    return 2.0;
+  }
+  return texelFetch(depthTexture, p, 0).r;
+}
+
+// Whether cast pixel n (depth dn) and its neighbour n + o (depth dt) show one surface, judged
+// from the four depths along the line through them: n - o, n, n + o, n + 2o. A continuous
+// surface changes its depth by similar steps from pixel to pixel; a silhouette or a depth
+// discontinuity between n and n + o is a step out of line with those on both sides of it (also
+// for a feature one pixel wide: the step beyond it is the other surface's own). So the step is
+// one surface's when it is at most twice the smaller step beside it (the tolerance scales with
+// the local depth slope: steep and flat surfaces alike), or, where the slope itself changes
+// (near a depth extremum the steps shrink towards 0), when the two second differences agree in
+// sign and size, as a smooth curve's do (a jump makes them opposite). A side that is a miss or
+// outside the image says nothing. 2^-20 covers the rounding of float depths (24-bit mantissa)
+// below 1.
+bool sameSurface(ivec2 n, ivec2 o, float dn, float dt)
+{
+  if (dt >= 1.0)
+  {
+    return false;
+  }
+  float before = castDepth(n - o);
+  float after = castDepth(n + 2 * o);
+  float step = dt - dn;
+  float besideStep = 0.0; // (0 when neither side tells: then only equal depths pass)
+  if (before < 1.0 && after < 1.0)
+  {
+    besideStep = min(abs(dn - before), abs(after - dt));
+  }
+  else if (before < 1.0)
+  {
+    besideStep = abs(dn - before);
+  }
+  else if (after < 1.0)
+  {
+    besideStep = abs(after - dt);
+  }
+  if (abs(step) <= 2.0 * besideStep + 1.0 / 1048576.0)
+  {
+    return true;
+  }
+  if (before >= 1.0 || after >= 1.0)
+  {
+    return false;
+  }
+  float curveBefore = step - (dn - before);
+  float curveAfter = (after - dt) - step;
+  return curveBefore * curveAfter > 0.0 &&
+    abs(curveAfter - curveBefore) <= 0.5 * (abs(curveBefore) + abs(curveAfter));
+}
+)";
+const char* const kQuadImplementation = R"(
+  if (upsample == 0)
+  {
+    float depth = texture(depthTexture, texCoord).r;
+    if (depth >= 1.0) { discard; }
+    gl_FragDepth = depth;
+    gl_FragData[0] = texture(colorTexture, texCoord);
+  }
+  else
+  {
+    // A joint bilateral filter: the bilinear weights of the 2 x 2 cast pixels around this one,
+    // keeping only those on the nearest cast pixel's surface, so that colour and depth never
+    // blend across a silhouette or a depth discontinuity and a miss never contributes. The
+    // nearest cast pixel decides coverage: silhouettes stay as the cast has them.
+    ivec2 size = textureSize(depthTexture, 0);
+    vec2 castPoint = texCoord * vec2(size); // cast pixel k spans [k, k + 1)
+    ivec2 nearest = min(ivec2(castPoint), size - 1);
+    float nearestDepth = texelFetch(depthTexture, nearest, 0).r;
+    if (nearestDepth >= 1.0) { discard; }
+    ivec2 corner = ivec2(floor(castPoint - 0.5));
+    vec2 f = castPoint - 0.5 - vec2(corner);
+    vec4 color = vec4(0.0);
+    float depth = 0.0;
+    float weight = 0.0;
+    for (int k = 0; k < 4; ++k)
+    {
+      ivec2 offset = ivec2(k & 1, k >> 1);
+      ivec2 p = clamp(corner + offset, ivec2(0), size - 1);
+      float d = texelFetch(depthTexture, p, 0).r;
+      if (p == nearest || sameSurface(nearest, p - nearest, nearestDepth, d))
+      {
+        vec2 axes = mix(1.0 - f, f, vec2(offset));
+        float w = axes.x * axes.y;
+        color += w * texelFetch(colorTexture, p, 0);
+        depth += w * d;
+        weight += w;
+      }
+    }
+    // (weight > 0: the nearest cast pixel's bilinear weight is at least 1/4.)
+    gl_FragDepth = depth / weight;
+    gl_FragData[0] = color / weight;
+  }
+)";
 }
 
 /// What one Draw works with, from stage to stage: the blocks, the view, the settings of the cast
@@ -258,122 +385,21 @@ struct vtkDirectSurfaceMapper::Frame
   }
 };
 
-/// Per-render state: the prepared meshes (one per block), the last image and its signature, and
-/// the OpenGL resources.
-struct vtkDirectSurfaceMapper::Internals
+/// One cast: a caster per rendered block and the CPU images they write (cast size), merged over
+/// blocks (a block's own image when there are several), and the ray limits under translucent
+/// surfaces.
+struct vtkDirectSurfaceMapper::ImageCast
 {
-  adapter::IsoValueStyles Styles;
-  std::map<unsigned int, std::unique_ptr<adapter::PreparedMesh>> Meshes; ///< by block index
-
-  // The last cast: what it depended on, and how long it took at which sample distance.
-  std::vector<double> Signature;
-  double SampleDistance = 1.0;
-  double LastCastSeconds = 0.0;
-  double LastRenderStart = 0.0; ///< wall-clock start of the last render (not re-used)
-  bool LastWasInteractive = false;
-
-  // CPU images of the last cast (cast size), merged over blocks.
+  std::vector<std::unique_ptr<tetdsr::Renderer>> Casters; ///< in block order
   std::vector<std::uint8_t> Colors;
   std::vector<double> Depth;
   std::vector<double> Normals;
   std::vector<tetdsr::NodeId> CellIds;
   std::vector<float> WindowDepth;
-  // A block's own image, when there are several.
   std::vector<std::uint8_t> BlockColors;
   std::vector<double> BlockDepth;
   std::vector<tetdsr::NodeId> BlockCellIds;
-
-  // Translucent surfaces wait for their renderer's EndEvent: every actor of this mapper that
-  // asked for them in that renderer's frame (one mapper may serve several actors and renderers).
-  struct Deferred
-  {
-    vtkWeakPointer<vtkRenderer> Renderer;
-    unsigned long ObserverTag = 0;
-    std::vector<vtkWeakPointer<vtkActor>> Actors;
-  };
-  std::vector<Deferred> DeferredDraws;
-  std::vector<float> OpaqueDepth;
   std::vector<double> RayLimits;
-
-  /// What one view (a window's renderer and an actor of this mapper) draws its image with:
-  /// textures and quad (OpenGL objects belong to the window's context), and the signature of
-  /// the image the textures hold, so that each view re-uses its own.
-  struct ViewResources
-  {
-    vtkWeakPointer<vtkOpenGLRenderWindow> Window;
-    vtkWeakPointer<vtkRenderer> Renderer;
-    vtkWeakPointer<vtkActor> Actor;
-    vtkSmartPointer<vtkTextureObject> ColorTexture;
-    vtkSmartPointer<vtkTextureObject> DepthTexture;
-    std::unique_ptr<vtkOpenGLQuadHelper> Quad;
-    bool TexturesValid = false;
-    std::vector<double> Signature;
-
-    void Release(vtkWindow* window)
-    {
-      if (this->Quad)
-      {
-        this->Quad->ReleaseGraphicsResources(window);
-        this->Quad.reset();
-      }
-      for (auto* texture : { &this->ColorTexture, &this->DepthTexture })
-      {
-        if (*texture)
-        {
-          (*texture)->ReleaseGraphicsResources(window);
-          *texture = nullptr;
-        }
-      }
-      this->TexturesValid = false;
-      this->Signature.clear();
-    }
-  };
-  std::vector<std::unique_ptr<ViewResources>> Views;
-  /// What the last report of an undrawable input (empty bounds) was made for.
-  std::vector<std::uintptr_t> SilenceStamp;
-
-  /// The resources of a view, made on first use. Entries of deleted windows, renderers or
-  /// actors are dropped (a window releases its quads' and textures' OpenGL objects itself when
-  /// it goes; those of a deleted renderer or actor are released here).
-  ViewResources& ResourcesOf(vtkOpenGLRenderWindow* window, vtkRenderer* renderer, vtkActor* actor)
-  {
-    for (auto it = this->Views.begin(); it != this->Views.end();)
-    {
-      ViewResources& r = **it;
-      if (!r.Window || !r.Renderer || !r.Actor)
-      {
-        if (r.Window)
-        {
-          r.Release(r.Window);
-        }
-        it = this->Views.erase(it);
-      }
-      else if (r.Window == window && r.Renderer == renderer && r.Actor == actor)
-      {
-        return r;
-      }
-      else
-      {
-        ++it;
-      }
-    }
-    this->Views.emplace_back(new ViewResources);
-    ViewResources& made = *this->Views.back();
-    made.Window = window;
-    made.Renderer = renderer;
-    made.Actor = actor;
-    return made;
-  }
-
-  adapter::PreparedMesh& MeshOf(unsigned int block)
-  {
-    auto& mesh = this->Meshes[block];
-    if (!mesh)
-    {
-      mesh.reset(new adapter::PreparedMesh);
-    }
-    return *mesh;
-  }
 
   /// Sizes the images for a cast of `pixels` rays; with several blocks the merged image starts
   /// empty (each block's nearer surfaces replace it) and each block has its own.
@@ -394,27 +420,8 @@ struct vtkDirectSurfaceMapper::Internals
     }
   }
 
-  /// Reads what the opaque geometry left in the depth buffer (it bounds the translucent rays)
-  /// and returns an order-sensitive sum of it, so that a moved prop changes the signature.
-  double ReadOpaqueDepth(const Frame& frame)
-  {
-    const int* viewport = frame.Viewport;
-    this->OpaqueDepth.resize(static_cast<std::size_t>(viewport[2]) * viewport[3]);
-    {
-      vtkOpenGLState::ScopedglEnableDisable savedScissor(frame.Window->GetState(), GL_SCISSOR_TEST);
-      frame.Window->GetZbufferData(viewport[0], viewport[1], viewport[0] + viewport[2] - 1,
-        viewport[1] + viewport[3] - 1, this->OpaqueDepth.data());
-    }
-    double sum = 0.0;
-    for (float z : this->OpaqueDepth)
-    {
-      sum = sum * 1.000001 + z;
-    }
-    return sum;
-  }
-
   /// Per cast pixel, the ray parameter of the opaque depth at its full-resolution pixel.
-  void ComputeRayLimits(const Frame& frame)
+  void ComputeRayLimits(const Frame& frame, const std::vector<float>& opaqueDepth)
   {
     const int width = frame.Viewport[2], height = frame.Viewport[3];
     const int castWidth = frame.CastWidth, castHeight = frame.CastHeight;
@@ -426,7 +433,7 @@ struct vtkDirectSurfaceMapper::Internals
         for (int i = 0; i < castWidth; ++i)
         {
           const int fullI = std::min(width - 1, static_cast<int>((i + 0.5) * width / castWidth));
-          const double z = this->OpaqueDepth[static_cast<std::size_t>(fullJ) * width + fullI];
+          const double z = opaqueDepth[static_cast<std::size_t>(fullJ) * width + fullI];
           double limit = std::numeric_limits<double>::infinity();
           if (z < 1.0)
           {
@@ -472,31 +479,276 @@ struct vtkDirectSurfaceMapper::Internals
     }
   }
 
-  /// Window depth of each hit: 0.5 z/w + 0.5 of its model point through the composite matrix.
-  void ComputeWindowDepth(const Frame& frame)
+  /// Window depth of each hit in rows [rowBegin, rowEnd): 0.5 z/w + 0.5 of its model point
+  /// through the composite matrix.
+  void ComputeWindowDepth(const tetdsr::RayGenerator& rays, const glm::dmat4& modelToNdc,
+    int castWidth, int rowBegin, int rowEnd)
   {
-    const int castWidth = frame.CastWidth;
-    vtkSMPTools::For(0, frame.CastHeight, [&](vtkIdType rowBegin, vtkIdType rowEnd) {
-      for (int j = static_cast<int>(rowBegin); j < static_cast<int>(rowEnd); ++j)
+    for (int j = rowBegin; j < rowEnd; ++j)
+    {
+      for (int i = 0; i < castWidth; ++i)
       {
-        for (int i = 0; i < castWidth; ++i)
+        const std::size_t p = static_cast<std::size_t>(j) * castWidth + i;
+        float depth = 1.0f;
+        if (std::isfinite(this->Depth[p]))
         {
-          const std::size_t p = static_cast<std::size_t>(j) * castWidth + i;
-          float depth = 1.0f;
-          if (std::isfinite(this->Depth[p]))
-          {
-            const tetdsr::Ray ray = frame.Rays.pixelRay(i, j);
-            const glm::dvec4 clip =
-              frame.ModelToNdc * glm::dvec4(ray.origin + this->Depth[p] * ray.direction, 1.0);
-            depth = static_cast<float>(std::min(1.0, std::max(0.0, 0.5 * clip.z / clip.w + 0.5)));
-          }
-          this->WindowDepth[p] = depth;
+          const tetdsr::Ray ray = rays.pixelRay(i, j);
+          const glm::dvec4 clip =
+            modelToNdc * glm::dvec4(ray.origin + this->Depth[p] * ray.direction, 1.0);
+          depth = static_cast<float>(std::min(1.0, std::max(0.0, 0.5 * clip.z / clip.w + 0.5)));
+        }
+        this->WindowDepth[p] = depth;
+      }
+    }
+  }
+};
+
+/// A full-resolution cast on worker threads after interaction (ProgressiveRefinement). It owns
+/// its images and its casters (made on the GL thread, which prepared their meshes), so the GL
+/// thread reads nothing it writes until Finished; its casters read the prepared meshes, which
+/// the GL thread leaves alone until the cast is cancelled and joined (CancelRefinements).
+/// Destroying it cancels it and waits for its threads (at most one image tile each).
+struct vtkDirectSurfaceMapper::Refinement
+{
+  std::vector<double> Signature; ///< the view it casts
+  int Width = 0;
+  int Height = 0;
+  tetdsr::RayGenerator Rays{ glm::dmat4(1.0), 1, 1 };
+  glm::dmat4 ModelToNdc{ 1.0 };
+  bool SeveralBlocks = false;
+  ImageCast Cast;
+  double Seconds = 0.0; ///< the cast's wall-clock time, once Finished
+
+  std::atomic<bool> Cancelled{ false };
+  std::atomic<bool> Finished{ false };
+  std::thread Worker;
+
+  // The render it asks for when Finished: the window's interactor polls it with one-shot timers
+  // (one pending at a time; a fired one is forgotten by the interactor itself: VTK 9.2's X
+  // interactor crashes when a timer is destroyed while it fires).
+  vtkWeakPointer<vtkRenderWindowInteractor> Interactor;
+  int TimerId = 0;
+
+  ~Refinement()
+  {
+    this->Cancelled = true;
+    if (this->Worker.joinable())
+    {
+      this->Worker.join();
+    }
+    if (this->Interactor && this->TimerId)
+    {
+      this->Interactor->DestroyTimer(this->TimerId);
+    }
+  }
+
+  /// The worker: every block's tiles on `threads` threads, each taking the next tile until
+  /// there are none or the cast is cancelled (checked before each tile); then the blocks'
+  /// nearest surfaces and the window depth.
+  void Run(int threads)
+  {
+    const auto start = std::chrono::steady_clock::now();
+    for (const auto& caster : this->Cast.Casters)
+    {
+      const tetdsr::NodeId tiles = caster->numberOfTiles();
+      std::atomic<tetdsr::NodeId> next{ 0 };
+      auto castTiles = [&]() {
+        tetdsr::NodeId tile;
+        while (!this->Cancelled && (tile = next++) < tiles)
+        {
+          caster->renderTiles(tile, tile + 1);
+        }
+      };
+      std::vector<std::thread> helpers;
+      for (int t = 1; t < threads; ++t)
+      {
+        helpers.emplace_back(castTiles);
+      }
+      castTiles();
+      for (std::thread& helper : helpers)
+      {
+        helper.join();
+      }
+      if (this->Cancelled)
+      {
+        return;
+      }
+      if (this->SeveralBlocks)
+      {
+        this->Cast.KeepNearest(this->Cast.Depth.size());
+      }
+    }
+    this->Cast.ComputeWindowDepth(this->Rays, this->ModelToNdc, this->Width, 0, this->Height);
+    this->Seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    this->Finished = true;
+  }
+};
+
+/// Per-render state: the prepared meshes (one per block), the last images, background casts,
+/// and the OpenGL resources.
+struct vtkDirectSurfaceMapper::Internals
+{
+  adapter::IsoValueStyles Styles;
+  std::map<unsigned int, std::unique_ptr<adapter::PreparedMesh>> Meshes; ///< by block index
+
+  // How long the last cast took at which sample distance.
+  double SampleDistance = 1.0;
+  double LastCastSeconds = 0.0;
+  double LastRenderStart = 0.0; ///< wall-clock start of the last render (not re-used)
+  bool LastWasInteractive = false;
+
+  ImageCast Cast; ///< the last cast on the GL thread
+  std::vector<float> OpaqueDepth; ///< under translucent surfaces, at full resolution
+
+  // Translucent surfaces wait for their renderer's EndEvent: every actor of this mapper that
+  // asked for them in that renderer's frame (one mapper may serve several actors and renderers).
+  struct Deferred
+  {
+    vtkWeakPointer<vtkRenderer> Renderer;
+    unsigned long ObserverTag = 0;
+    std::vector<vtkWeakPointer<vtkActor>> Actors;
+  };
+  std::vector<Deferred> DeferredDraws;
+
+  /// What one view (a window's renderer and an actor of this mapper) draws its image with:
+  /// textures and quad (OpenGL objects belong to the window's context), the signature and size
+  /// of the image the textures hold, so that each view re-uses its own, and its background cast.
+  struct ViewResources
+  {
+    vtkWeakPointer<vtkOpenGLRenderWindow> Window;
+    vtkWeakPointer<vtkRenderer> Renderer;
+    vtkWeakPointer<vtkActor> Actor;
+    vtkSmartPointer<vtkTextureObject> ColorTexture;
+    vtkSmartPointer<vtkTextureObject> DepthTexture;
+    std::unique_ptr<vtkOpenGLQuadHelper> Quad;
+    bool TexturesValid = false;
+    std::vector<double> Signature;
+    int ImageSize[2] = { 0, 0 };
+    double ImageSampleDistance = 1.0;
+    std::unique_ptr<Refinement> Refining;
+
+    void Release(vtkWindow* window)
+    {
+      this->Refining.reset();
+      if (this->Quad)
+      {
+        this->Quad->ReleaseGraphicsResources(window);
+        this->Quad.reset();
+      }
+      for (auto* texture : { &this->ColorTexture, &this->DepthTexture })
+      {
+        if (*texture)
+        {
+          (*texture)->ReleaseGraphicsResources(window);
+          *texture = nullptr;
         }
       }
+      this->TexturesValid = false;
+      this->Signature.clear();
+    }
+  };
+  std::vector<std::unique_ptr<ViewResources>> Views;
+
+  /// The interactors of the windows this mapper draws in, each observed for its TimerEvent
+  /// (TimerFired), and whether its event loop runs: a one-shot timer set when it was first seen
+  /// has fired. Only then can a background cast ask for the render that shows it; scripts that
+  /// call Render without processing the interactor's events never fire it.
+  struct EventLoop
+  {
+    vtkWeakPointer<vtkRenderWindowInteractor> Interactor;
+    unsigned long ObserverTag = 0;
+    int ProbeTimerId = 0;
+    bool Runs = false;
+  };
+  std::vector<EventLoop> EventLoops;
+
+  /// What the last report of an undrawable input (empty bounds) was made for.
+  std::vector<std::uintptr_t> SilenceStamp;
+
+  /// The resources of a view, made on first use. Entries of deleted windows, renderers or
+  /// actors are dropped (a window releases its quads' and textures' OpenGL objects itself when
+  /// it goes; those of a deleted renderer or actor are released here).
+  ViewResources& ResourcesOf(vtkOpenGLRenderWindow* window, vtkRenderer* renderer, vtkActor* actor)
+  {
+    for (auto it = this->Views.begin(); it != this->Views.end();)
+    {
+      ViewResources& r = **it;
+      if (!r.Window || !r.Renderer || !r.Actor)
+      {
+        if (r.Window)
+        {
+          r.Release(r.Window);
+        }
+        it = this->Views.erase(it);
+      }
+      else if (r.Window == window && r.Renderer == renderer && r.Actor == actor)
+      {
+        return r;
+      }
+      else
+      {
+        ++it;
+      }
+    }
+    this->Views.emplace_back(new ViewResources);
+    ViewResources& made = *this->Views.back();
+    made.Window = window;
+    made.Renderer = renderer;
+    made.Actor = actor;
+    return made;
+  }
+
+  /// Cancels every view's background cast and waits for its threads: a cast on the GL thread
+  /// may rebuild the prepared meshes they read.
+  void CancelRefinements()
+  {
+    for (const auto& view : this->Views)
+    {
+      view->Refining.reset();
+    }
+  }
+
+  adapter::PreparedMesh& MeshOf(unsigned int block)
+  {
+    auto& mesh = this->Meshes[block];
+    if (!mesh)
+    {
+      mesh.reset(new adapter::PreparedMesh);
+    }
+    return *mesh;
+  }
+
+  /// Reads what the opaque geometry left in the depth buffer (it bounds the translucent rays)
+  /// and returns an order-sensitive sum of it, so that a moved prop changes the signature.
+  double ReadOpaqueDepth(const Frame& frame)
+  {
+    const int* viewport = frame.Viewport;
+    this->OpaqueDepth.resize(static_cast<std::size_t>(viewport[2]) * viewport[3]);
+    {
+      vtkOpenGLState::ScopedglEnableDisable savedScissor(frame.Window->GetState(), GL_SCISSOR_TEST);
+      frame.Window->GetZbufferData(viewport[0], viewport[1], viewport[0] + viewport[2] - 1,
+        viewport[1] + viewport[3] - 1, this->OpaqueDepth.data());
+    }
+    double sum = 0.0;
+    for (float z : this->OpaqueDepth)
+    {
+      sum = sum * 1.000001 + z;
+    }
+    return sum;
+  }
+
+  /// The window depth of the GL thread's cast, its rows on vtkSMPTools' threads.
+  void ComputeWindowDepth(const Frame& frame)
+  {
+    vtkSMPTools::For(0, frame.CastHeight, [&](vtkIdType rowBegin, vtkIdType rowEnd) {
+      this->Cast.ComputeWindowDepth(frame.Rays, frame.ModelToNdc, frame.CastWidth,
+        static_cast<int>(rowBegin), static_cast<int>(rowEnd));
     });
   }
 
-  void Upload(ViewResources& gl, vtkOpenGLRenderWindow* window, int width, int height)
+  static void Upload(ViewResources& gl, vtkOpenGLRenderWindow* window, const ImageCast& images,
+    int width, int height, double sampleDistance)
   {
     for (auto* texture : { &gl.ColorTexture, &gl.DepthTexture })
     {
@@ -510,9 +762,15 @@ struct vtkDirectSurfaceMapper::Internals
       }
       (*texture)->SetContext(window);
     }
-    gl.ColorTexture->Create2DFromRaw(width, height, 4, VTK_UNSIGNED_CHAR, this->Colors.data());
-    gl.DepthTexture->Create2DFromRaw(width, height, 1, VTK_FLOAT, this->WindowDepth.data());
+    // (Create2DFromRaw only reads the pixels; its parameter is not const.)
+    gl.ColorTexture->Create2DFromRaw(
+      width, height, 4, VTK_UNSIGNED_CHAR, const_cast<std::uint8_t*>(images.Colors.data()));
+    gl.DepthTexture->Create2DFromRaw(
+      width, height, 1, VTK_FLOAT, const_cast<float*>(images.WindowDepth.data()));
     gl.TexturesValid = true;
+    gl.ImageSize[0] = width;
+    gl.ImageSize[1] = height;
+    gl.ImageSampleDistance = sampleDistance;
   }
 
   static bool Draw(
@@ -564,6 +822,9 @@ struct vtkDirectSurfaceMapper::Internals
     gl.DepthTexture->Activate();
     gl.Quad->Program->SetUniformi("colorTexture", gl.ColorTexture->GetTextureUnit());
     gl.Quad->Program->SetUniformi("depthTexture", gl.DepthTexture->GetTextureUnit());
+    // Full resolution is drawn texel for texel, exactly as cast.
+    gl.Quad->Program->SetUniformi(
+      "upsample", gl.ImageSize[0] != viewport[2] || gl.ImageSize[1] != viewport[3] ? 1 : 0);
     gl.Quad->Render();
     gl.DepthTexture->Deactivate();
     gl.ColorTexture->Deactivate();
@@ -581,6 +842,19 @@ vtkDirectSurfaceMapper::vtkDirectSurfaceMapper()
 
 vtkDirectSurfaceMapper::~vtkDirectSurfaceMapper()
 {
+  // Background casts read the prepared meshes: they stop before anything goes.
+  this->Internal->CancelRefinements();
+  for (const auto& loop : this->Internal->EventLoops)
+  {
+    if (loop.Interactor)
+    {
+      if (loop.ProbeTimerId)
+      {
+        loop.Interactor->DestroyTimer(loop.ProbeTimerId);
+      }
+      loop.Interactor->RemoveObserver(loop.ObserverTag);
+    }
+  }
   for (const auto& deferred : this->Internal->DeferredDraws)
   {
     if (deferred.Renderer)
@@ -858,6 +1132,7 @@ void vtkDirectSurfaceMapper::ReportWhyNothingIsDrawn()
     return;
   }
   this->Internal->SilenceStamp = stamp;
+  this->Internal->CancelRefinements(); // (preparing may rebuild the meshes they read)
   Frame frame(nullptr, nullptr, false);
   if (!this->CollectBlocks(frame))
   {
@@ -951,25 +1226,86 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   }
   frame.CollectLights(renderer);
 
-  // Re-use the image this view holds when nothing it depends on changed.
   Internals& in = *this->Internal;
   Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor);
+  vtkRenderWindowInteractor* interactor = window->GetInteractor();
+  const bool eventLoop =
+    this->ProgressiveRefinement && interactor && this->EventLoopRuns(interactor);
   this->ComputeSignature(frame);
-  this->LastRenderReusedImage = gl.TexturesValid && frame.Signature == gl.Signature;
-  if (this->LastRenderReusedImage)
-  {
+  this->LastRenderRefining = false;
+  // The image this view holds: of the same scene (camera, data, settings), and of the size.
+  const bool sameSize = gl.ImageSize[0] == frame.CastWidth && gl.ImageSize[1] == frame.CastHeight;
+  auto drawImage = [&]() {
     Internals::Draw(gl, window, translucent, frame.Viewport);
     timer->StopTimer();
     this->TimeToDraw = timer->GetElapsedTime();
+  };
+
+  // This view's background cast: shown once finished, waited for while it runs (the upscaled
+  // image drawn again), and dropped when the frame is anything else.
+  if (gl.Refining)
+  {
+    Refinement& refinement = *gl.Refining;
+    if (SameScene(refinement.Signature, frame.Signature) && refinement.Width == frame.CastWidth &&
+      refinement.Height == frame.CastHeight)
+    {
+      this->LastRenderReusedImage = !refinement.Finished;
+      this->LastRenderRefining = !refinement.Finished;
+      if (refinement.Finished)
+      {
+        refinement.Worker.join(); // (it has returned)
+        Internals::Upload(
+          gl, window, refinement.Cast, refinement.Width, refinement.Height, distance);
+        gl.Signature = refinement.Signature;
+        in.LastCastSeconds = refinement.Seconds;
+        in.SampleDistance = distance;
+        this->LastImageSampleDistance = distance;
+        this->LastCastSize[0] = frame.CastWidth;
+        this->LastCastSize[1] = frame.CastHeight;
+        gl.Refining.reset();
+      }
+      drawImage();
+      return;
+    }
+    gl.Refining.reset();
+  }
+
+  // Re-use the image this view holds when nothing it depends on changed.
+  this->LastRenderReusedImage = gl.TexturesValid && sameSize && frame.Signature == gl.Signature;
+  if (this->LastRenderReusedImage)
+  {
+    drawImage();
+    return;
+  }
+  if (!this->ConvertSettings(frame))
+  {
+    return;
+  }
+  // Any cast below may rebuild the prepared meshes that background casts read.
+  in.CancelRefinements();
+
+  // A still frame of the scene the last interactive frame showed: that image, upscaled, until the
+  // full resolution cast in the background is done, when the event loop can ask for the render
+  // that shows it.
+  if (eventLoop && gl.TexturesValid && gl.ImageSampleDistance > 1.0 && distance == 1.0 &&
+    SameScene(gl.Signature, frame.Signature))
+  {
+    gl.Refining = this->StartRefinement(frame, interactor);
+    if (gl.Refining)
+    {
+      this->LastRenderReusedImage = true;
+      this->LastRenderRefining = true;
+      drawImage();
+    }
     return;
   }
 
-  if (!this->ConvertSettings(frame) || !this->CastBlocks(frame))
+  if (!this->CastBlocks(frame))
   {
     return;
   }
   in.ComputeWindowDepth(frame);
-  in.Upload(gl, window, frame.CastWidth, frame.CastHeight);
+  Internals::Upload(gl, window, in.Cast, frame.CastWidth, frame.CastHeight, distance);
   Internals::Draw(gl, window, translucent, frame.Viewport);
   gl.Signature = std::move(frame.Signature);
   timer->StopTimer();
@@ -1012,12 +1348,17 @@ bool vtkDirectSurfaceMapper::CollectBlocks(Frame& frame)
       return false;
     }
   }
-  // Scenes of blocks the input no longer has are dropped, with the arrays they keep alive.
+  // Scenes of blocks the input no longer has are dropped, with the arrays they keep alive
+  // (after the background casts that read them).
   auto& meshes = this->Internal->Meshes;
   for (auto it = meshes.begin(); it != meshes.end();)
   {
     const bool kept = std::any_of(frame.Blocks.begin(), frame.Blocks.end(),
       [&](const auto& block) { return block.first == it->first; });
+    if (!kept)
+    {
+      this->Internal->CancelRefinements();
+    }
     it = kept ? std::next(it) : meshes.erase(it);
   }
   if (frame.Blocks.empty())
@@ -1074,8 +1415,7 @@ void vtkDirectSurfaceMapper::ComputeSignature(Frame& frame)
   const glm::dmat4& modelToNdc = frame.ModelToNdc;
   signature.assign(&modelToNdc[0][0], &modelToNdc[0][0] + 16);
   signature.insert(signature.end(),
-    { static_cast<double>(frame.CastWidth), static_cast<double>(frame.CastHeight),
-      static_cast<double>(this->GetMTime()),
+    { static_cast<double>(this->GetMTime()),
       static_cast<double>(frame.Actor->GetProperty()->GetMTime()),
       static_cast<double>(frame.Input->GetMTime()),
       frame.Settings.lighting.headlightOnly ? 1.0 : 0.0 });
@@ -1126,26 +1466,56 @@ bool vtkDirectSurfaceMapper::ConvertSettings(Frame& frame)
   return true;
 }
 
-bool vtkDirectSurfaceMapper::CastBlocks(Frame& frame)
+bool vtkDirectSurfaceMapper::PrepareCast(Frame& frame, ImageCast& cast)
 {
   Internals& in = *this->Internal;
-  in.Resize(frame.Pixels(), frame.SeveralBlocks());
+  cast.Resize(frame.Pixels(), frame.SeveralBlocks());
   if (frame.Translucent)
   {
-    in.ComputeRayLimits(frame);
+    cast.ComputeRayLimits(frame, in.OpaqueDepth);
   }
+  cast.Casters.clear();
   this->NumberOfRenderedCells = 0;
-  bool aborted = false;
   for (const auto& block : frame.Blocks)
   {
-    if (!this->CastBlock(frame, block.first, block.second))
+    if (!this->PrepareBlock(frame, block.first, block.second))
     {
-      aborted = true;
-      break;
+      continue; // skipped: the messages say why
     }
+    adapter::PreparedMesh& prepared = in.MeshOf(block.first);
+    this->NumberOfRenderedCells += prepared.GetSummary().validCells;
+    ChooseColors(this, block.second, prepared, frame.Settings, frame.Messages);
+    cast.Casters.emplace_back(
+      new tetdsr::Renderer(prepared.GetSurface(frame.Values, this->NumberOfThreads), frame.Rays,
+        frame.Settings, cast.BlockImage(frame)));
   }
   adapter::ReportMessages(this, frame.Messages);
-  return !aborted && this->NumberOfRenderedCells > 0;
+  return this->NumberOfRenderedCells > 0;
+}
+
+bool vtkDirectSurfaceMapper::CastBlocks(Frame& frame)
+{
+  ImageCast& cast = this->Internal->Cast;
+  if (!this->PrepareCast(frame, cast))
+  {
+    return false;
+  }
+  vtkOpenGLRenderWindow* window = frame.Window;
+  for (const auto& caster : cast.Casters)
+  {
+    const tetdsr::NodeId done = adapter::Cast(
+      *caster, false, this->NumberOfThreads, [window]() { return window->CheckAbortStatus() != 0; },
+      [](double) {});
+    if (done < caster->numberOfTiles())
+    {
+      return false;
+    }
+    if (frame.SeveralBlocks())
+    {
+      cast.KeepNearest(frame.Pixels());
+    }
+  }
+  return true;
 }
 
 bool vtkDirectSurfaceMapper::PrepareBlock(Frame& frame, unsigned int index, vtkUnstructuredGrid* grid)
@@ -1170,32 +1540,87 @@ bool vtkDirectSurfaceMapper::PrepareBlock(Frame& frame, unsigned int index, vtkU
       grid, field, component, tetdsr::TransverseTest(), this->NumberOfThreads, frame.Messages);
 }
 
-bool vtkDirectSurfaceMapper::CastBlock(Frame& frame, unsigned int index, vtkUnstructuredGrid* grid)
+std::unique_ptr<vtkDirectSurfaceMapper::Refinement> vtkDirectSurfaceMapper::StartRefinement(
+  Frame& frame, vtkRenderWindowInteractor* interactor)
 {
-  Internals& in = *this->Internal;
-  if (!this->PrepareBlock(frame, index, grid))
+  std::unique_ptr<Refinement> refinement(new Refinement);
+  if (!this->PrepareCast(frame, refinement->Cast))
   {
-    return true; // skipped: the messages say why
+    return nullptr;
   }
-  adapter::PreparedMesh& prepared = in.MeshOf(index);
-  this->NumberOfRenderedCells += prepared.GetSummary().validCells;
-  ChooseColors(this, grid, prepared, frame.Settings, frame.Messages);
+  refinement->Signature = frame.Signature;
+  refinement->Width = frame.CastWidth;
+  refinement->Height = frame.CastHeight;
+  refinement->Rays = frame.Rays;
+  refinement->ModelToNdc = frame.ModelToNdc;
+  refinement->SeveralBlocks = frame.SeveralBlocks();
+  // The worker cannot render (the window's context belongs to this thread): the event loop
+  // polls it.
+  refinement->Interactor = interactor;
+  refinement->TimerId = interactor->CreateOneShotTimer(kRefinementPollMilliseconds);
+  const int threads = this->NumberOfThreads > 0
+    ? this->NumberOfThreads
+    : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  refinement->Worker = std::thread(&Refinement::Run, refinement.get(), threads);
+  return refinement;
+}
 
-  const tetdsr::Renderer caster(prepared.GetSurface(frame.Values, this->NumberOfThreads),
-    frame.Rays, frame.Settings, in.BlockImage(frame));
-  vtkOpenGLRenderWindow* window = frame.Window;
-  const tetdsr::NodeId done = adapter::Cast(
-    caster, false, this->NumberOfThreads, [window]() { return window->CheckAbortStatus() != 0; },
-    [](double) {});
-  if (done < caster.numberOfTiles())
+bool vtkDirectSurfaceMapper::EventLoopRuns(vtkRenderWindowInteractor* interactor)
+{
+  auto& loops = this->Internal->EventLoops;
+  loops.erase(std::remove_if(loops.begin(), loops.end(),
+                [](const Internals::EventLoop& loop) { return !loop.Interactor; }),
+    loops.end());
+  for (const auto& loop : loops)
   {
-    return false;
+    if (loop.Interactor == interactor)
+    {
+      return loop.Runs;
+    }
   }
-  if (frame.SeveralBlocks())
+  Internals::EventLoop loop;
+  loop.Interactor = interactor;
+  loop.ObserverTag =
+    interactor->AddObserver(vtkCommand::TimerEvent, this, &vtkDirectSurfaceMapper::TimerFired);
+  loop.ProbeTimerId = interactor->CreateOneShotTimer(1); // (forgotten by the interactor once fired)
+  loops.push_back(loop);
+  return false;
+}
+
+void vtkDirectSurfaceMapper::TimerFired(vtkObject* caller, unsigned long, void* callData)
+{
+  const int timerId = callData ? *static_cast<int*>(callData) : 0;
+  if (timerId == 0)
   {
-    in.KeepNearest(frame.Pixels());
+    return;
   }
-  return true;
+  for (auto& loop : this->Internal->EventLoops)
+  {
+    if (loop.ProbeTimerId == timerId)
+    {
+      loop.Runs = true;
+      loop.ProbeTimerId = 0;
+      return;
+    }
+  }
+  for (const auto& view : this->Internal->Views)
+  {
+    Refinement* refinement = view->Refining.get();
+    if (refinement && refinement->TimerId == timerId)
+    {
+      auto* interactor = static_cast<vtkRenderWindowInteractor*>(caller);
+      refinement->TimerId = 0; // (fired: the interactor forgets it)
+      if (!refinement->Finished)
+      {
+        refinement->TimerId = interactor->CreateOneShotTimer(kRefinementPollMilliseconds);
+        return;
+      }
+      // Asked once: the render shows it; if it does not draw this view, the view's next render
+      // shows it, or a cast drops it.
+      interactor->Render();
+      return;
+    }
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -1207,9 +1632,11 @@ void vtkDirectSurfaceMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "AutoAdjustSampleDistances: " << this->AutoAdjustSampleDistances << "\n";
   os << indent << "MaximumImageSampleDistance: " << this->MaximumImageSampleDistance << "\n";
   os << indent << "InteractiveImageSampleDistance: " << this->InteractiveImageSampleDistance << "\n";
+  os << indent << "ProgressiveRefinement: " << this->ProgressiveRefinement << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "LastImageSampleDistance: " << this->LastImageSampleDistance << "\n";
   os << indent << "LastRenderReusedImage: " << this->LastRenderReusedImage << "\n";
+  os << indent << "LastRenderRefining: " << this->LastRenderRefining << "\n";
   os << indent << "LastCastSize: " << this->LastCastSize[0] << " x " << this->LastCastSize[1] << "\n";
   os << indent << "NumberOfRenderedCells: " << this->NumberOfRenderedCells << "\n";
 }

@@ -29,8 +29,12 @@
  * still update rate (the camera is being moved), the image is cast at a reduced resolution
  * (ImageSampleDistance) chosen so that the frame meets the actor's allocated render time (the
  * time the rest of the last frame took, between two renders, is not the cast's to spend), and
- * upscaled; a still render is always at full resolution. A render with unchanged camera, viewport, data and
- * settings re-uses the last image. Abort requests are honoured (CheckAbortStatus).
+ * upscaled edge- and depth-aware (a joint bilateral filter over the cast's 2 x 2 pixels around
+ * each window pixel: colour never crosses a silhouette or a depth discontinuity, and coverage is
+ * the nearest cast pixel's). A still render is at full resolution; after interaction with a
+ * running interactor it is cast in the background (ProgressiveRefinement). A render with
+ * unchanged camera, viewport, data and settings re-uses the last image. Abort requests are
+ * honoured (CheckAbortStatus).
  *
  * @warning The prepared scene (validation) is built once per mesh and field and kept, with the
  * acceleration structure of the last iso-values. Iso-value opacities below 1 (or the actor's opacity) composite this mapper's own
@@ -56,6 +60,7 @@
 #include <memory> // for std::unique_ptr
 
 class vtkContourValues;
+class vtkRenderWindowInteractor;
 class vtkUnstructuredGrid;
 
 class TETDSRRENDERING_EXPORT vtkDirectSurfaceMapper : public vtkMapper
@@ -125,12 +130,37 @@ public:
 
   ///@{
   /**
-   * What the last render did: the sample distance used (1: full resolution), whether it
-   * re-used the previous image, and the cast's size in rays.
+   * Progressive refinement (default on): a still render that follows interactive
+   * (reduced-resolution) frames of the same view, in a window whose interactor runs an event
+   * loop, shows the last reduced image upscaled at once and casts the full resolution on worker
+   * threads (NumberOfThreads); when it is done, a timer on the interactor asks for a render,
+   * which shows it. A new interactive frame, a changed camera, input or setting, or a cast for
+   * another view of this mapper cancels the background cast (it stops within one image tile).
+   * The event loop is known to run once a one-shot timer the mapper sets on the interactor,
+   * when it first draws in its window, has fired (Start, or ProcessEvents). Without one
+   * (batch and offscreen scripts, scripts that only call Render, even with an interactor
+   * attached), or off, a still render casts at full resolution before it returns.
+   * @warning A script that has processed the interactor's events (so the mapper knows the
+   * loop) and reads the window back right after a still render that followed interaction gets
+   * the upscaled image: switch this off, or process the interactor's events until the last
+   * render is no longer refining (GetLastRenderRefining).
+   */
+  vtkSetMacro(ProgressiveRefinement, bool);
+  vtkGetMacro(ProgressiveRefinement, bool);
+  vtkBooleanMacro(ProgressiveRefinement, bool);
+  ///@}
+
+  ///@{
+  /**
+   * What the last render did: the sample distance of the image it drew (1: full resolution),
+   * whether it re-used the previous image, the image's size in rays, and whether it drew the
+   * last reduced image while the full resolution is cast in the background
+   * (ProgressiveRefinement).
    */
   vtkGetMacro(LastImageSampleDistance, double);
   vtkGetMacro(LastRenderReusedImage, bool);
   vtkGetVector2Macro(LastCastSize, int);
+  vtkGetMacro(LastRenderRefining, bool);
   ///@}
 
   ///@{
@@ -181,10 +211,12 @@ protected:
   bool AutoAdjustSampleDistances = true;
   double MaximumImageSampleDistance = 8.0;
   double InteractiveImageSampleDistance = 2.0;
+  bool ProgressiveRefinement = true;
   int NumberOfThreads = 0;
 
   double LastImageSampleDistance = 1.0;
   bool LastRenderReusedImage = false;
+  bool LastRenderRefining = false;
   int LastCastSize[2] = { 0, 0 };
   vtkIdType NumberOfRenderedCells = 0;
 
@@ -193,6 +225,8 @@ private:
   void operator=(const vtkDirectSurfaceMapper&) = delete;
 
   struct Frame;
+  struct ImageCast;
+  struct Refinement;
   /// Casts and draws: opaque surfaces with depth, or translucent ones blended over the frame.
   void Draw(vtkRenderer* renderer, vtkActor* actor, bool translucent);
   /// The input's unstructured grids, by flat index; forgets the prepared meshes of blocks it no
@@ -207,15 +241,25 @@ private:
   /// The iso-values, the clipping planes in model coordinates and the actor's material; false,
   /// with the errors, when they cannot be cast.
   bool ConvertSettings(Frame& frame);
-  /// Casts every block into one image, reporting what they skipped; false when there is nothing
-  /// to draw (aborted, or no cell rendered).
+  /// Makes `cast` ready for the frame: its images sized, a caster for each block that can be
+  /// rendered (its prepared mesh current, its colours chosen), what was skipped reported. False
+  /// when no cell is rendered.
+  bool PrepareCast(Frame& frame, ImageCast& cast);
+  /// Casts every block into one image on this thread; false when there is nothing to draw
+  /// (aborted, or no cell rendered).
   bool CastBlocks(Frame& frame);
   /// Makes a block's prepared mesh current (its field checked, its scene built or re-used);
   /// false, with the messages in the frame, when nothing of it can be rendered.
   bool PrepareBlock(Frame& frame, unsigned int index, vtkUnstructuredGrid* grid);
-  /// Casts one block (the nearest surface of several blocks wins); false when aborted. A block
-  /// that cannot be rendered is skipped, with messages saying why.
-  bool CastBlock(Frame& frame, unsigned int index, vtkUnstructuredGrid* grid);
+  /// ProgressiveRefinement: the frame cast on worker threads, with a timer on `interactor` that
+  /// asks for a render when it is done; null when there is nothing to cast.
+  std::unique_ptr<Refinement> StartRefinement(Frame& frame, vtkRenderWindowInteractor* interactor);
+  /// Whether `interactor`'s event loop runs (its timers fire); the first call sets the timer
+  /// that tells.
+  bool EventLoopRuns(vtkRenderWindowInteractor* interactor);
+  /// An interactor's TimerEvent: its event loop runs, or a view's background cast is done (then
+  /// it asks the interactor for a render).
+  void TimerFired(vtkObject* interactor, unsigned long event, void* timerId);
   /// The renderer's EndEvent: draws the translucent surfaces its actors of this mapper asked
   /// for, farthest actor first.
   void DrawDeferred(vtkObject* renderer, unsigned long event, void* data);

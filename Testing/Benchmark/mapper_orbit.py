@@ -20,6 +20,11 @@ Per dataset, in the same window:
   actor's allocated render time;
 - still: DesiredUpdateRate = the still rate (a still render: full resolution), the camera moving
   every frame, so no frame re-uses the last image;
+- image quality of the interacting rows, untimed, after each orbit: every interaction frame is
+  cast again (the camera and the sample distance the mapper chose for it, with
+  AutoAdjustSampleDistances off) and compared with a still render of the same camera: PSNR over
+  RGB, and the share of pixels whose largest channel difference exceeds 16/255 (measured after
+  the orbit because the mapper sizes each frame from the time between renders);
 - vtkContourFilter (once, timed separately) + vtkPolyDataMapper over the same orbit.
 Every frame ends with glFinish (WaitForCompletion), so its time includes the GL work.
 """
@@ -32,13 +37,13 @@ import time
 
 import numpy as np
 from vtkmodules.util import numpy_support
-from vtkmodules.vtkCommonCore import vtkPoints
+from vtkmodules.vtkCommonCore import vtkPoints, vtkUnsignedCharArray
 from vtkmodules.vtkCommonDataModel import (VTK_QUADRATIC_TETRA, vtkCellArray, vtkDataObject,
                                            vtkUnstructuredGrid)
 from vtkmodules.vtkFiltersCore import vtkContourFilter
 from vtkmodules.vtkIOImage import vtkPNGWriter
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderWindow,
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkCamera, vtkPolyDataMapper, vtkRenderWindow,
                                          vtkRenderWindowInteractor, vtkRenderer,
                                          vtkWindowToImageFilter)
 import vtkmodules.vtkInteractionStyle  # noqa: F401 (the interactor's default style)
@@ -173,9 +178,39 @@ class Bench:
         writer.SetInputConnection(grab.GetOutputPort())
         writer.Write()
 
+    def pixels(self):
+        """The window's RGB as a (height, width, 3) int array."""
+        width, height = self.window.GetSize()
+        rgba = vtkUnsignedCharArray()
+        self.window.GetRGBACharPixelData(0, 0, width - 1, height - 1, 1, rgba)
+        return numpy_support.vtk_to_numpy(rgba).reshape(height, width, 4)[..., :3].astype(np.int64)
+
     def set_rates(self, desired, still):
         self.interactor.SetStillUpdateRate(still)
         self.window.SetDesiredUpdateRate(desired)  # also sets each renderer's allocated time
+
+
+def interaction_quality(bench, mapper, frames, desired, still):
+    """Per recorded interaction frame (a copy of its camera, the sample distance it was cast at),
+    that frame cast again and a still render of the same camera: the PSNR (dB) over RGB and the
+    share of pixels whose largest channel difference exceeds 16/255. Untimed."""
+    camera = bench.renderer.GetActiveCamera()
+    mapper.AutoAdjustSampleDistancesOff()
+    psnr, off = [], []
+    for saved, distance in frames:
+        camera.DeepCopy(saved)
+        mapper.SetInteractiveImageSampleDistance(distance)
+        bench.set_rates(desired, still)
+        bench.frame()
+        interaction = bench.pixels()
+        bench.set_rates(still, still)
+        bench.frame()
+        error = interaction - bench.pixels()
+        mse = np.mean(error.astype(np.float64) ** 2)
+        psnr.append(10.0 * np.log10(255.0 ** 2 / mse) if mse > 0 else float("inf"))
+        off.append(float(np.mean(np.abs(error).max(axis=2) > 16)))
+    mapper.AutoAdjustSampleDistancesOn()
+    return psnr, off
 
 
 def run_dataset(bench, label, grid, array, iso, view, frames, rows):
@@ -221,10 +256,13 @@ def run_dataset(bench, label, grid, array, iso, view, frames, rows):
         bench.set_rates(still, still)
         bench.frame()  # the still frame the interaction starts from
         bench.set_rates(desired, still)  # StartInteraction
-        distances, casts, draws, allocated, reuses = [], [], [], [], 0
+        distances, casts, draws, allocated, reuses, cameras = [], [], [], [], 0, []
 
         def record():
             nonlocal reuses
+            saved = vtkCamera()
+            saved.DeepCopy(camera)
+            cameras.append(saved)
             distances.append(mapper.GetLastImageSampleDistance())
             casts.append(mapper.GetLastCastSize())
             draws.append(mapper.GetTimeToDraw())
@@ -235,11 +273,12 @@ def run_dataset(bench, label, grid, array, iso, view, frames, rows):
         bench.snapshot(f"{label} {name}")
         bench.set_rates(still, still)  # EndInteraction: one still frame
         end_still = bench.frame()
+        psnr, off = interaction_quality(bench, mapper, list(zip(cameras, distances)), desired, still)
         rows.append(dict(base, mode=f"TetDSR mapper, {name}", target=1.0 / desired, times=times,
                          distance=statistics.mean(distances), dmin=min(distances),
                          dmax=max(distances), cast=casts[len(casts) // 2], reuses=reuses,
                          end_still=end_still, allocated=statistics.mean(allocated),
-                         draw=statistics.mean(draws)))
+                         draw=statistics.mean(draws), psnr=psnr, off=off))
 
     reset_view()
     bench.set_rates(still_rate, still_rate)
@@ -322,8 +361,9 @@ def main():
           f"degrees each; every frame timed to glFinish")
     print()
     print("| dataset | cells | renderer / mode | first frame s | fps (mean) | frame s median / max "
-          "| mapper s mean | LOD sample distance mean (min-max) | cast size | frames re-used |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+          "| mapper s mean | LOD sample distance mean (min-max) | cast size | frames re-used "
+          "| vs still: PSNR dB mean (min) | vs still: pixels > 16/255 |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for row in rows:
         times = row["times"]
         fps = len(times) / sum(times)
@@ -336,8 +376,18 @@ def main():
             cast = f"{row['cast'][0]} x {row['cast'][1]}"
             reuse = str(row["reuses"])
             draw = f"{row['draw']:.3f}"
+        psnr = off = "-"
+        if "psnr" in row:
+            # A frame cast at full resolution equals its still frame (infinite PSNR): counted apart.
+            finite = [p for p in row["psnr"] if np.isfinite(p)]
+            identical = len(row["psnr"]) - len(finite)
+            psnr = f"{statistics.mean(finite):.1f} ({min(finite):.1f})" if finite else "-"
+            if identical:
+                psnr += f", {identical} identical"
+            off = f"{100 * statistics.mean(row['off']):.2f} %"
         print(f"| {row['dataset']} | {row['cells']:,} | {row['mode']} | {first} | {fps:.1f} | "
-              f"{statistics.median(times):.3f} / {max(times):.3f} | {draw} | {lod} | {cast} | {reuse} |")
+              f"{statistics.median(times):.3f} / {max(times):.3f} | {draw} | {lod} | {cast} | {reuse} "
+              f"| {psnr} | {off} |")
     print()
     print("Targets: interacting >= 10 fps on 2 cores; still frame <= 1 s.")
     for row in rows:

@@ -1,6 +1,8 @@
 """vtkDirectSurfaceMapper in a real render window (Xvfb, OpenGL), against independent truth:
 the exact ray/sphere intersection of a field held exactly by the cells, the filter's depth for
-the same camera, a polygon surface lit by the same lights, and the lookup table's colours."""
+the same camera, a polygon surface lit by the same lights, and the lookup table's colours; its
+interactive frames against their own cast (rendered as a still frame of the cast's size)."""
+import time
 import unittest
 
 import numpy as np
@@ -13,6 +15,7 @@ from vtkmodules.vtkFiltersSources import vtkPlaneSource
 from vtkmodules.vtkRenderingCore import (vtkActor, vtkLightKit, vtkPolyDataMapper, vtkRenderer,
                                          vtkRenderWindow, vtkRenderWindowInteractor)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
+import vtkmodules.vtkRenderingUI  # noqa: F401 (the X interactor, whose event loop runs timers)
 
 from shared_helpers import lattice
 from tetdsr import vtkDirectSurfaceMapper, vtkDirectSurfaceRayCaster
@@ -22,9 +25,6 @@ RADIUS2 = 0.5  # iso-value of |x|^2: a sphere of radius sqrt(0.5), held exactly 
 # Depth tolerance: the colour and depth images travel as float (24-bit mantissa) into a depth
 # buffer of 24 or 32 bits; 4 units of 2^-24 covers both roundings.
 DEPTH_TOLERANCE = 4 * 2.0 ** -24
-
-
-
 
 
 def grid(n=3, fields=None, cell_range=None):
@@ -61,6 +61,7 @@ def shared_window():
         window.OffScreenRenderingOn()
         WINDOW.append(window)
     window = WINDOW[0]
+    window.SetSize(W, H)
     renderers = window.GetRenderers()
     while renderers.GetNumberOfItems():
         window.RemoveRenderer(renderers.GetFirstRenderer())
@@ -68,7 +69,7 @@ def shared_window():
     return window
 
 
-def scene(mesh, iso=RADIUS2, parallel=False, configure=None):
+def scene(mesh, iso=RADIUS2, parallel=False, configure=None, window=None):
     mapper = vtkDirectSurfaceMapper()
     mapper.SetInputData(mesh)
     mapper.SetValue(0, iso)
@@ -77,7 +78,7 @@ def scene(mesh, iso=RADIUS2, parallel=False, configure=None):
     actor.SetMapper(mapper)
     renderer = vtkRenderer()
     renderer.AddActor(actor)
-    window = shared_window()
+    window = window if window is not None else shared_window()
     window.AddRenderer(renderer)
     camera = renderer.GetActiveCamera()
     camera.SetPosition(2.2, 1.6, 3.0)
@@ -94,15 +95,17 @@ def scene(mesh, iso=RADIUS2, parallel=False, configure=None):
 
 
 def zbuffer(window):
+    width, height = window.GetSize()
     z = vtkFloatArray()
-    window.GetZbufferData(0, 0, W - 1, H - 1, z)
-    return vtk_to_numpy(z).reshape(H, W).astype(float)
+    window.GetZbufferData(0, 0, width - 1, height - 1, z)
+    return vtk_to_numpy(z).reshape(height, width).astype(float)
 
 
 def rgba(window):
+    width, height = window.GetSize()
     c = vtkUnsignedCharArray()
-    window.GetRGBACharPixelData(0, 0, W - 1, H - 1, 1, c)
-    return vtk_to_numpy(c).reshape(H, W, 4).astype(int)
+    window.GetRGBACharPixelData(0, 0, width - 1, height - 1, 1, c)
+    return vtk_to_numpy(c).reshape(height, width, 4).astype(int)
 
 
 def matrix(renderer):
@@ -141,6 +144,73 @@ def sphere_truth(composite, radius2=RADIUS2):
     depth = np.ones(len(t))
     depth[hit] = window_depth(composite, origin[hit] + t[hit, None] * direction[hit])
     return depth.reshape(H, W), np.abs(disc).reshape(H, W) / radius2
+
+
+def nested_spheres(mapper, actor, renderer):
+    """Two iso-values of |x|^2 in pure colours: the sphere of radius sqrt(0.5) red, opened towards
+    the camera by a clipping plane, and the sphere of radius sqrt(0.15) green inside it, seen in
+    front of the red sphere's far wall; a black background. Silhouettes against the background
+    and between the two colours; no specular light, so every pixel of one surface has exactly
+    one nonzero channel, and a blend of the two has two."""
+    mapper.SetNumberOfContours(2)
+    mapper.SetValue(0, 0.5)
+    mapper.SetValue(1, 0.15)
+    mapper.SetIsoValueColor(0, 1.0, 0.0, 0.0)
+    mapper.SetIsoValueColor(1, 0.0, 1.0, 0.0)
+    toward_camera = np.array(renderer.GetActiveCamera().GetPosition())
+    toward_camera /= np.linalg.norm(toward_camera)
+    # The plane keeps u . x <= 0.55: it cuts the outer sphere (radius 0.71), not the inner (0.39).
+    plane = vtkPlane()
+    plane.SetOrigin(*(0.55 * toward_camera))
+    plane.SetNormal(*(-toward_camera))
+    mapper.AddClippingPlane(plane)
+    actor.GetProperty().SetAmbient(0.3)  # every lit pixel keeps its colour's channel above 0
+    actor.GetProperty().SetDiffuse(0.7)
+    actor.GetProperty().SetSpecular(0.0)
+    renderer.SetBackground(0.0, 0.0, 0.0)
+
+
+def interactive_cast_and_still(mesh, distance, width, height):
+    """nested_spheres in a width x height window: an interactive frame cast at `distance`, the
+    still frame, and the cast itself (the still frame of a window of the cast's size: with the
+    same aspect ratio the composite projection, hence every ray, is the same). Each (rgba, z)."""
+    window, renderer, mapper, _ = scene(mesh, configure=nested_spheres)
+    window.SetSize(width, height)
+    interactor = vtkRenderWindowInteractor()  # (no event loop: still frames are cast at once)
+    interactor.SetRenderWindow(window)
+    interactor.SetStillUpdateRate(0.0001)
+    mapper.AutoAdjustSampleDistancesOff()
+    mapper.SetInteractiveImageSampleDistance(distance)
+    window.SetDesiredUpdateRate(15)
+    window.Render()
+    cast_size = (width // distance, height // distance)
+    assert tuple(mapper.GetLastCastSize()) == cast_size, mapper.GetLastCastSize()
+    interactive = rgba(window), zbuffer(window)
+    window.SetDesiredUpdateRate(0.0001)
+    window.Render()
+    still = rgba(window), zbuffer(window)
+    window.SetSize(*cast_size)
+    window.Render()
+    cast = rgba(window), zbuffer(window)
+    return interactive, cast, still
+
+
+def cast_pixels_under(width, height, cast_width, cast_height):
+    """For a width x height window drawing a cast_width x cast_height image: per row and per
+    column, the nearest cast pixel and the two cast pixels whose centres surround the window
+    pixel's centre (the upsampling's 2 x 2, clamped at the edges)."""
+    def axis(size, cast_size):
+        x = (np.arange(size) + 0.5) * cast_size / size
+        nearest = np.minimum(x.astype(int), cast_size - 1)
+        around = np.clip(np.floor(x - 0.5).astype(int)[:, None] + [0, 1], 0, cast_size - 1)
+        return nearest, around
+    return axis(height, cast_height), axis(width, cast_width)
+
+
+def surface_of(image):
+    """1 where a pixel is purely red, 2 purely green, 0 otherwise (background, or a blend)."""
+    r, g, b = image[..., 0], image[..., 1], image[..., 2]
+    return np.where((r > 0) & (g == 0) & (b == 0), 1, np.where((g > 0) & (r == 0) & (b == 0), 2, 0))
 
 
 class Mapper(unittest.TestCase):
@@ -387,6 +457,169 @@ class Mapper(unittest.TestCase):
         fresh_window.Render()
         np.testing.assert_array_equal(still_z, zbuffer(fresh_window))
         np.testing.assert_array_equal(still_rgba, rgba(fresh_window))
+
+    def test_still_frame_after_interaction_is_the_full_cast(self):
+        # After upsampled interactive frames (and with an interactor attached whose event loop
+        # never runs), a still render is cast at full resolution before it returns and drawn
+        # pixel for pixel: its silhouette and depth are the exact sphere's, as in
+        # check_against_sphere; the interactive frame's are not, so the check can tell them apart.
+        window, renderer, mapper, _ = scene(self.mesh)
+        interactor = vtkRenderWindowInteractor()
+        interactor.SetRenderWindow(window)
+        interactor.SetStillUpdateRate(0.0001)
+        mapper.AutoAdjustSampleDistancesOff()
+        mapper.SetInteractiveImageSampleDistance(4)
+        window.SetDesiredUpdateRate(15)
+        window.Render()
+        interactive = zbuffer(window)
+        window.SetDesiredUpdateRate(0.0001)
+        window.Render()
+        self.assertEqual(tuple(mapper.GetLastCastSize()), (W, H))
+        self.assertFalse(mapper.GetLastRenderRefining())
+        truth, margin = sphere_truth(matrix(renderer))
+        clear = margin > 1e-6
+        for name, z in (("interactive", interactive), ("still", zbuffer(window))):
+            wrong = int(((z < 1) != (truth < 1))[clear].sum())
+            both = (z < 1) & (truth < 1)
+            error = np.abs(z - truth)[both].max()
+            print("%s frame: coverage differs from the exact sphere's on %d pixels; max |depth - "
+                  "exact| = %.2e" % (name, wrong, error))
+            if name == "still":
+                self.assertEqual(wrong, 0)
+                self.assertLess(error, DEPTH_TOLERANCE)
+            else:
+                self.assertGreater(wrong, 20, "the upscaled silhouette is the cast's staircase")
+
+    def test_upsampling_keeps_surfaces_apart(self):
+        # An interactive frame at sample distance 4 against its own cast: coverage is the nearest
+        # cast pixel's, exactly; every covered pixel shows the nearest cast pixel's surface, its
+        # colour and depth within the range of that surface's cast pixels among the 2 x 2 it
+        # blends (a convex combination of them); the background stays untouched.
+        (up, up_z), (cast, cast_z), _ = interactive_cast_and_still(self.mesh, 4, 320, 240)
+        (rows, rows_around), (columns, columns_around) = cast_pixels_under(320, 240, 80, 60)
+        cast_surface = surface_of(cast)
+        self.assertTrue((cast_surface[cast_z < 1] > 0).all(), "the cast shows pure colours")
+        covered = up_z < 1
+        np.testing.assert_array_equal(covered, (cast_z < 1)[rows][:, columns])
+        self.assertEqual(int(up[~covered][:, :3].max()), 0, "colour outside the cast's coverage")
+        nearest_surface = cast_surface[rows][:, columns]
+        mixed = covered & (surface_of(up) != nearest_surface)
+        self.assertEqual(int(mixed.sum()), 0, "pixels blending two surfaces, or taking another's")
+        # The 2 x 2 cast pixels of each window pixel: surfaces (h, w, 4), colours, depths.
+        around_rows = rows_around[:, [0, 0, 1, 1]][:, None, :]
+        around_columns = columns_around[:, [0, 1, 0, 1]][None, :, :]
+        around_surfaces = cast_surface[around_rows, around_columns]
+        same = around_surfaces == nearest_surface[..., None]
+        colours = cast[..., :3][around_rows, around_columns]
+        low = np.where(same[..., None], colours, 255).min(axis=2)
+        high = np.where(same[..., None], colours, 0).max(axis=2)
+        outside = covered & ((up[..., :3] < low - 1) | (up[..., :3] > high + 1)).any(axis=2)
+        self.assertEqual(int(outside.sum()), 0, "colours outside their surface's cast pixels")
+        depths = cast_z[around_rows, around_columns]
+        low_z = np.where(same, depths, 2.0).min(axis=2)
+        high_z = np.where(same, depths, -1.0).max(axis=2)
+        outside_z = covered & ((up_z < low_z - DEPTH_TOLERANCE) | (up_z > high_z + DEPTH_TOLERANCE))
+        self.assertEqual(int(outside_z.sum()), 0, "depths outside their surface's cast pixels")
+        # The scene tests something: at this many pixels a plain bilinear filter would have
+        # blended another surface or the background in.
+        across = covered & (around_surfaces != nearest_surface[..., None]).any(axis=2)
+        blended = covered & (up[..., :3] != cast[..., :3][rows][:, columns]).any(axis=2)
+        print("upsampling: %d covered pixels, %d next to another surface or the background, %d "
+              "blended" % (covered.sum(), across.sum(), blended.sum()))
+        self.assertGreater(int(across.sum()), 300)
+        self.assertGreater(int(blended.sum()), 0.5 * covered.sum(), "the interior is blended")
+
+    def test_upsampling_is_closer_to_the_still_frame_than_nearest(self):
+        # The same interactive frame, and the nearest-neighbour upscaling of its cast (what the
+        # quad drew before), against the still frame of the same camera: the PSNR rises (a little:
+        # most of the error is at silhouettes, which keep the nearest cast pixel's surface by
+        # design), the pixels off by more than 16/255 do not grow in number, and those off by
+        # more than 4/255 (smooth shading seen as blocks) drop to less than half.
+        (up, _), (cast, _), (still, _) = interactive_cast_and_still(self.mesh, 4, 320, 240)
+        (rows, _), (columns, _) = cast_pixels_under(320, 240, 80, 60)
+        nearest = cast[rows][:, columns]
+
+        def psnr(image):
+            return 10 * np.log10(255.0 ** 2 / np.mean((image[..., :3] - still[..., :3]) ** 2.0))
+
+        def off(image, level):
+            return np.mean(np.abs(image[..., :3] - still[..., :3]).max(axis=2) > level)
+        print("vs the still frame: nearest %.2f dB, %.2f %% off by > 4/255, %.2f %% by > 16/255; "
+              "upsampled %.2f dB, %.2f %%, %.2f %%" % (psnr(nearest), 100 * off(nearest, 4),
+              100 * off(nearest, 16), psnr(up), 100 * off(up, 4), 100 * off(up, 16)))
+        self.assertGreater(psnr(up), psnr(nearest))
+        self.assertLess(off(up, 4), 0.5 * off(nearest, 4))
+        self.assertLessEqual(off(up, 16), off(nearest, 16))
+
+    def test_progressive_refinement_after_interaction(self):
+        # In a window whose interactor's events are processed (an event loop), the still render
+        # after interaction shows the interactive image at once and casts the full frame in the
+        # background; the event loop then shows it, equal to a synchronous still render. A new
+        # interactive frame cancels a background cast instead of waiting for it.
+        window = vtkRenderWindow()  # on screen, as an event loop's window is
+        window.SetSize(800, 600)
+        window, renderer, mapper, _ = scene(self.mesh, window=window)
+        mapper.SetNumberOfThreads(1)  # a background cast of some tenths of a second
+        mapper.AutoAdjustSampleDistancesOff()
+        mapper.SetInteractiveImageSampleDistance(4)
+        interactor = vtkRenderWindowInteractor()
+        interactor.SetRenderWindow(window)
+        interactor.SetStillUpdateRate(0.0001)
+        interactor.Initialize()
+        camera = renderer.GetActiveCamera()
+
+        def process_events(until, seconds):
+            end = time.perf_counter() + seconds
+            while not until() and time.perf_counter() < end:
+                interactor.ProcessEvents()
+                time.sleep(0.005)
+            return until()
+
+        def interact():
+            camera.Azimuth(10)
+            window.SetDesiredUpdateRate(15)
+            window.Render()
+            self.assertEqual(tuple(mapper.GetLastCastSize()), (200, 150))
+            self.assertFalse(mapper.GetLastRenderRefining())
+            return rgba(window)
+
+        window.SetDesiredUpdateRate(0.0001)
+        window.Render()
+        process_events(lambda: False, 0.2)  # (the loop runs: the mapper's first timer fires)
+        interactive = interact()
+        window.SetDesiredUpdateRate(0.0001)
+        start = time.perf_counter()
+        window.Render()
+        self.assertTrue(mapper.GetLastRenderRefining(), "the full frame is cast in the background")
+        self.assertEqual(tuple(mapper.GetLastCastSize()), (200, 150))
+        np.testing.assert_array_equal(rgba(window), interactive, "the interactive image, at once")
+        self.assertTrue(process_events(lambda: tuple(mapper.GetLastCastSize()) == (800, 600), 60),
+                        "the event loop shows the refined frame")
+        refinement_seconds = time.perf_counter() - start
+        self.assertFalse(mapper.GetLastRenderRefining())
+        refined = rgba(window), zbuffer(window)
+        mapper.ProgressiveRefinementOff()  # (a changed setting: cast again, synchronously)
+        window.Render()
+        self.assertFalse(mapper.GetLastRenderReusedImage())
+        np.testing.assert_array_equal(zbuffer(window), refined[1])
+        np.testing.assert_array_equal(rgba(window), refined[0])
+
+        mapper.ProgressiveRefinementOn()
+        interact()
+        window.SetDesiredUpdateRate(0.0001)
+        window.Render()
+        self.assertTrue(mapper.GetLastRenderRefining())
+        start = time.perf_counter()
+        interactive = interact()
+        cancel_seconds = time.perf_counter() - start
+        process_events(lambda: False, 0.5)
+        self.assertEqual(tuple(mapper.GetLastCastSize()), (200, 150))
+        np.testing.assert_array_equal(rgba(window), interactive, "no refined frame of the old view")
+        print("background cast shown %.3f s after the still render; the interactive frame that "
+              "cancelled one took %.3f s" % (refinement_seconds, cancel_seconds))
+        # Waiting for the cancelled cast would take about as long as the refinement did; the
+        # interactive frame casts 1/16 of its rays (a ratio, not a time limit: load slows both).
+        self.assertLess(cancel_seconds, 0.5 * refinement_seconds)
 
     def test_translucent_surfaces_blend_over_opaque_geometry(self):
         # A translucent sphere (opacity a, two crossings per ray: front and back) in front of an
