@@ -59,6 +59,8 @@
 
 #include <memory> // for std::unique_ptr
 
+class vtkMultiProcessController;
+
 class vtkContourValues;
 class vtkRenderWindowInteractor;
 class vtkUnstructuredGrid;
@@ -108,6 +110,27 @@ public:
   void SetIsoValueOpacity(int i, double opacity);
   double GetIsoValueOpacity(int i);
   void RemoveAllIsoValueOpacities();
+  ///@}
+
+  ///@{
+  /**
+   * Translucent surfaces of an input distributed over several processes (each holding some of
+   * the cells; ParaView's rendering processes under MPI): with a controller of several
+   * processes, Render draws opaque surfaces only, and every process calls
+   * DrawTranslucentAcrossProcesses once per frame, after the processes' opaque images are
+   * composited (vtkDirectSurfaceRepresentation does, at its renderer's EndEvent). Each process
+   * casts the crossings of the cells it holds; process 0 sorts them all along each ray, keeps
+   * those in front of the composited depth, composites them front to back exactly as one process
+   * holding every cell would, and blends them over its frame: the serial picture whatever the
+   * distribution of the cells. `compositedDepth` is that depth (window coordinates, `depthSize`
+   * pixels, row-major from the bottom, resampled to the viewport); null reads process 0's depth
+   * buffer. Collective: a process with no input, an invisible or opaque actor, or no window
+   * takes part with no crossings. The default controller is none.
+   */
+  void SetController(vtkMultiProcessController* controller);
+  vtkMultiProcessController* GetController();
+  void DrawTranslucentAcrossProcesses(
+    vtkRenderer* renderer, vtkActor* actor, const float* compositedDepth, const int depthSize[2]);
   ///@}
 
   ///@{

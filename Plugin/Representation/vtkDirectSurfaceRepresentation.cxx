@@ -2,6 +2,10 @@
 
 #include "vtkActor.h"
 #include "vtkAlgorithmOutput.h"
+#include "vtkCameraPass.h"
+#include "vtkCommand.h"
+#include "vtkFloatArray.h"
+#include "vtkIceTCompositePass.h"
 #include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkCellData.h"
@@ -91,6 +95,8 @@ vtkDirectSurfaceRepresentation::vtkDirectSurfaceRepresentation()
 {
   this->Actor->SetMapper(this->Mapper);
   this->Actor->SetProperty(this->Property);
+  // Translucent surfaces are composited across the rendering processes (DrawTranslucent).
+  this->Mapper->SetController(vtkMultiProcessController::GetGlobalController());
   this->Piece = vtkSmartPointer<vtkUnstructuredGrid>::New();
   vtkMath::UninitializeBounds(this->DataBounds);
 }
@@ -268,30 +274,53 @@ int vtkDirectSurfaceRepresentation::ProcessViewRequest(
   {
     this->CheckInput();
     this->Mapper->SetInputConnection(vtkPVRenderView::GetPieceProducer(inInfo, this));
-    this->WarnIfTranslucencyIsLost();
   }
   return 1;
 }
 
 //------------------------------------------------------------------------------
-void vtkDirectSurfaceRepresentation::WarnIfTranslucencyIsLost()
+bool vtkDirectSurfaceRepresentation::IsTranslucent()
 {
-  // The mapper blends translucent surfaces after its renderer's passes; with several rendering
-  // ranks ParaView has composited the ranks' images (IceT) by then, so they would not be seen.
-  auto* view = vtkPVRenderView::SafeDownCast(this->GetView());
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  const bool translucent =
-    this->Property->GetOpacity() < 1.0 || this->Mapper->HasTranslucentPolygonalGeometry();
-  if (translucent && !this->WarnedTranslucencyLost && view &&
-    view->GetUseDistributedRenderingForRender() && controller &&
-    controller->GetNumberOfProcesses() > 1)
+  return this->Property->GetOpacity() < 1.0 || this->Mapper->HasTranslucentPolygonalGeometry();
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceRepresentation::DrawTranslucent(vtkObject* caller, unsigned long, void*)
+{
+  // After IceT has composited the processes' opaque images by depth (its synchronized
+  // renderers' EndEvent observer comes first): every rendering process sends its crossings,
+  // process 0 sorts them along each ray against the composited depth and blends them over the
+  // composited frame. Every process of the view renders each frame, and what is tested here is
+  // the same on all of them (the proxies' properties), so all take part or none.
+  vtkMultiProcessController* controller = this->Mapper->GetController();
+  auto* renderer = vtkRenderer::SafeDownCast(caller);
+  if (!renderer || !controller || controller->GetNumberOfProcesses() < 2 || !this->Visible ||
+    !this->IsTranslucent())
   {
-    vtkWarningMacro("Translucent Direct Surface (Opacity or an iso-value opacity below 1) is not "
-                    "composited across the "
-      << controller->GetNumberOfProcesses()
-      << " rendering processes: it is not shown. Make it opaque, or render on one process.");
-    this->WarnedTranslucencyLost = true;
+    return;
   }
+  // The composited depth, on process 0: IceT's, behind the renderer's camera pass.
+  vtkRenderPass* pass = renderer->GetPass();
+  if (auto* camera = vtkCameraPass::SafeDownCast(pass))
+  {
+    pass = camera->GetDelegatePass();
+  }
+  const float* depth = nullptr;
+  int depthSize[2] = { 0, 0 };
+  if (auto* icet = vtkIceTCompositePass::SafeDownCast(pass))
+  {
+    vtkSynchronizedRenderers::vtkRawImage tile;
+    icet->GetLastRenderedTile(tile);
+    vtkFloatArray* depths = icet->GetLastRenderedDepths();
+    if (depths && tile.IsValid() &&
+      depths->GetNumberOfTuples() == static_cast<vtkIdType>(tile.GetWidth()) * tile.GetHeight())
+    {
+      depth = depths->GetPointer(0);
+      depthSize[0] = tile.GetWidth();
+      depthSize[1] = tile.GetHeight();
+    }
+  }
+  this->Mapper->DrawTranslucentAcrossProcesses(renderer, this->Actor, depth, depthSize);
 }
 
 //------------------------------------------------------------------------------
@@ -300,6 +329,11 @@ bool vtkDirectSurfaceRepresentation::AddToView(vtkView* view)
   if (auto* renderView = vtkPVRenderView::SafeDownCast(view))
   {
     renderView->GetRenderer()->AddActor(this->Actor);
+    this->Renderer = renderView->GetRenderer();
+    // After the synchronized renderers' own EndEvent observer (priority 0), which puts the
+    // composited image on process 0's screen.
+    this->DrawTranslucentTag = this->Renderer->AddObserver(
+      vtkCommand::EndEvent, this, &vtkDirectSurfaceRepresentation::DrawTranslucent, -1.0);
     return this->Superclass::AddToView(view);
   }
   return false;
@@ -310,6 +344,11 @@ bool vtkDirectSurfaceRepresentation::RemoveFromView(vtkView* view)
   if (auto* renderView = vtkPVRenderView::SafeDownCast(view))
   {
     renderView->GetRenderer()->RemoveActor(this->Actor);
+    if (this->Renderer)
+    {
+      this->Renderer->RemoveObserver(this->DrawTranslucentTag);
+      this->Renderer = nullptr;
+    }
     return this->Superclass::RemoveFromView(view);
   }
   return false;
@@ -583,7 +622,6 @@ void vtkDirectSurfaceRepresentation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Actor: " << this->Actor.GetPointer() << "\n";
   os << indent << "Property: " << this->Property.GetPointer() << "\n";
   os << indent << "Piece: " << this->Piece.GetPointer() << "\n";
-  os << indent << "WarnedTranslucencyLost: " << this->WarnedTranslucencyLost << "\n";
   os << indent << "Visible: " << this->Visible << "\n";
   os << indent << "ContourBy: " << this->ContourByAssociation << " '" << this->ContourByName
      << "'\n";

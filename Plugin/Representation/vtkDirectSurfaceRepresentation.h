@@ -27,11 +27,14 @@
  * With several processes a piece cannot tell the whole input's emptiness or range: only the
  * Contour By array's checks apply there.
  *
- * @warning Translucent surfaces (an iso-value opacity or Opacity below 1) are blended by the
- * mapper over the finished frame, after its renderer's passes (see vtkDirectSurfaceMapper); with
- * several rendering ranks ParaView has composited the ranks' images by then, so translucent
- * surfaces are not shown (a warning says so once). Opaque surfaces composite exactly, on any
- * number of ranks. Selection (picking) does not see the surface.
+ * Translucent surfaces (an iso-value opacity or Opacity below 1) on several rendering processes
+ * are composited by the representation itself: ParaView composites the processes' opaque images
+ * by depth (IceT), then every process casts the crossings of the cells it holds and process 0
+ * sorts them along each ray, drops those behind the composited depth, composites them front to
+ * back and blends them over the composited frame (vtkDirectSurfaceMapper::
+ * DrawTranslucentAcrossProcesses): the serial picture for any distribution of the cells, with no
+ * cell moved. Other props' translucent geometry is composited by ParaView, not sorted with this
+ * surface. Selection (picking) does not see the surface.
  *
  * @sa vtkDirectSurfaceMapper vtkDirectSurfaceRayCaster
  */
@@ -48,6 +51,7 @@
 class vtkActor;
 class vtkDirectSurfaceMapper;
 class vtkProperty;
+class vtkRenderer;
 class vtkScalarsToColors;
 
 class TETDSRPARAVIEWREPRESENTATIONS_EXPORT vtkDirectSurfaceRepresentation
@@ -159,8 +163,10 @@ protected:
   bool RemoveFromView(vtkView* view) override;
 
 private:
-  /// Warns once when translucent surfaces would be lost to compositing over several ranks.
-  void WarnIfTranslucencyIsLost();
+  /// Whether any surface is translucent (Opacity or an iso-value opacity below 1).
+  bool IsTranslucent();
+  /// The renderer's EndEvent: translucent surfaces composited across the rendering processes.
+  void DrawTranslucent(vtkObject* caller, unsigned long event, void* data);
   /// Says why the input cannot be drawn (empty, no finite point, Contour By missing or not one
   /// component), once per change of the input or of Contour By; false then.
   void CheckInput();
@@ -176,7 +182,9 @@ private:
   /// A shallow copy of the input (an empty grid when there is none), the piece handed to the view.
   vtkSmartPointer<vtkDataObject> Piece;
   double DataBounds[6];
-  bool WarnedTranslucencyLost = false;
+  /// The view's renderer, observed for DrawTranslucent.
+  vtkRenderer* Renderer = nullptr;
+  unsigned long DrawTranslucentTag = 0;
   bool Visible = true;
   /// Contour By's array (association and name).
   int ContourByAssociation = 0;

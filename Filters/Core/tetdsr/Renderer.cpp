@@ -110,7 +110,11 @@ Renderer::Renderer(const SurfaceIndex& surface, const RayGenerator& rays,
   // Crossings nearer than this are one: the same surface found again in the neighbouring cell
   // differs by rounding (~1e-15 of the scene), far below it; surfaces truly this close are
   // below any pixel's footprint.
-  LayerGap_ = 1e-9 * Scene_.diagonal();
+  LayerGap_ = kLayerGap * Scene_.diagonal();
+  if (Image_.layers)
+  {
+    Image_.layers->assign(static_cast<std::size_t>(numberOfTiles()), {});
+  }
   if (settings.normals.mode == NormalMode::DepthBuffer)
   {
     Nearest_.resize(static_cast<std::size_t>(image.width) * image.height);
@@ -300,9 +304,22 @@ bool Renderer::capAt(const Ray& ray, double t, int plane, std::size_t pixel) con
   {
     Nearest_[pixel] = { color, 1.0, glm::dvec3(0.0), 0.0 };
   }
-  writePixel(pixel,
-    shade(Settings_.material, color, point, normal, ray.direction, Settings_.lighting), 1.0);
+  const glm::dvec3 shaded =
+    shade(Settings_.material, color, point, normal, ray.direction, Settings_.lighting);
+  writePixel(pixel, shaded, 1.0);
+  addLayer(pixel, t, shaded, 1.0);
   return true;
+}
+
+void Renderer::addLayer(std::size_t pixel, double t, const glm::dvec3& color, double opacity) const
+{
+  if (Image_.layers)
+  {
+    const std::size_t i = pixel % static_cast<std::size_t>(Image_.width);
+    const std::size_t j = pixel / static_cast<std::size_t>(Image_.width);
+    const std::size_t tile = (j / kTileSize) * static_cast<std::size_t>(TilesPerRow_) + i / kTileSize;
+    (*Image_.layers)[tile].push_back({ static_cast<std::uint32_t>(pixel), t, color, opacity });
+  }
 }
 
 void Renderer::renderPixel(int i, int j) const
@@ -331,7 +348,6 @@ void Renderer::renderPixel(int i, int j) const
 
   // Crossings front to back: colour += (1 - opacity) * alpha * shaded, opacity += (1 - opacity)
   // * alpha, until the rest could not change an 8-bit colour (opaque surfaces: one crossing).
-  constexpr double kOpaque = 1.0 - 1.0 / 512.0;
   glm::dvec3 color(0.0);
   double opacity = 0.0;
   double tFrom = tMin;
@@ -390,6 +406,7 @@ void Renderer::renderPixel(int i, int j) const
     }
     color += ((1.0 - opacity) * style.opacity) * shaded;
     opacity += (1.0 - opacity) * style.opacity;
+    addLayer(pixel, hit.t, shaded, style.opacity);
     if (!Translucent_)
     {
       break;
@@ -524,15 +541,69 @@ std::uint8_t toByte(double x)
 }
 }
 
-void Renderer::writePixel(std::size_t pixel, const glm::dvec3& premultiplied, double opacity) const
+/// A composited colour (premultiplied) as 8-bit RGBA, not premultiplied.
+static void writeRgba(std::uint8_t* rgba, const glm::dvec3& premultiplied, double opacity)
 {
-  std::uint8_t* rgba = Image_.colors + 4 * pixel;
   for (int c = 0; c < 3; ++c)
   {
     // (an opaque pixel, the common case, needs no division: x / 1 is x)
     rgba[c] = toByte(opacity == 1.0 ? premultiplied[c] : premultiplied[c] / opacity);
   }
   rgba[3] = toByte(opacity);
+}
+
+void Renderer::writePixel(std::size_t pixel, const glm::dvec3& premultiplied, double opacity) const
+{
+  writeRgba(Image_.colors + 4 * pixel, premultiplied, opacity);
+}
+
+void compositeLayers(std::vector<PixelLayer>& layers, std::size_t pixels, double gap,
+  const double* rayLimits, std::uint8_t* colors)
+{
+  std::fill(colors, colors + 4 * pixels, std::uint8_t(0));
+  std::stable_sort(layers.begin(), layers.end(), [](const PixelLayer& a, const PixelLayer& b) {
+    return a.pixel != b.pixel ? a.pixel < b.pixel : a.t < b.t;
+  });
+  for (std::size_t first = 0; first < layers.size();)
+  {
+    const std::uint32_t pixel = layers[first].pixel;
+    std::size_t last = first;
+    while (last < layers.size() && layers[last].pixel == pixel)
+    {
+      ++last;
+    }
+    if (pixel < pixels)
+    {
+      const double limit =
+        rayLimits ? rayLimits[pixel] : std::numeric_limits<double>::infinity();
+      glm::dvec3 color(0.0);
+      double opacity = 0.0;
+      double previous = -std::numeric_limits<double>::infinity();
+      int taken = 0;
+      for (std::size_t k = first;
+           k < last && taken < Renderer::kMaxLayers && opacity < Renderer::kOpaque; ++k)
+      {
+        const PixelLayer& layer = layers[k];
+        if (layer.t > limit)
+        {
+          break;
+        }
+        if (layer.t < previous + std::max(gap, 1e-12 * std::abs(previous)))
+        {
+          continue; // the same surface, found by two pieces
+        }
+        color += ((1.0 - opacity) * layer.opacity) * layer.color;
+        opacity += (1.0 - opacity) * layer.opacity;
+        previous = layer.t;
+        ++taken;
+      }
+      if (opacity > 0.0)
+      {
+        writeRgba(colors + 4 * static_cast<std::size_t>(pixel), color, opacity);
+      }
+    }
+    first = last;
+  }
 }
 
 void Renderer::writeMiss(std::size_t pixel) const

@@ -129,6 +129,16 @@ struct RenderSettings
   CapRegion cap = CapRegion::None;
 };
 
+/// A crossing of one pixel's ray with a surface, shaded: what translucent surfaces cast apart (by
+/// several processes, each over the cells it holds) are composited from (compositeLayers).
+struct PixelLayer
+{
+  std::uint32_t pixel = 0;
+  double t = 0.0;          ///< along the pixel's ray
+  glm::dvec3 color{ 0.0 }; ///< shaded, not premultiplied
+  double opacity = 0.0;
+};
+
 /// Output image, row-major with row 0 at the bottom; the buffers are owned by the caller.
 /// `normals` holds the normal used for shading: along the field's gradient (towards increasing
 /// field) for the first three modes, towards the viewer for DepthBuffer, the plane's normal on a
@@ -153,7 +163,19 @@ struct ImageView
   /// Optional input: per pixel, an entry for the first ray to test first (reprojectHits). It
   /// changes how soon the nearest hit is found, not which it is.
   const std::uint32_t* entryHints = nullptr;
+  /// Optional output: the crossings each pixel composited (caps included), front to back, in
+  /// one list per tile (the Renderer sizes it to numberOfTiles(); a tile's list is written only
+  /// by the thread rendering that tile).
+  std::vector<std::vector<PixelLayer>>* layers = nullptr;
 };
+
+/// Composites crossings cast apart into one image as a Renderer composites one ray's: per pixel
+/// front to back by t, those beyond rayLimits[pixel] (optional) dropped, a crossing within `gap`
+/// of the last one taken dropped as the same surface found twice (where two pieces' cells
+/// meet), until the pixel is opaque to 8 bits or Renderer::kMaxLayers are taken. Writes `pixels`
+/// RGBA colours (not premultiplied; (0, 0, 0, 0) where nothing is taken). Sorts `layers`.
+void compositeLayers(std::vector<PixelLayer>& layers, std::size_t pixels, double gap,
+  const double* rayLimits, std::uint8_t* colors);
 
 /// Frames that re-use the last one: the last frame's hits (its rays, its depth and hitEntries)
 /// carried to the pixels of a new view, whose points `worldToNdc` takes to normalised device
@@ -198,6 +220,11 @@ public:
   /// Crossings composited per ray at most (translucent surfaces). Bounds the work where a ray
   /// runs through a region where the field equals an iso-value (every point a crossing).
   static constexpr int kMaxLayers = 64;
+  /// Crossings are composited until the opacity reaches this: the rest could not change an 8-bit
+  /// colour.
+  static constexpr double kOpaque = 1.0 - 1.0 / 512.0;
+  /// Crossings nearer than this times the scene's diagonal are one surface.
+  static constexpr double kLayerGap = 1e-9;
 
 private:
   /// A pixel's nearest surface, kept for DepthBuffer's second pass: its unshaded colour and
@@ -224,6 +251,8 @@ private:
   double colorValue(NodeId cellId, const glm::dvec3& point) const;
   glm::dvec3 directColor(NodeId cellId, const glm::dvec3& point) const;
   void writePixel(std::size_t pixel, const glm::dvec3& premultiplied, double opacity) const;
+  /// Into ImageView::layers, when asked for.
+  void addLayer(std::size_t pixel, double t, const glm::dvec3& color, double opacity) const;
   void writeMiss(std::size_t pixel) const;
 
   const SurfaceIndex& Surface_;
