@@ -245,83 +245,109 @@ public:
     return std::accumulate(counts.begin(), counts.begin() + self, vtkIdType(0));
   }
 
-  /// Composites every process's whole image (width pixels a row) by depth into this process's
-  /// `extent` of it (within the image): per pixel, the nearest process's depth, normal, cell and
-  /// colour value, and the colours composited front to back in the order of each process's
-  /// nearest crossing (RGBA not premultiplied, as the core writes them). False, on every
-  /// process, when one could not allocate its part.
-  bool CompositeByDepth(
-    const ImageArrays& image, int width, const int extent[6], ImageArrays& composited) const
+  /// Composites every process's whole image (width pixels a row) into this process's `extent`
+  /// of it (within the image): per pixel, the nearest process's depth, normal, cell and colour
+  /// value, and the colours of every process's crossings (`layers`, per tile as the core wrote
+  /// them), sorted along the ray and composited by the core as one process holding every cell
+  /// would (crossings within `gap` of each other are one surface). False, on every process, when
+  /// one could not allocate its part.
+  bool CompositeByDepth(const ImageArrays& image, int width, const int extent[6],
+    const std::vector<std::vector<tetdsr::PixelLayer>>& layers, double gap,
+    ImageArrays& composited) const
   {
-    const std::vector<double> received = this->ExchangeHits(image, width, extent);
+    const double* depth = image.Depth->GetPointer(0);
+    const double* normals = image.Normals->GetPointer(0);
+    const vtkIdType* cellIds = image.CellIds->GetPointer(0);
+    const double* colorValues = image.ColorValues ? image.ColorValues->GetPointer(0) : nullptr;
+    // The hits: the pixel's index in the receiver's extent, depth, normal (3), cell id, colour
+    // value.
+    const std::vector<double> hits =
+      this->SendToOwners(extent, [&](const Block& block, std::vector<double>& records) {
+        for (int j = block.jBegin; j < block.jEnd; ++j)
+        {
+          for (int i = block.iBegin; i < block.iEnd; ++i)
+          {
+            const vtkIdType p = i + static_cast<vtkIdType>(j) * width;
+            if (std::isfinite(depth[p])) // (a miss: nothing to composite)
+            {
+              records.insert(records.end(),
+                { static_cast<double>(block.Index(i, j)), depth[p], normals[3 * p],
+                  normals[3 * p + 1], normals[3 * p + 2], static_cast<double>(cellIds[p]),
+                  colorValues ? colorValues[p] : std::numeric_limits<double>::quiet_NaN() });
+            }
+          }
+        }
+      });
+    // The crossings: the pixel's index in the receiver's extent, t, colour (3), opacity.
+    const std::vector<double> crossings =
+      this->SendToOwners(extent, [&](const Block& block, std::vector<double>& records) {
+        for (const auto& tile : layers)
+        {
+          for (const tetdsr::PixelLayer& layer : tile)
+          {
+            const int i = static_cast<int>(layer.pixel % static_cast<std::uint32_t>(width));
+            const int j = static_cast<int>(layer.pixel / static_cast<std::uint32_t>(width));
+            if (block.Contains(i, j))
+            {
+              records.insert(records.end(), { static_cast<double>(block.Index(i, j)), layer.t,
+                layer.color.x, layer.color.y, layer.color.z, layer.opacity });
+            }
+          }
+        }
+      });
     const Block own(extent);
     if (!this->All(composited.Allocate(own.Pixels())))
     {
       return false;
     }
     composited.FillMisses();
-    // Per pixel, its records nearest first (a stable sort: equal depths stay in process order).
-    std::vector<const double*> records(received.size() / kRecord);
+    // Per pixel, the nearest hit (a stable sort: equal depths stay in process order).
+    std::vector<const double*> records(hits.size() / kHitRecord);
     for (std::size_t r = 0; r < records.size(); ++r)
     {
-      records[r] = &received[kRecord * r];
+      records[r] = &hits[kHitRecord * r];
     }
     std::stable_sort(records.begin(), records.end(), [](const double* first, const double* second) {
       return first[0] < second[0] || (first[0] == second[0] && first[1] < second[1]);
     });
-    for (std::size_t first = 0; first < records.size();)
+    for (std::size_t r = 0; r < records.size(); ++r)
     {
-      std::size_t last = first + 1;
-      while (last < records.size() && records[last][0] == records[first][0])
+      if (r == 0 || records[r][0] != records[r - 1][0])
       {
-        ++last;
+        WriteNearest(records[r], composited);
       }
-      WritePixel(&records[first], last - first, composited);
-      first = last;
     }
+    std::vector<tetdsr::PixelLayer> pixelLayers(crossings.size() / 6);
+    for (std::size_t k = 0; k < pixelLayers.size(); ++k)
+    {
+      const double* v = &crossings[6 * k];
+      pixelLayers[k] = { static_cast<std::uint32_t>(v[0]), v[1], glm::dvec3(v[2], v[3], v[4]), v[5] };
+    }
+    tetdsr::compositeLayers(pixelLayers, static_cast<std::size_t>(own.Pixels()), gap, nullptr,
+      composited.Colors->GetPointer(0));
     return true;
   }
 
 private:
-  /// The doubles of a hit sent to another process: the pixel's index in the receiver's extent,
-  /// depth, normal (3), cell id, colour value, RGBA.
-  static constexpr int kRecord = 11;
+  static constexpr int kHitRecord = 7;
 
-  /// Sends each process the hits of this process's whole `image` (width pixels a row) inside
-  /// that process's extent; returns the records of `extent` (this process's) from every process,
-  /// in process order.
-  std::vector<double> ExchangeHits(const ImageArrays& image, int width, const int extent[6]) const
+  struct Block;
+
+  /// Sends each process the records `fill` makes for that process's extent (of the image all
+  /// processes share); returns the records of `extent` (this process's) from every process, in
+  /// process order.
+  template <typename Fill>
+  std::vector<double> SendToOwners(const int extent[6], Fill&& fill) const
   {
     const int processes = this->Controller->GetNumberOfProcesses();
     std::vector<int> extents(6 * static_cast<std::size_t>(processes));
     this->Controller->AllGather(extent, extents.data(), 6);
-    const double* depth = image.Depth->GetPointer(0);
-    const double* normals = image.Normals->GetPointer(0);
-    const vtkIdType* cellIds = image.CellIds->GetPointer(0);
-    const unsigned char* colors = image.Colors->GetPointer(0);
-    const double* colorValues = image.ColorValues ? image.ColorValues->GetPointer(0) : nullptr;
     std::vector<double> received;
     for (int destination = 0; destination < processes; ++destination)
     {
       const Block block(&extents[6 * static_cast<std::size_t>(destination)]);
       std::vector<double> records;
-      for (int j = block.jBegin; j < block.jEnd; ++j)
-      {
-        for (int i = block.iBegin; i < block.iEnd; ++i)
-        {
-          const vtkIdType p = i + static_cast<vtkIdType>(j) * width;
-          if (!std::isfinite(depth[p]))
-          {
-            continue; // a miss: nothing to composite
-          }
-          records.insert(records.end(),
-            { static_cast<double>(block.Index(i, j)), depth[p], normals[3 * p],
-              normals[3 * p + 1], normals[3 * p + 2], static_cast<double>(cellIds[p]),
-              colorValues ? colorValues[p] : std::numeric_limits<double>::quiet_NaN(),
-              static_cast<double>(colors[4 * p]), static_cast<double>(colors[4 * p + 1]),
-              static_cast<double>(colors[4 * p + 2]), static_cast<double>(colors[4 * p + 3]) });
-        }
-      }
+      fill(block, records);
       const vtkIdType length = static_cast<vtkIdType>(records.size());
       std::vector<vtkIdType> lengths(processes), offsets(processes);
       this->Controller->Gather(&length, lengths.data(), 1, destination);
@@ -336,11 +362,9 @@ private:
     return received;
   }
 
-  /// Writes one pixel of `composited` from its `count` records, nearest first: the nearest's
-  /// depth, normal, cell and colour value, and the colours of all composited front to back.
-  static void WritePixel(const double* const* layers, std::size_t count, ImageArrays& composited)
+  /// Writes the depth, normal, cell and colour value of a pixel's nearest hit.
+  static void WriteNearest(const double* nearest, ImageArrays& composited)
   {
-    const double* nearest = layers[0];
     const vtkIdType p = static_cast<vtkIdType>(nearest[0]);
     composited.Depth->SetValue(p, nearest[1]);
     composited.Normals->SetTypedTuple(p, nearest + 2);
@@ -349,34 +373,6 @@ private:
     {
       composited.ColorValues->SetValue(p, nearest[6]);
     }
-    unsigned char* rgba = composited.Colors->GetPointer(4 * p);
-    if (count == 1 || nearest[10] == 255.0)
-    {
-      // One surface, or an opaque one in front: its colour as the core wrote it.
-      for (int c = 0; c < 4; ++c)
-      {
-        rgba[c] = static_cast<unsigned char>(nearest[7 + c]);
-      }
-      return;
-    }
-    // Front to back, as the core composites crossings: colour += (1 - opacity) * alpha *
-    // colour_k, opacity += (1 - opacity) * alpha.
-    double premultiplied[3] = { 0.0, 0.0, 0.0 };
-    double opacity = 0.0;
-    for (std::size_t k = 0; k < count; ++k)
-    {
-      const double alpha = layers[k][10] / 255.0;
-      for (int c = 0; c < 3; ++c)
-      {
-        premultiplied[c] += (1.0 - opacity) * alpha * layers[k][7 + c] / 255.0;
-      }
-      opacity += (1.0 - opacity) * alpha;
-    }
-    for (int c = 0; c < 3; ++c)
-    {
-      rgba[c] = ToByte(premultiplied[c] / opacity);
-    }
-    rgba[3] = ToByte(opacity);
   }
 
   /// The pixels of an extent of the image (within it), and their indices in the extent.
@@ -395,6 +391,10 @@ private:
         jEnd = jBegin;
       }
     }
+    bool Contains(int i, int j) const
+    {
+      return i >= this->iBegin && i < this->iEnd && j >= this->jBegin && j < this->jEnd;
+    }
     vtkIdType Index(int i, int j) const
     {
       const vtkIdType rowLength = this->iEnd - this->iBegin;
@@ -405,12 +405,6 @@ private:
       return static_cast<vtkIdType>(this->iEnd - this->iBegin) * (this->jEnd - this->jBegin);
     }
   };
-
-  /// [0, 1] to a byte, rounded to nearest, as the core writes colours.
-  static unsigned char ToByte(double x)
-  {
-    return x > 0.0 ? static_cast<unsigned char>(std::min(x, 1.0) * 255.0 + 0.5) : 0;
-  }
 
   int Reduce(int value, int operation) const
   {
@@ -677,7 +671,8 @@ tetdsr::RenderSettings ShadingSettings(vtkDirectSurfaceRayCaster* self,
 /// part of it, or, distributed, this process's block of the depth-composited image. False when
 /// compositing fails.
 bool WriteOutput(const ProcessGroup& processes, ImageArrays& image, int width, int height,
-  bool colorMapped, vtkInformation* outInfo, vtkImageData* output)
+  bool colorMapped, const std::vector<std::vector<tetdsr::PixelLayer>>& layers, double gap,
+  vtkInformation* outInfo, vtkImageData* output)
 {
   int wholeExtent[6] = { 0, width - 1, 0, height - 1, 0, 0 };
   int extent[6] = { 0, width - 1, 0, height - 1, 0, 0 };
@@ -695,7 +690,7 @@ bool WriteOutput(const ProcessGroup& processes, ImageArrays& image, int width, i
   if (processes.Distributed())
   {
     ImageArrays composited(colorMapped);
-    if (!processes.CompositeByDepth(image, width, extent, composited))
+    if (!processes.CompositeByDepth(image, width, extent, layers, gap, composited))
     {
       return false;
     }
@@ -825,6 +820,12 @@ int vtkDirectSurfaceRayCaster::RequestData(
     return 0;
   }
   run.View = image.View(run.Width, run.Height);
+  // Distributed, every crossing is kept, to be sorted along the rays with the other processes'.
+  std::vector<std::vector<tetdsr::PixelLayer>> layers;
+  if (run.Processes.Distributed())
+  {
+    run.View.layers = &layers;
+  }
   this->ChooseShading(run);
   bool completed = true;
   if (run.Scene)
@@ -846,8 +847,21 @@ int vtkDirectSurfaceRayCaster::RequestData(
 
   // The requested extent: the whole image, a part of it, or (distributed) this process's block
   // of the image all pieces give together.
-  if (!WriteOutput(run.Processes, image, run.Width, run.Height, run.ColorMapped,
-        outputVector->GetInformationObject(0), vtkImageData::GetData(outputVector)))
+  // Crossings nearer than the layer gap of the whole scene are one surface.
+  double box[6];
+  ProcessGroup::EmptyBox(box);
+  if (run.Scene)
+  {
+    run.Scene->bounds(box);
+  }
+  run.Processes.UniteBoxes(box);
+  const double diagonal = box[0] <= box[1]
+    ? std::sqrt((box[1] - box[0]) * (box[1] - box[0]) + (box[3] - box[2]) * (box[3] - box[2]) +
+        (box[5] - box[4]) * (box[5] - box[4]))
+    : 0.0;
+  if (!WriteOutput(run.Processes, image, run.Width, run.Height, run.ColorMapped, layers,
+        tetdsr::Renderer::kLayerGap * diagonal, outputVector->GetInformationObject(0),
+        vtkImageData::GetData(outputVector)))
   {
     vtkErrorMacro("Cannot composite the processes' images into the requested extent.");
     return 0;

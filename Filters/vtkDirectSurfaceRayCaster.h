@@ -46,8 +46,9 @@
  * the images are composited by depth, so that each process outputs its requested extent of the
  * picture the whole mesh gives (the filter produces sub-extents: ParaView asks each process for a
  * block of the image). Every process must execute the filter. Per pixel the nearest process's
- * Depth, Normals, CellId and ColorValues are kept; translucent Colors are composited over the
- * processes in the order of their nearest crossing. CellId counts the cells of the processes'
+ * Depth, Normals, CellId and ColorValues are kept, and Colors composite every process's
+ * crossings sorted along the ray, as one process holding every cell would (translucent surfaces
+ * whose crossings interleave between the pieces included). CellId counts the cells of the processes'
  * pieces one after another in process order (the numbering of a .pvtu read whole).
  *
  * @warning Curved cells (a node off where the affine map of the vertices puts it by more than
@@ -55,9 +56,9 @@
  * to 4, by a subdivision
  * solver rather than the quadratic formula: slower, and a hit at a tangent or near-tangent root
  * is accepted without a certificate (NumberOfUncertifiedHits counts them); curved cells that fold
- * (tangled) are skipped with a warning. Distributed, three results are the serial ones only up to
- * where the pieces meet: translucent colours where one process's crossings lie between another's
- * along a ray; DEPTH_BUFFER normals, differenced within each process's image; and the default
+ * (tangled) are skipped with a warning. Distributed, two results are the serial ones only up to
+ * where the pieces meet: DEPTH_BUFFER normals, differenced within each process's image (and the
+ * colours shaded with them); and the default
  * camera, fitted to the union of the pieces' bounding boxes (each rounded outward to single
  * precision).
  *

@@ -1233,9 +1233,11 @@ vtkMultiProcessController* vtkDirectSurfaceMapper::GetController()
   return this->Internal->Controller;
 }
 
-void vtkDirectSurfaceMapper::DrawTranslucentAcrossProcesses(
-  vtkRenderer* renderer, vtkActor* actor, const float* compositedDepth, const int depthSize[2])
+void vtkDirectSurfaceMapper::DrawTranslucentAcrossProcesses(vtkRenderer* renderer,
+  vtkActor* actor, const float* compositedDepth, unsigned char* compositedColors,
+  const int frameSize[2])
 {
+  const int* depthSize = frameSize;
   Internals& in = *this->Internal;
   vtkMultiProcessController* controller = in.Controller;
   if (!controller || controller->GetNumberOfProcesses() < 2 || !renderer || !actor)
@@ -1390,12 +1392,42 @@ void vtkDirectSurfaceMapper::DrawTranslucentAcrossProcesses(
       cast.Depth[layer.pixel] = layer.t;
     }
   }
-  in.ComputeWindowDepth(frame);
-  Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor);
-  gl.Refining.reset();
-  Internals::Upload(gl, window, cast, frame.CastWidth, frame.CastHeight, distance);
-  Internals::Draw(gl, window, true, frame.Viewport);
-  gl.Signature.clear(); // not a cast of this process's own: never re-used as one
+  if (compositedColors && depthSize && depthSize[0] > 0 && depthSize[1] > 0)
+  {
+    // Over the compositor's premultiplied image, each of its pixels taking the cast pixel it
+    // lies in: colour = alpha * ours + (1 - alpha) * its, alpha = alpha + (1 - alpha) * its.
+    const int castWidth = frame.CastWidth, castHeight = frame.CastHeight;
+    for (int j = 0; j < depthSize[1]; ++j)
+    {
+      const int cj = std::min(castHeight - 1, static_cast<int>((j + 0.5) * castHeight / depthSize[1]));
+      for (int i = 0; i < depthSize[0]; ++i)
+      {
+        const int ci = std::min(castWidth - 1, static_cast<int>((i + 0.5) * castWidth / depthSize[0]));
+        const std::uint8_t* ours = &cast.Colors[4 * (static_cast<std::size_t>(cj) * castWidth + ci)];
+        if (ours[3] == 0)
+        {
+          continue;
+        }
+        unsigned char* theirs = compositedColors + 4 * (static_cast<std::size_t>(j) * depthSize[0] + i);
+        const double alpha = ours[3] / 255.0;
+        for (int c = 0; c < 3; ++c)
+        {
+          theirs[c] = static_cast<unsigned char>(
+            std::min(255.0, alpha * ours[c] + (1.0 - alpha) * theirs[c]) + 0.5);
+        }
+        theirs[3] = static_cast<unsigned char>(std::min(255.0, ours[3] + (1.0 - alpha) * theirs[3]) + 0.5);
+      }
+    }
+  }
+  else
+  {
+    in.ComputeWindowDepth(frame);
+    Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor);
+    gl.Refining.reset();
+    Internals::Upload(gl, window, cast, frame.CastWidth, frame.CastHeight, distance);
+    Internals::Draw(gl, window, true, frame.Viewport);
+    gl.Signature.clear(); // not a cast of this process's own: never re-used as one
+  }
   timer->StopTimer();
   in.LastCastSeconds = timer->GetElapsedTime();
   in.SampleDistance = distance;

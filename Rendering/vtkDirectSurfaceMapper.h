@@ -122,15 +122,18 @@ public:
    * casts the crossings of the cells it holds; process 0 sorts them all along each ray, keeps
    * those in front of the composited depth, composites them front to back exactly as one process
    * holding every cell would, and blends them over its frame: the serial picture whatever the
-   * distribution of the cells. `compositedDepth` is that depth (window coordinates, `depthSize`
-   * pixels, row-major from the bottom, resampled to the viewport); null reads process 0's depth
-   * buffer. Collective: a process with no input, an invisible or opaque actor, or no window
-   * takes part with no crossings. The default controller is none.
+   * distribution of the cells. `compositedDepth` is that depth (window coordinates, `frameSize`
+   * pixels covering the viewport, row-major from the bottom); null reads process 0's depth
+   * buffer. `compositedColors`, when given (RGBA, premultiplied, as a compositor such as IceT
+   * holds its image, `frameSize` pixels), is blended into in place, before it is shown;
+   * otherwise the surfaces are drawn over process 0's frame buffer. Collective: a process with
+   * no input, an invisible or opaque actor, or no window takes part with no crossings. The
+   * default controller is none.
    */
   void SetController(vtkMultiProcessController* controller);
   vtkMultiProcessController* GetController();
-  void DrawTranslucentAcrossProcesses(
-    vtkRenderer* renderer, vtkActor* actor, const float* compositedDepth, const int depthSize[2]);
+  void DrawTranslucentAcrossProcesses(vtkRenderer* renderer, vtkActor* actor,
+    const float* compositedDepth, unsigned char* compositedColors, const int frameSize[2]);
   ///@}
 
   ///@{

@@ -287,10 +287,10 @@ bool vtkDirectSurfaceRepresentation::IsTranslucent()
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceRepresentation::DrawTranslucent(vtkObject* caller, unsigned long, void*)
 {
-  // After IceT has composited the processes' opaque images by depth (its synchronized
-  // renderers' EndEvent observer comes first): every rendering process sends its crossings,
-  // process 0 sorts them along each ray against the composited depth and blends them over the
-  // composited frame. Every process of the view renders each frame, and what is tested here is
+  // After IceT has composited the processes' opaque images by depth (inside the renderer's
+  // passes), before its image is shown or sent: every rendering process sends its crossings,
+  // process 0 sorts them along each ray against the composited depth and blends them into the
+  // composited image. Every process of the view renders each frame, and what is tested here is
   // the same on all of them (the proxies' properties), so all take part or none.
   vtkMultiProcessController* controller = this->Mapper->GetController();
   auto* renderer = vtkRenderer::SafeDownCast(caller);
@@ -305,22 +305,28 @@ void vtkDirectSurfaceRepresentation::DrawTranslucent(vtkObject* caller, unsigned
   {
     pass = camera->GetDelegatePass();
   }
+  // Its image (premultiplied RGBA, shared with the pass) is what process 0 shows and what a
+  // client is sent: the surfaces are blended into it before either happens.
   const float* depth = nullptr;
-  int depthSize[2] = { 0, 0 };
+  unsigned char* colors = nullptr;
+  int size[2] = { 0, 0 };
   if (auto* icet = vtkIceTCompositePass::SafeDownCast(pass))
   {
     vtkSynchronizedRenderers::vtkRawImage tile;
     icet->GetLastRenderedTile(tile);
     vtkFloatArray* depths = icet->GetLastRenderedDepths();
-    if (depths && tile.IsValid() &&
-      depths->GetNumberOfTuples() == static_cast<vtkIdType>(tile.GetWidth()) * tile.GetHeight())
+    const vtkIdType pixels = static_cast<vtkIdType>(tile.GetWidth()) * tile.GetHeight();
+    if (depths && tile.IsValid() && depths->GetNumberOfTuples() == pixels &&
+      tile.GetRawPtr()->GetNumberOfComponents() == 4 &&
+      tile.GetRawPtr()->GetNumberOfTuples() == pixels)
     {
       depth = depths->GetPointer(0);
-      depthSize[0] = tile.GetWidth();
-      depthSize[1] = tile.GetHeight();
+      colors = tile.GetRawPtr()->GetPointer(0);
+      size[0] = tile.GetWidth();
+      size[1] = tile.GetHeight();
     }
   }
-  this->Mapper->DrawTranslucentAcrossProcesses(renderer, this->Actor, depth, depthSize);
+  this->Mapper->DrawTranslucentAcrossProcesses(renderer, this->Actor, depth, colors, size);
 }
 
 //------------------------------------------------------------------------------
@@ -330,10 +336,10 @@ bool vtkDirectSurfaceRepresentation::AddToView(vtkView* view)
   {
     renderView->GetRenderer()->AddActor(this->Actor);
     this->Renderer = renderView->GetRenderer();
-    // After the synchronized renderers' own EndEvent observer (priority 0), which puts the
-    // composited image on process 0's screen.
+    // Before the synchronized renderers' own EndEvent observers (priority 0), which put IceT's
+    // composited image on process 0's screen and send it to a client.
     this->DrawTranslucentTag = this->Renderer->AddObserver(
-      vtkCommand::EndEvent, this, &vtkDirectSurfaceRepresentation::DrawTranslucent, -1.0);
+      vtkCommand::EndEvent, this, &vtkDirectSurfaceRepresentation::DrawTranslucent, 1.0);
     return this->Superclass::AddToView(view);
   }
   return false;

@@ -7,8 +7,9 @@ MPI_Comm_dup) while rank 1 waits in ProcessRMIs' barrier, both spinning forever
 (../shared/notes/environment.md; seen here with this plugin and with ParaView's own Surface and
 Volume). It follows a rank's X connection being refused, and Xvfb refuses connections made at
 the same moment, as two ranks on one server make them. So each rank gets its own Xvfb, the run
-has a hard time limit, and a run that hangs or is refused by X is run again (at most ATTEMPTS
-times, each said); any other failure is reported at once.
+has a hard time limit (a run that exceeds it is killed and fails), and only a run that X refused
+a connection is run again (at most ATTEMPTS times, each said); any other failure, a hang
+included, is reported at once.
 
 Usage: mpi_private_displays.py <ranks> <seconds per attempt> <command> [arguments...]
 """
@@ -97,19 +98,36 @@ def attempt(ranks, seconds, command):
             stop_server(server)
 
 
+def run(ranks, seconds, command, log=sys.stdout):
+    """Runs `command` under mpirun until an attempt is not refused by X (at most ATTEMPTS):
+    (exit code, [(outcome, seconds) per attempt]) with outcome "passed", "failed", "hung" or
+    "refused by X". A hang is a failure, not retried, unless X refused a connection first."""
+    attempts = []
+    for number in range(1, ATTEMPTS + 1):
+        start = time.monotonic()
+        code, output = attempt(ranks, seconds, command)
+        elapsed = time.monotonic() - start
+        log.write(output)
+        log.flush()
+        refused = code != 0 and any(text in output for text in REFUSALS)
+        if not refused:
+            outcome = "passed" if code == 0 else "hung" if code is None else "failed"
+            attempts.append((outcome, elapsed))
+            if code is None:
+                print(f"mpi_private_displays: hung for {seconds:g} s, killed (not retried: no X "
+                      f"connection was refused)", file=log, flush=True)
+            return (1 if code is None else code), attempts
+        attempts.append(("refused by X", elapsed))
+        print(f"mpi_private_displays: attempt {number} of {ATTEMPTS} refused by X", file=log,
+              flush=True)
+        time.sleep(1)
+    return 1, attempts
+
+
 def main():
     ranks, seconds, command = int(sys.argv[1]), float(sys.argv[2]), sys.argv[3:]
-    for number in range(1, ATTEMPTS + 1):
-        code, output = attempt(ranks, seconds, command)
-        sys.stdout.write(output)
-        sys.stdout.flush()
-        refused = code not in (0, None) and any(text in output for text in REFUSALS)
-        if code == 0 or (code is not None and not refused):
-            sys.exit(code)
-        why = f"hung for {seconds:g} s (ParaView's MPI deadlock)" if code is None else "refused by X"
-        print(f"mpi_private_displays: attempt {number} of {ATTEMPTS} {why}", flush=True)
-        time.sleep(1)
-    sys.exit(1)
+    code, _ = run(ranks, seconds, command)
+    sys.exit(code)
 
 
 if __name__ == "__main__":

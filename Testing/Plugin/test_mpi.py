@@ -1,5 +1,7 @@
 """Distributed rendering gives the serial picture: the "Direct Surface" representation and the
-Direct Surface Ray Cast filter on the expansion flow cut into two pieces, one per MPI rank.
+Direct Surface Ray Cast filter on the expansion flow cut into two pieces, one per MPI rank, with
+opaque surfaces and with translucent ones (an iso-value's opacity, and the actor's), whose
+crossings interleave between the pieces along most rays.
 
 Usage:
   pvbatch test_mpi.py <TetDSR.so> <Data directory> <work directory> reference
@@ -20,7 +22,7 @@ import sys
 
 import paraview.simple as simple
 from paraview import servermanager
-from paraview.simple import (Box, ColorBy, CreateView, GetColorTransferFunction, LoadPlugin, Render, SaveScreenshot, Show,
+from paraview.simple import (Box, ColorBy, CreateView, GetColorTransferFunction, LoadPlugin, SaveScreenshot, Show,
                              XMLPartitionedUnstructuredGridReader, XMLUnstructuredGridReader)
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkIdList
@@ -152,8 +154,8 @@ FILTER_CASES = {  # name: (fit the camera to the mesh, iso-values, their opaciti
 def run_filter(source, case):
     """The filter's output, the ranks' blocks put together: {array name: values per pixel}."""
     fit_camera, iso_values, opacities = FILTER_CASES[case]
-    caster = DirectSurfaceRayCast(Input=source,  # noqa: F821 (defined by LoadPlugin) ContourBy=["POINTS", "speed"],
-                                  Isosurfaces=iso_values)
+    caster = DirectSurfaceRayCast(Input=source,  # noqa: F821 (defined by LoadPlugin)
+                                  ContourBy=["POINTS", "speed"], Isosurfaces=iso_values)
     caster.ImageSize = [W, H]
     caster.ColorByArray = 1
     caster.ColorArray = ["POINTS", "pressure"]
@@ -283,9 +285,12 @@ else:
               f"filter, {case}: expected the serial nearest surface exactly, got coverage "
               f"{coverage}, cell ids {cells}, depth {depth}, normals {normals}, colour values "
               f"{values}")
-        if case == "opaque":
-            check(colors == 0, f"filter, opaque: expected the serial colours, got {colors} "
-                               f"pixels differing by up to {color_error} / 255")
+        # Colours: every process's crossings sorted along each ray (translucent ones interleave
+        # between the pieces), so the serial colours, translucent within 2 / 255.
+        tolerance = 0 if case == "opaque" else 2
+        check(color_error <= tolerance, f"filter, {case}: expected the serial colours within "
+                                        f"{tolerance} / 255, got {colors} pixels differing by up "
+                                        f"to {color_error} / 255")
 
 if failures:
     sys.exit(1)
