@@ -2,6 +2,7 @@
 // record, the frustum culling of pixel blocks, and hints from the last frame (reprojection).
 // Each is checked against the plain per-ray answer, bit for bit, on irregular meshes and
 // cameras near and far.
+#include "ImageBuffers.h"
 #include "LatticeMesh.h"
 #include "tetdsr/Renderer.h"
 
@@ -13,6 +14,7 @@
 #include <random>
 #include <vector>
 
+using Image = tetdsr_test::ImageBuffers;
 using tetdsr_test::LatticeMesh;
 using tetdsr_test::makeLattice;
 
@@ -40,37 +42,6 @@ bool sameHit(bool foundA, const tetdsr::SurfaceHit& a, bool foundB, const tetdsr
   return foundA == foundB &&
     (!foundA || (a.t == b.t && a.cellId == b.cellId && a.isoIndex == b.isoIndex && a.gradient == b.gradient));
 }
-
-struct Image
-{
-  explicit Image(int w, int h)
-    : width(w)
-    , height(h)
-    , colors(4 * std::size_t(w) * h)
-    , depth(std::size_t(w) * h)
-    , normals(3 * std::size_t(w) * h)
-    , cellIds(std::size_t(w) * h)
-    , entries(std::size_t(w) * h)
-  {
-  }
-  tetdsr::ImageView view()
-  {
-    tetdsr::ImageView image;
-    image.width = width;
-    image.height = height;
-    image.colors = colors.data();
-    image.depth = depth.data();
-    image.normals = normals.data();
-    image.cellIds = cellIds.data();
-    image.hitEntries = entries.data();
-    return image;
-  }
-  int width, height;
-  std::vector<std::uint8_t> colors;
-  std::vector<double> depth, normals;
-  std::vector<tetdsr::NodeId> cellIds;
-  std::vector<std::uint32_t> entries;
-};
 
 tetdsr::RenderSettings headlight()
 {

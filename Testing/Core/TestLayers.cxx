@@ -1,6 +1,7 @@
 // Translucent surfaces cast apart, by several processes each over the cells it holds, must
 // composite to the picture of the whole mesh: every crossing of every piece, sorted along each
 // ray (compositeLayers), as one Renderer composites a ray's crossings.
+#include "ImageBuffers.h"
 #include "LatticeMesh.h"
 #include "tetdsr/Renderer.h"
 
@@ -13,40 +14,12 @@
 #include <random>
 #include <vector>
 
+using Image = tetdsr_test::ImageBuffers;
 using tetdsr_test::LatticeMesh;
 using tetdsr_test::makeLattice;
 
 namespace
 {
-struct Image
-{
-  Image(int w, int h)
-    : width(w)
-    , height(h)
-    , colors(4 * std::size_t(w) * h)
-    , depth(std::size_t(w) * h)
-    , normals(3 * std::size_t(w) * h)
-    , cellIds(std::size_t(w) * h)
-  {
-  }
-  tetdsr::ImageView view(std::vector<std::vector<tetdsr::PixelLayer>>* layers = nullptr)
-  {
-    tetdsr::ImageView image;
-    image.width = width;
-    image.height = height;
-    image.colors = colors.data();
-    image.depth = depth.data();
-    image.normals = normals.data();
-    image.cellIds = cellIds.data();
-    image.layers = layers;
-    return image;
-  }
-  int width, height;
-  std::vector<std::uint8_t> colors;
-  std::vector<double> depth, normals;
-  std::vector<tetdsr::NodeId> cellIds;
-};
-
 /// The wave field on a jittered 6^3 lattice: several nested translucent crossings per ray.
 LatticeMesh waveLattice()
 {
@@ -83,6 +56,15 @@ tetdsr::RenderSettings translucentSettings()
   settings.lighting.headlightOnly = true;
   settings.isoStyles = { { glm::dvec3(0.9, 0.4, 0.2), 0.45 }, { glm::dvec3(0.2, 0.5, 0.9), 0.6 }, { glm::dvec3(0.8, 0.8, 0.3), 1.0 } };
   return settings;
+}
+
+/// Every tile's crossings in one list.
+std::vector<tetdsr::PixelLayer> flatten(const std::vector<std::vector<tetdsr::PixelLayer>>& tiles)
+{
+  std::vector<tetdsr::PixelLayer> all;
+  for (const auto& tile : tiles)
+    all.insert(all.end(), tile.begin(), tile.end());
+  return all;
 }
 
 int maxDifference(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b, int& differing)
@@ -132,9 +114,7 @@ TEST(Layers, PiecesCompositeToTheWhole)
 
   // The whole mesh's own layers composite to its image exactly.
   {
-    std::vector<tetdsr::PixelLayer> all;
-    for (const auto& tile : wholeLayers)
-      all.insert(all.end(), tile.begin(), tile.end());
+    std::vector<tetdsr::PixelLayer> all = flatten(wholeLayers);
     std::vector<std::uint8_t> colors(whole.colors.size());
     tetdsr::compositeLayers(all, std::size_t(width) * height, gap, nullptr, colors.data());
     int differing;
@@ -159,8 +139,8 @@ TEST(Layers, PiecesCompositeToTheWhole)
       std::vector<std::vector<tetdsr::PixelLayer>> layers;
       const tetdsr::Renderer renderer(surface, rays, settings, image.view(&layers));
       renderer.renderTiles(0, renderer.numberOfTiles());
-      for (const auto& tile : layers)
-        all.insert(all.end(), tile.begin(), tile.end());
+      const std::vector<tetdsr::PixelLayer> pieceLayers = flatten(layers);
+      all.insert(all.end(), pieceLayers.begin(), pieceLayers.end());
       pieceColors.push_back(image.colors);
     }
     std::vector<std::uint8_t> colors(whole.colors.size());
