@@ -1429,10 +1429,15 @@ void vtkDirectSurfaceMapper::DrawTranslucentAcrossProcesses(vtkRenderer* rendere
     gl.Signature.clear(); // not a cast of this process's own: never re-used as one
   }
   timer->StopTimer();
-  in.LastCastSeconds = timer->GetElapsedTime();
-  in.SampleDistance = distance;
-  this->TimeToDraw = in.LastCastSeconds;
-  this->LastImageSampleDistance = distance;
+  this->CastFinished(frame, distance, timer->GetElapsedTime());
+}
+
+void vtkDirectSurfaceMapper::CastFinished(const Frame& frame, double sampleDistance, double seconds)
+{
+  this->Internal->LastCastSeconds = seconds;
+  this->Internal->SampleDistance = sampleDistance;
+  this->TimeToDraw = seconds;
+  this->LastImageSampleDistance = sampleDistance;
   this->LastCastSize[0] = frame.CastWidth;
   this->LastCastSize[1] = frame.CastHeight;
 }
@@ -1546,12 +1551,7 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   Internals::Draw(gl, window, translucent, frame.Viewport);
   gl.Signature = std::move(frame.Signature);
   timer->StopTimer();
-  in.LastCastSeconds = timer->GetElapsedTime();
-  in.SampleDistance = distance;
-  this->TimeToDraw = in.LastCastSeconds;
-  this->LastImageSampleDistance = distance;
-  this->LastCastSize[0] = frame.CastWidth;
-  this->LastCastSize[1] = frame.CastHeight;
+  this->CastFinished(frame, distance, timer->GetElapsedTime());
 }
 
 bool vtkDirectSurfaceMapper::CollectBlocks(Frame& frame)

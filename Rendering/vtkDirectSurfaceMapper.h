@@ -255,6 +255,8 @@ private:
   struct Refinement;
   /// Casts and draws: opaque surfaces with depth, or translucent ones blended over the frame.
   void Draw(vtkRenderer* renderer, vtkActor* actor, bool translucent);
+  /// Records a finished cast (its time sizes the next interactive frame's sample distance).
+  void CastFinished(const Frame& frame, double sampleDistance, double seconds);
   /// The input's unstructured grids, by flat index; forgets the prepared meshes of blocks it no
   /// longer has. False, with an error, when it has none.
   bool CollectBlocks(Frame& frame);
