@@ -175,6 +175,25 @@ public:
     return { Position_, glm::normalize(Forward_ + offset) };
   }
 
+  /// The ray through a point of the image given in pixels, continuously: (x, y) = (i + 0.5,
+  /// j + 0.5) is pixel (i, j)'s centre, and gives pixelRay(i, j) bit for bit. For picking at a
+  /// display position.
+  Ray displayRay(double x, double y) const
+  {
+    const double ndcx = 2.0 * x / Width_ - 1.0, ndcy = 2.0 * y / Height_ - 1.0;
+    if (FromMatrix_)
+    {
+      const glm::dvec3 nearPoint = unproject(ndcx, ndcy, -1.0);
+      return { nearPoint, unitVector(unproject(ndcx, ndcy, 1.0) - nearPoint) };
+    }
+    const glm::dvec3 offset = (ndcx * HalfWidth_) * Right_ + (ndcy * HalfHeight_) * Up_;
+    if (Parallel_)
+    {
+      return { Position_ + offset, Forward_ };
+    }
+    return { Position_, glm::normalize(Forward_ + offset) };
+  }
+
   /// What, if anything, keeps `camera` from defining rays.
   static CameraProblem check(const Camera& camera)
   {

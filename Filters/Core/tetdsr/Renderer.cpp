@@ -262,24 +262,29 @@ glm::dvec3 Renderer::directColor(NodeId cellId, const glm::dvec3& point) const
   return by.components < 3 ? glm::dvec3(color[0]) : color; // grey levels from one component
 }
 
-bool Renderer::capAt(const Ray& ray, double t, int plane, std::size_t pixel) const
+bool Renderer::capCovers(const glm::dvec3& point, NodeId& cellId, double& field) const
 {
-  const glm::dvec3 point = ray.origin + t * ray.direction;
-  NodeId cellId;
   if (!Scene_.locate(point, cellId))
   {
     return false; // the plane is outside the mesh here
   }
-  const double field = Scene_.interpolate(cellId, point, Scene_.mesh().values);
+  field = Scene_.interpolate(cellId, point, Scene_.mesh().values);
   const std::vector<double>& iso = IsoValues_.sorted();
   // A point where the field equals the iso-value to rounding is on the surface, not inside it:
   // the cap's edge must not depend on how the interpolation rounds (e.g. a constant field).
   const double level = Settings_.cap == CapRegion::BelowIsoValue ? iso.back() : iso.front();
   const double tolerance =
     8.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(field), std::abs(level));
-  const bool inside = Settings_.cap == CapRegion::BelowIsoValue ? field < level - tolerance
-                                                                : field > level + tolerance;
-  if (!inside)
+  return Settings_.cap == CapRegion::BelowIsoValue ? field < level - tolerance
+                                                   : field > level + tolerance;
+}
+
+bool Renderer::capAt(const Ray& ray, double t, int plane, std::size_t pixel) const
+{
+  const glm::dvec3 point = ray.origin + t * ray.direction;
+  NodeId cellId;
+  double field;
+  if (!capCovers(point, cellId, field))
   {
     return false;
   }
@@ -420,6 +425,44 @@ void Renderer::renderPixel(int i, int j) const
     return;
   }
   writePixel(pixel, color, opacity);
+}
+
+bool Renderer::pick(const Ray& ray, Pick& pick) const
+{
+  pick = Pick();
+  double tMin, tMax;
+  int enteringPlane;
+  if (!clipInterval(ray, tMin, tMax, enteringPlane))
+  {
+    return false;
+  }
+  NodeId cellId = -1;
+  double field = 0.0;
+  if (Settings_.cap != CapRegion::None && enteringPlane >= 0 &&
+    capCovers(ray.origin + tMin * ray.direction, cellId, field))
+  {
+    pick.t = tMin;
+    pick.normal = Settings_.clipPlanes[static_cast<std::size_t>(enteringPlane)].normal;
+    pick.value = field;
+  }
+  else
+  {
+    SurfaceHit hit;
+    if (!Surface_.firstHit(ray, hit, tMin, tMax))
+    {
+      return false;
+    }
+    pick.t = hit.t;
+    cellId = hit.cellId;
+    pick.isoValue = static_cast<int>(IsoValues_.originalIndex(hit.isoIndex));
+    pick.normal = unitVector(hit.gradient);
+    pick.value = Scene_.interpolate(cellId, ray.origin + hit.t * ray.direction, Scene_.mesh().values);
+  }
+  pick.point = ray.origin + pick.t * ray.direction;
+  pick.sceneCell = cellId;
+  pick.cellId = Scene_.sourceCell(cellId);
+  pick.hasParametric = Scene_.parametricCoordinates(cellId, pick.point, pick.parametric);
+  return true;
 }
 
 glm::dvec3 Renderer::normalAt(const SurfaceHit& hit, const glm::dvec3& point) const

@@ -139,6 +139,25 @@ struct PixelLayer
   double opacity = 0.0;
 };
 
+/// What a ray sees first (Renderer::pick): the nearest crossing of a surface, or of a clipping
+/// plane's cap, inside the clipping planes.
+struct Pick
+{
+  double t = 0.0;           ///< along the ray
+  glm::dvec3 point{ 0.0 };  ///< ray.origin + t ray.direction
+  NodeId cellId = -1;       ///< the input's cell (Scene::sourceCell)
+  NodeId sceneCell = -1;    ///< the scene's cell, for Scene::interpolate of other arrays
+  /// The iso-value crossed, as an index into the values given to IsoValues; -1 on a cap.
+  int isoValue = -1;
+  /// Unit normal: along the field's exact gradient (towards increasing field) on a surface, the
+  /// plane's normal on a cap.
+  glm::dvec3 normal{ 0.0 };
+  double value = 0.0; ///< the field interpolated at the point
+  /// VTK's parametric coordinates in the cell (Scene::parametricCoordinates), when it has them.
+  bool hasParametric = false;
+  double parametric[3] = { 0.0, 0.0, 0.0 };
+};
+
 /// Output image, row-major with row 0 at the bottom; the buffers are owned by the caller.
 /// `normals` holds the normal used for shading: along the field's gradient (towards increasing
 /// field) for the first three modes, towards the viewer for DepthBuffer, the plane's normal on a
@@ -213,6 +232,11 @@ public:
   /// over threads gives the same image bit for bit.
   void renderTiles(NodeId tileBegin, NodeId tileEnd) const;
 
+  /// What `ray` (e.g. RayGenerator::displayRay at a display position) sees first, as a pixel's
+  /// ray would: within the clipping planes, a cap where the ray enters the kept side inside the
+  /// region the cap shows, else the nearest surface. False when it sees nothing. Thread-safe.
+  bool pick(const Ray& ray, Pick& pick) const;
+
   /// DepthBuffer only, after every tile is rendered: replaces the normals (and shading) of the
   /// nearest surface in tiles [tileBegin, tileEnd) by ones from the depth image's differences.
   void shadeFromDepth(NodeId tileBegin, NodeId tileEnd) const;
@@ -246,6 +270,9 @@ private:
   void renderBlock(int i0, int j0, int i1, int j1, bool mayHit) const;
   bool clipInterval(const Ray& ray, double& tMin, double& tMax, int& enteringPlane) const;
   bool capAt(const Ray& ray, double t, int plane, std::size_t pixel) const;
+  /// Whether a point of a clipping plane lies where the cap is shown (inside the mesh, on the
+  /// capped side of the iso-value): its cell and field value then.
+  bool capCovers(const glm::dvec3& point, NodeId& cellId, double& field) const;
   /// A vector along the field's gradient at the hit (only its direction is used).
   glm::dvec3 normalAt(const SurfaceHit& hit, const glm::dvec3& point) const;
   double colorValue(NodeId cellId, const glm::dvec3& point) const;

@@ -729,6 +729,21 @@ double Scene::interpolate(NodeId cellId, const glm::dvec3& point, const double* 
   return forKind(kindOf(cellId), [&](auto cell) { return decltype(cell)::interpolate(values, L); });
 }
 
+bool Scene::parametricCoordinates(NodeId cellId, const glm::dvec3& point, double pcoords[3]) const
+{
+  if (Mesh_.sourceCells)
+  {
+    return false;
+  }
+  double L[4];
+  cellCoordinates(cellId, point, L);
+  for (int k = 0; k < 3; ++k)
+  {
+    pcoords[k] = L[k + 1];
+  }
+  return std::isfinite(L[0] + L[1] + L[2] + L[3]);
+}
+
 double Scene::cellSize(NodeId cellId) const
 {
   glm::dvec3 nodes[kMaxCellNodes];

@@ -195,6 +195,12 @@ public:
 
   const MeshView& mesh() const { return Mesh_; }
 
+  /// VTK's parametric coordinates (r, s, t) of `point` in a valid cell: the reference
+  /// tetrahedron's, vertex 0 at the origin and vertices 1, 2, 3 at r, s, t = 1 (through the
+  /// inverse of a curved cell's map). False for the tetrahedra a hexahedron or wedge is split
+  /// into (their coordinates are not the source cell's) and for a cell edited since validation.
+  bool parametricCoordinates(NodeId cellId, const glm::dvec3& point, double pcoords[3]) const;
+
   /// The diagonal of the box around the valid cells (0 when there is none).
   double diagonal() const;
 
