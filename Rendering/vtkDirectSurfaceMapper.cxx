@@ -37,6 +37,9 @@
 #include "vtkUnstructuredGrid.h"
 
 #include "vtkDirectSurfaceAdapter.h"
+#include "vtkDirectSurfacePick.h"
+#include "vtkDoubleArray.h"
+#include "vtkPointData.h"
 #include "vtkDirectSurfaceReporting.h"
 
 #include <algorithm>
@@ -1858,6 +1861,156 @@ void vtkDirectSurfaceMapper::TimerFired(vtkObject* caller, unsigned long, void* 
       return;
     }
   }
+}
+
+//------------------------------------------------------------------------------
+bool vtkDirectSurfaceMapper::Pick(
+  double x, double y, vtkRenderer* renderer, vtkActor* actor, vtkDirectSurfacePick* result)
+{
+  if (!result)
+  {
+    return false;
+  }
+  result->Initialize();
+  if (!renderer || !actor || !std::isfinite(x) || !std::isfinite(y))
+  {
+    return false;
+  }
+  Frame frame(vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow()), actor, false);
+  if (!frame.SetUpView(renderer, 1.0))
+  {
+    return false;
+  }
+  // Display coordinates as VTK's pickers take them: the still frame's pixel (i, j) of the
+  // viewport is cast through (i + 0.5, j + 0.5).
+  const tetdsr::Ray ray = frame.Rays.displayRay(x - frame.Viewport[0], y - frame.Viewport[1]);
+  const double origin[3] = { ray.origin.x, ray.origin.y, ray.origin.z };
+  const double direction[3] = { ray.direction.x, ray.direction.y, ray.direction.z };
+  return this->PickRay(frame, origin, direction, std::numeric_limits<double>::infinity(), 1.0, result);
+}
+
+bool vtkDirectSurfaceMapper::PickSegment(
+  const double p1[3], const double p2[3], vtkActor* actor, vtkDirectSurfacePick* result)
+{
+  if (!result)
+  {
+    return false;
+  }
+  result->Initialize();
+  const glm::dvec3 a(p1[0], p1[1], p1[2]), b(p2[0], p2[1], p2[2]);
+  const double length = glm::length(b - a);
+  if (!actor || !tetdsr::isFinite(a) || !tetdsr::isFinite(b) || !(length > 0.0) ||
+    !std::isfinite(length))
+  {
+    return false;
+  }
+  Frame frame(nullptr, actor, false);
+  frame.Identity = actor->GetIsIdentity() != 0;
+  frame.ModelToWorld = frame.Identity ? glm::dmat4(1.0) : ToGlm(actor->GetMatrix());
+  frame.WorldToModel = glm::inverse(frame.ModelToWorld);
+  const glm::dvec3 unit = (b - a) / length;
+  const double direction[3] = { unit.x, unit.y, unit.z };
+  return this->PickRay(frame, p1, direction, length, 1.0 / length, result);
+}
+
+bool vtkDirectSurfaceMapper::PickRay(Frame& frame, const double origin[3],
+  const double direction[3], double tLimit, double scale, vtkDirectSurfacePick* result)
+{
+  if (!this->Static)
+  {
+    this->Update();
+  }
+  if (!this->CollectBlocks(frame) || !this->ConvertSettings(frame))
+  {
+    return false;
+  }
+  Internals& in = *this->Internal;
+  in.CancelRefinements(); // preparing a block may rebuild what a background cast reads
+  const tetdsr::Ray ray{ glm::dvec3(origin[0], origin[1], origin[2]),
+    glm::dvec3(direction[0], direction[1], direction[2]) };
+  // Each block's caster, on an image of one pixel (only its pick is asked for).
+  const tetdsr::RayGenerator rays(glm::dmat4(1.0), 1, 1);
+  std::uint8_t color[4];
+  double depth, normal[3];
+  tetdsr::NodeId cellId;
+  tetdsr::ImageView image;
+  image.width = image.height = 1;
+  image.colors = color;
+  image.depth = &depth;
+  image.normals = normal;
+  image.cellIds = &cellId;
+  tetdsr::Pick best;
+  bool found = false;
+  unsigned int bestBlock = 0;
+  vtkUnstructuredGrid* bestGrid = nullptr;
+  for (const auto& block : frame.Blocks)
+  {
+    if (!this->PrepareBlock(frame, block.first, block.second))
+    {
+      continue; // skipped: the messages say why
+    }
+    adapter::PreparedMesh& prepared = in.MeshOf(block.first);
+    const tetdsr::Renderer caster(
+      prepared.GetSurface(frame.Values, this->NumberOfThreads), rays, frame.Settings, image);
+    tetdsr::Pick pick;
+    if (caster.pick(ray, pick, tLimit) && (!found || pick.t < best.t))
+    {
+      best = pick;
+      found = true;
+      bestBlock = block.first;
+      bestGrid = block.second;
+    }
+  }
+  if (found)
+  {
+    const glm::dvec3 world = glm::dvec3(frame.ModelToWorld * glm::dvec4(best.point, 1.0));
+    const glm::dvec3 worldNormal = tetdsr::unitVector(
+      glm::transpose(glm::inverse(glm::dmat3(frame.ModelToWorld))) * best.normal);
+    result->SetHit(true);
+    result->SetMapperPosition(best.point.x, best.point.y, best.point.z);
+    result->SetPosition(world.x, world.y, world.z);
+    result->SetMapperNormal(best.normal.x, best.normal.y, best.normal.z);
+    result->SetNormal(worldNormal.x, worldNormal.y, worldNormal.z);
+    result->SetCellId(static_cast<vtkIdType>(best.cellId));
+    result->SetFlatBlockIndex(vtkCompositeDataSet::SafeDownCast(frame.Input)
+        ? static_cast<vtkIdType>(bestBlock)
+        : -1);
+    result->SetDataSet(bestGrid);
+    result->SetHasParametricCoordinates(best.hasParametric);
+    result->SetParametricCoordinates(best.parametric);
+    result->SetIsoValueIndex(best.isoValue);
+    result->SetClippingPlaneId(best.clipPlane);
+    result->SetValue(best.value);
+    result->SetRayParameter(best.t * scale);
+    // Every point array of the grid at the hit, with the hit cell's shape functions.
+    adapter::PreparedMesh& prepared = in.MeshOf(bestBlock);
+    const tetdsr::Scene* scene = prepared.GetScene();
+    vtkPointData* points = bestGrid->GetPointData();
+    for (int a = 0; scene && a < points->GetNumberOfArrays(); ++a)
+    {
+      vtkDataArray* array = points->GetArray(a);
+      const double* values = array
+        ? prepared.PointArrayValues(array, array->GetName() ? array->GetName() : "point array",
+            frame.Messages)
+        : nullptr;
+      if (!values)
+      {
+        continue;
+      }
+      const int components = array->GetNumberOfComponents();
+      vtkNew<vtkDoubleArray> interpolated;
+      interpolated->SetName(array->GetName());
+      interpolated->SetNumberOfComponents(components);
+      interpolated->SetNumberOfTuples(1);
+      for (int c = 0; c < components; ++c)
+      {
+        interpolated->SetValue(c, scene->interpolate(best.sceneCell, best.point, values, components, c));
+      }
+      result->GetPointData()->AddArray(interpolated);
+    }
+  }
+  adapter::ReportMessages(this, frame.Messages);
+  return found;
 }
 
 //------------------------------------------------------------------------------

@@ -59,6 +59,7 @@
 
 #include <memory> // for std::unique_ptr
 
+class vtkDirectSurfacePick;
 class vtkMultiProcessController;
 
 class vtkContourValues;
@@ -134,6 +135,21 @@ public:
   vtkMultiProcessController* GetController();
   void DrawTranslucentAcrossProcesses(vtkRenderer* renderer, vtkActor* actor,
     const float* compositedDepth, unsigned char* compositedColors, const int frameSize[2]);
+  ///@}
+
+  ///@{
+  /**
+   * Picking the exact surface. Pick: what `actor` shows through `renderer`'s camera at a display
+   * position in a still frame, in display coordinates as VTK's pickers take them (pixels from
+   * the render window's lower left, continuous: pixel (i, j) covers [i, i + 1) x [j, j + 1), and
+   * (i + 0.5, j + 0.5) gives exactly the hit that pixel shows). PickSegment: the first hit from p1 towards
+   * p2 (the input's coordinates), what vtkDirectSurfacePicker asks. Both fill `result` (world
+   * and input position, cell, parametric coordinates, the field and every point array
+   * interpolated there, the exact normal: vtkDirectSurfacePick) with the iso-values, clipping
+   * planes and caps of the next render, and return whether anything was hit.
+   */
+  bool Pick(double x, double y, vtkRenderer* renderer, vtkActor* actor, vtkDirectSurfacePick* result);
+  bool PickSegment(const double p1[3], const double p2[3], vtkActor* actor, vtkDirectSurfacePick* result);
   ///@}
 
   ///@{
@@ -257,6 +273,11 @@ private:
   void Draw(vtkRenderer* renderer, vtkActor* actor, bool translucent);
   /// Records a finished cast (its time sizes the next interactive frame's sample distance).
   void CastFinished(const Frame& frame, double sampleDistance, double seconds);
+  /// Pick and PickSegment: the ray (origin, unit direction, the input's coordinates) up to
+  /// tLimit, with `frame`'s actor matrices set; `scale` turns the ray's parameter into the
+  /// result's.
+  bool PickRay(Frame& frame, const double origin[3], const double direction[3], double tLimit,
+    double scale, vtkDirectSurfacePick* result);
   /// The input's unstructured grids, by flat index; forgets the prepared meshes of blocks it no
   /// longer has. False, with an error, when it has none.
   bool CollectBlocks(Frame& frame);

@@ -427,21 +427,23 @@ void Renderer::renderPixel(int i, int j) const
   writePixel(pixel, color, opacity);
 }
 
-bool Renderer::pick(const Ray& ray, Pick& pick) const
+bool Renderer::pick(const Ray& ray, Pick& pick, double tLimit) const
 {
   pick = Pick();
   double tMin, tMax;
   int enteringPlane;
-  if (!clipInterval(ray, tMin, tMax, enteringPlane))
+  if (!clipInterval(ray, tMin, tMax, enteringPlane) || tMin > tLimit)
   {
     return false;
   }
+  tMax = std::min(tMax, tLimit);
   NodeId cellId = -1;
   double field = 0.0;
   if (Settings_.cap != CapRegion::None && enteringPlane >= 0 &&
     capCovers(ray.origin + tMin * ray.direction, cellId, field))
   {
     pick.t = tMin;
+    pick.clipPlane = enteringPlane;
     pick.normal = Settings_.clipPlanes[static_cast<std::size_t>(enteringPlane)].normal;
     pick.value = field;
   }

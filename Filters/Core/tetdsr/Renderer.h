@@ -149,6 +149,7 @@ struct Pick
   NodeId sceneCell = -1;    ///< the scene's cell, for Scene::interpolate of other arrays
   /// The iso-value crossed, as an index into the values given to IsoValues; -1 on a cap.
   int isoValue = -1;
+  int clipPlane = -1; ///< a cap's clipping plane (its index); -1 on a surface
   /// Unit normal: along the field's exact gradient (towards increasing field) on a surface, the
   /// plane's normal on a cap.
   glm::dvec3 normal{ 0.0 };
@@ -234,8 +235,10 @@ public:
 
   /// What `ray` (e.g. RayGenerator::displayRay at a display position) sees first, as a pixel's
   /// ray would: within the clipping planes, a cap where the ray enters the kept side inside the
-  /// region the cap shows, else the nearest surface. False when it sees nothing. Thread-safe.
-  bool pick(const Ray& ray, Pick& pick) const;
+  /// region the cap shows, else the nearest surface, no farther than tLimit. False when it sees
+  /// nothing. Thread-safe.
+  bool pick(const Ray& ray, Pick& pick,
+    double tLimit = std::numeric_limits<double>::infinity()) const;
 
   /// DepthBuffer only, after every tile is rendered: replaces the normals (and shading) of the
   /// nearest surface in tiles [tileBegin, tileEnd) by ones from the depth image's differences.
