@@ -5,6 +5,7 @@
 #include "vtkContourValues.h"
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
+#include "vtkDirectSurfacePick.h"
 #include "vtkDoubleArray.h"
 #include "vtkNew.h"
 #include "vtkPlane.h"
@@ -351,6 +352,71 @@ NodeId Cast(const Renderer& renderer, bool depthBufferNormals, int numberOfThrea
     done = castInSteps(renderer, depthBufferNormals, tilesFor, abort, progress);
   });
   return done;
+}
+
+bool PickPrepared(PreparedMesh& prepared, const std::vector<double>& isoValues,
+  const RenderSettings& settings, const Ray& ray, double tLimit, int numberOfThreads, Pick& pick)
+{
+  // A caster on an image of one pixel: only its pick is asked for.
+  const RayGenerator rays(glm::dmat4(1.0), 1, 1);
+  std::uint8_t color[4];
+  double depth, normal[3];
+  NodeId cellId;
+  ImageView image;
+  image.width = image.height = 1;
+  image.colors = color;
+  image.depth = &depth;
+  image.normals = normal;
+  image.cellIds = &cellId;
+  const Renderer caster(prepared.GetSurface(isoValues, numberOfThreads), rays, settings, image);
+  return caster.pick(ray, pick, tLimit);
+}
+
+void FillPick(const Pick& pick, vtkUnstructuredGrid* grid, PreparedMesh& prepared,
+  vtkIdType flatIndex, const glm::dmat4& modelToWorld, double scale, vtkDirectSurfacePick* result,
+  Messages& messages)
+{
+  const glm::dvec3 world = glm::dvec3(modelToWorld * glm::dvec4(pick.point, 1.0));
+  const glm::dvec3 worldNormal =
+    unitVector(glm::transpose(glm::inverse(glm::dmat3(modelToWorld))) * pick.normal);
+  result->SetHit(true);
+  result->SetMapperPosition(pick.point.x, pick.point.y, pick.point.z);
+  result->SetPosition(world.x, world.y, world.z);
+  result->SetMapperNormal(pick.normal.x, pick.normal.y, pick.normal.z);
+  result->SetNormal(worldNormal.x, worldNormal.y, worldNormal.z);
+  result->SetCellId(static_cast<vtkIdType>(pick.cellId));
+  result->SetFlatBlockIndex(flatIndex);
+  result->SetDataSet(grid);
+  result->SetHasParametricCoordinates(pick.hasParametric);
+  result->SetParametricCoordinates(const_cast<double*>(pick.parametric));
+  result->SetIsoValueIndex(pick.isoValue);
+  result->SetClippingPlaneId(pick.clipPlane);
+  result->SetValue(pick.value);
+  result->SetRayParameter(pick.t * scale);
+  // Every point array of the grid at the hit, with the hit cell's shape functions.
+  const Scene* scene = prepared.GetScene();
+  vtkPointData* points = grid->GetPointData();
+  for (int a = 0; scene && a < points->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* array = points->GetArray(a);
+    const double* values = array
+      ? prepared.PointArrayValues(array, array->GetName() ? array->GetName() : "point array", messages)
+      : nullptr;
+    if (!values)
+    {
+      continue;
+    }
+    const int components = array->GetNumberOfComponents();
+    vtkNew<vtkDoubleArray> interpolated;
+    interpolated->SetName(array->GetName());
+    interpolated->SetNumberOfComponents(components);
+    interpolated->SetNumberOfTuples(1);
+    for (int c = 0; c < components; ++c)
+    {
+      interpolated->SetValue(c, scene->interpolate(pick.sceneCell, pick.point, values, components, c));
+    }
+    result->GetPointData()->AddArray(interpolated);
+  }
 }
 
 } // namespace vtkadapter

@@ -27,6 +27,7 @@
 
 class vtkContourValues;
 class vtkDataArray;
+class vtkDirectSurfacePick;
 class vtkPlaneCollection;
 class vtkScalarsToColors;
 class vtkUnstructuredGrid;
@@ -146,6 +147,19 @@ TETDSRFILTERS_EXPORT NodeId Cast(const Renderer& renderer, bool depthBufferNorma
 /// Runs `work` with vtkSMPTools set to `numberOfThreads` (0: all cores), on STDThread when VTK's
 /// default backend is Sequential (ParaView's) and the user did not choose one.
 TETDSRFILTERS_EXPORT void WithThreads(int numberOfThreads, const std::function<void()>& work);
+
+/// The core's Renderer::pick along `ray` (the mesh's coordinates, no farther than tLimit) in a
+/// prepared mesh, with the iso-values and settings of a render. False when nothing is hit.
+TETDSRFILTERS_EXPORT bool PickPrepared(PreparedMesh& prepared, const std::vector<double>& isoValues,
+  const RenderSettings& settings, const Ray& ray, double tLimit, int numberOfThreads, Pick& pick);
+
+/// `result` from a core pick in `grid` (block `flatIndex` of a composite input; -1 for none),
+/// seen through `modelToWorld` (an actor's matrix): positions, normals, cell, parametric
+/// coordinates, and every point array of the grid interpolated at the hit; `scale` turns the
+/// ray's parameter into the result's RayParameter.
+TETDSRFILTERS_EXPORT void FillPick(const Pick& pick, vtkUnstructuredGrid* grid,
+  PreparedMesh& prepared, vtkIdType flatIndex, const glm::dmat4& modelToWorld, double scale,
+  vtkDirectSurfacePick* result, Messages& messages);
 
 } // namespace vtkadapter
 } // namespace tetdsr

@@ -7,6 +7,7 @@
 #include "vtkCommunicator.h"
 #include "vtkContourValues.h"
 #include "vtkDataArray.h"
+#include "vtkDirectSurfacePick.h"
 #include "vtkDoubleArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkImageData.h"
@@ -25,11 +26,13 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
+#include "vtkWeakPointer.h"
 
 #include "vtkDirectSurfaceAdapter.h"
 #include "vtkDirectSurfaceReporting.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <functional>
 #include <limits>
@@ -52,6 +55,14 @@ struct vtkDirectSurfaceRayCaster::Cache
 {
   tetdsr::vtkadapter::PreparedMesh Mesh;
   tetdsr::vtkadapter::IsoValueStyles Styles;
+  // What the last image was cast with (Pick).
+  vtkWeakPointer<vtkUnstructuredGrid> Input;
+  vtkMTimeType InputTime = 0;
+  tetdsr::Camera Camera;
+  int Width = 0;
+  int Height = 0;
+  std::vector<double> Values;
+  tetdsr::RenderSettings Settings;
 };
 
 namespace
@@ -844,6 +855,15 @@ int vtkDirectSurfaceRayCaster::RequestData(
     return 1;
   }
   this->MapCellIds(run);
+  // For Pick: what this image was cast with.
+  Cache& cache = *this->Prepared;
+  cache.Input = run.Scene ? run.Input : nullptr;
+  cache.InputTime = run.Scene ? adapter::MeshModifiedTime(run.Input) : 0;
+  cache.Camera = run.Camera;
+  cache.Width = run.Width;
+  cache.Height = run.Height;
+  cache.Values = run.Values;
+  cache.Settings = run.Settings;
 
   // The requested extent: the whole image, a part of it, or (distributed) this process's block
   // of the image all pieces give together.
@@ -1012,6 +1032,33 @@ bool vtkDirectSurfaceRayCaster::CastPiece(Execution& run)
     return false;
   }
   return true;
+}
+
+bool vtkDirectSurfaceRayCaster::Pick(double x, double y, vtkDirectSurfacePick* result)
+{
+  if (!result)
+  {
+    return false;
+  }
+  result->Initialize();
+  Cache& cache = *this->Prepared;
+  vtkUnstructuredGrid* input = cache.Input;
+  if (!input || adapter::MeshModifiedTime(input) != cache.InputTime || !std::isfinite(x) ||
+    !std::isfinite(y))
+  {
+    return false;
+  }
+  const tetdsr::RayGenerator rays(cache.Camera, cache.Width, cache.Height);
+  tetdsr::Pick pick;
+  adapter::Messages messages;
+  const bool found = adapter::PickPrepared(cache.Mesh, cache.Values, cache.Settings,
+    rays.displayRay(x, y), std::numeric_limits<double>::infinity(), this->NumberOfThreads, pick);
+  if (found)
+  {
+    adapter::FillPick(pick, input, cache.Mesh, -1, glm::dmat4(1.0), 1.0, result, messages);
+  }
+  adapter::ReportMessages(this, messages);
+  return found;
 }
 
 void vtkDirectSurfaceRayCaster::MapCellIds(const Execution& run)

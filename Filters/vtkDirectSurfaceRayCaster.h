@@ -77,6 +77,7 @@
 class vtkCamera;
 class vtkDataArray;
 class vtkContourValues;
+class vtkDirectSurfacePick;
 class vtkMultiProcessController;
 class vtkPlane;
 class vtkPlaneCollection;
@@ -365,6 +366,17 @@ public:
    * pixels' nearest hits.
    */
   vtkGetMacro(NumberOfUncertifiedHits, vtkIdType);
+
+  /**
+   * The exact surface at a position of the last output image: pixel (i, j) covers
+   * [i, i + 1) x [j, j + 1), and (i + 0.5, j + 0.5) gives exactly the hit that pixel shows. With
+   * the last execution's camera, iso-values and clipping planes (a cap included), it fills
+   * `result` (position, cell, parametric coordinates, the field and every point array
+   * interpolated at the hit, the exact normal: vtkDirectSurfacePick) and returns whether
+   * anything was hit; false before an execution that cast an image, or after the input changed.
+   * Distributed, it sees this process's piece only.
+   */
+  bool Pick(double x, double y, vtkDirectSurfacePick* result);
 
   ///@{
   /**

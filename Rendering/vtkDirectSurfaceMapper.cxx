@@ -38,8 +38,6 @@
 
 #include "vtkDirectSurfaceAdapter.h"
 #include "vtkDirectSurfacePick.h"
-#include "vtkDoubleArray.h"
-#include "vtkPointData.h"
 #include "vtkDirectSurfaceReporting.h"
 
 #include <algorithm>
@@ -1928,17 +1926,6 @@ bool vtkDirectSurfaceMapper::PickRay(Frame& frame, const double origin[3],
   in.CancelRefinements(); // preparing a block may rebuild what a background cast reads
   const tetdsr::Ray ray{ glm::dvec3(origin[0], origin[1], origin[2]),
     glm::dvec3(direction[0], direction[1], direction[2]) };
-  // Each block's caster, on an image of one pixel (only its pick is asked for).
-  const tetdsr::RayGenerator rays(glm::dmat4(1.0), 1, 1);
-  std::uint8_t color[4];
-  double depth, normal[3];
-  tetdsr::NodeId cellId;
-  tetdsr::ImageView image;
-  image.width = image.height = 1;
-  image.colors = color;
-  image.depth = &depth;
-  image.normals = normal;
-  image.cellIds = &cellId;
   tetdsr::Pick best;
   bool found = false;
   unsigned int bestBlock = 0;
@@ -1949,11 +1936,10 @@ bool vtkDirectSurfaceMapper::PickRay(Frame& frame, const double origin[3],
     {
       continue; // skipped: the messages say why
     }
-    adapter::PreparedMesh& prepared = in.MeshOf(block.first);
-    const tetdsr::Renderer caster(
-      prepared.GetSurface(frame.Values, this->NumberOfThreads), rays, frame.Settings, image);
     tetdsr::Pick pick;
-    if (caster.pick(ray, pick, tLimit) && (!found || pick.t < best.t))
+    if (adapter::PickPrepared(in.MeshOf(block.first), frame.Values, frame.Settings, ray, tLimit,
+          this->NumberOfThreads, pick) &&
+      (!found || pick.t < best.t))
     {
       best = pick;
       found = true;
@@ -1963,51 +1949,9 @@ bool vtkDirectSurfaceMapper::PickRay(Frame& frame, const double origin[3],
   }
   if (found)
   {
-    const glm::dvec3 world = glm::dvec3(frame.ModelToWorld * glm::dvec4(best.point, 1.0));
-    const glm::dvec3 worldNormal = tetdsr::unitVector(
-      glm::transpose(glm::inverse(glm::dmat3(frame.ModelToWorld))) * best.normal);
-    result->SetHit(true);
-    result->SetMapperPosition(best.point.x, best.point.y, best.point.z);
-    result->SetPosition(world.x, world.y, world.z);
-    result->SetMapperNormal(best.normal.x, best.normal.y, best.normal.z);
-    result->SetNormal(worldNormal.x, worldNormal.y, worldNormal.z);
-    result->SetCellId(static_cast<vtkIdType>(best.cellId));
-    result->SetFlatBlockIndex(vtkCompositeDataSet::SafeDownCast(frame.Input)
-        ? static_cast<vtkIdType>(bestBlock)
-        : -1);
-    result->SetDataSet(bestGrid);
-    result->SetHasParametricCoordinates(best.hasParametric);
-    result->SetParametricCoordinates(best.parametric);
-    result->SetIsoValueIndex(best.isoValue);
-    result->SetClippingPlaneId(best.clipPlane);
-    result->SetValue(best.value);
-    result->SetRayParameter(best.t * scale);
-    // Every point array of the grid at the hit, with the hit cell's shape functions.
-    adapter::PreparedMesh& prepared = in.MeshOf(bestBlock);
-    const tetdsr::Scene* scene = prepared.GetScene();
-    vtkPointData* points = bestGrid->GetPointData();
-    for (int a = 0; scene && a < points->GetNumberOfArrays(); ++a)
-    {
-      vtkDataArray* array = points->GetArray(a);
-      const double* values = array
-        ? prepared.PointArrayValues(array, array->GetName() ? array->GetName() : "point array",
-            frame.Messages)
-        : nullptr;
-      if (!values)
-      {
-        continue;
-      }
-      const int components = array->GetNumberOfComponents();
-      vtkNew<vtkDoubleArray> interpolated;
-      interpolated->SetName(array->GetName());
-      interpolated->SetNumberOfComponents(components);
-      interpolated->SetNumberOfTuples(1);
-      for (int c = 0; c < components; ++c)
-      {
-        interpolated->SetValue(c, scene->interpolate(best.sceneCell, best.point, values, components, c));
-      }
-      result->GetPointData()->AddArray(interpolated);
-    }
+    adapter::FillPick(best, bestGrid, in.MeshOf(bestBlock),
+      vtkCompositeDataSet::SafeDownCast(frame.Input) ? static_cast<vtkIdType>(bestBlock) : -1,
+      frame.ModelToWorld, scale, result, frame.Messages);
   }
   adapter::ReportMessages(this, frame.Messages);
   return found;

@@ -8,10 +8,11 @@ import unittest
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonDataModel import vtkPlane
-from vtkmodules.vtkRenderingCore import vtkActor, vtkCellPicker, vtkRenderer
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkRenderingCore import vtkActor, vtkCamera, vtkCellPicker, vtkRenderer
 
 from test_mapper import W, H, grid, matrix, shared_window, window_depth, zbuffer, DEPTH_TOLERANCE
-from tetdsr import vtkDirectSurfaceMapper, vtkDirectSurfacePick, vtkDirectSurfacePicker
+from tetdsr import vtkDirectSurfaceMapper, vtkDirectSurfacePick, vtkDirectSurfacePicker, vtkDirectSurfaceRayCaster
 
 RADIUS2 = 0.5
 DIAGONAL = np.sqrt(12.0)  # of the lattice [-1, 1]^3
@@ -188,6 +189,63 @@ class TestPick(unittest.TestCase):
         self.assertLess(on_sphere, 1e-12)
         self.assertLess(projection, 1e-6)
         self.assertGreater(plain_far, hits // 2)
+
+    def test_filter_pick_with_a_cap(self):
+        # The filter cut by the plane z = 0.2 (keeping z <= 0.2), capped inside the sphere: picks
+        # against the exact plane and sphere, and at pixel centres against its own output.
+        mesh = grid(4)
+        caster = vtkDirectSurfaceRayCaster()
+        caster.SetInputData(mesh)
+        caster.SetValue(0, RADIUS2)
+        camera = vtkCamera()
+        camera.SetPosition(0.9, 1.4, 3.0)
+        camera.SetFocalPoint(0.0, 0.0, 0.0)
+        camera.SetViewUp(0, 1, 0)
+        camera.SetViewAngle(30)
+        caster.SetCamera(camera)
+        caster.SetImageSize(W, H)
+        plane = vtkPlane()
+        plane.SetOrigin(0.0, 0.0, 0.2)
+        plane.SetNormal(0.0, 0.0, -1.0)
+        caster.AddClippingPlane(plane)
+        caster.SetCapping(vtkDirectSurfaceRayCaster.CAP_BELOW_ISO_VALUE)
+        result = vtkDirectSurfacePick()
+        self.assertFalse(caster.Pick(10.0, 10.0, result))  # before an execution
+        caster.Update()
+        image = caster.GetOutput().GetPointData()
+        depth = vtk_to_numpy(image.GetArray("Depth")).reshape(H, W)
+        cells = vtk_to_numpy(image.GetArray("CellId")).reshape(H, W)
+        eye = np.array(camera.GetPosition())
+        caps = surfaces = mismatched = 0
+        error = 0.0
+        for j in range(0, H, 2):
+            for i in range(0, W, 2):
+                found = caster.Pick(i + 0.5, j + 0.5, result)
+                mismatched += found != np.isfinite(depth[j, i])
+                if not found:
+                    continue
+                p = np.array(result.GetPosition())
+                mismatched += abs(np.linalg.norm(p - eye) - depth[j, i]) > 1e-12 * DIAGONAL
+                mismatched += result.GetCellId() != cells[j, i]
+                if result.GetIsoValueIndex() == -1:
+                    caps += 1
+                    error = max(error, abs(p[2] - 0.2), abs(result.GetValue() - p @ p))
+                    error = max(error, np.linalg.norm(np.array(result.GetNormal()) - [0, 0, -1]))
+                    self.assertEqual(result.GetClippingPlaneId(), 0)
+                    self.assertLess(p @ p, RADIUS2)
+                else:
+                    surfaces += 1
+                    error = max(error, abs(p @ p - RADIUS2))
+                    self.assertLessEqual(p[2], 0.2 + 1e-12)
+        print(f"filter Pick: {caps} cap and {surfaces} surface picks at pixel centres, "
+              f"{mismatched} disagreeing with the image; largest error {error:.1e}")
+        self.assertGreater(caps, 200)
+        self.assertGreater(surfaces, 100)
+        self.assertEqual(mismatched, 0)
+        self.assertLess(error, 1e-12)
+        # After the input changes, the last image's picks are gone.
+        mesh.GetPoints().Modified()
+        self.assertFalse(caster.Pick(W / 2, H / 2, result))
 
 
 if __name__ == "__main__":

@@ -14,7 +14,7 @@
 #ifndef vtkDirectSurfacePick_h
 #define vtkDirectSurfacePick_h
 
-#include "TetDSRRenderingModule.h" // for export macro
+#include "TetDSRFiltersModule.h" // for export macro
 #include "vtkNew.h"                // for vtkNew
 #include "vtkObject.h"
 #include "vtkDataSet.h"       // for vtkSmartPointer<vtkDataSet>
@@ -22,7 +22,7 @@
 #include "vtkSmartPointer.h"  // for vtkSmartPointer
 
 
-class TETDSRRENDERING_EXPORT vtkDirectSurfacePick : public vtkObject
+class TETDSRFILTERS_EXPORT vtkDirectSurfacePick : public vtkObject
 {
 public:
   static vtkDirectSurfacePick* New();
