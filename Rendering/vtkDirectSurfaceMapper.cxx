@@ -1618,7 +1618,11 @@ double vtkDirectSurfaceMapper::ChooseSampleDistance(const Frame& frame)
   const double now = vtkTimerLog::GetUniversalTime();
   vtkRenderWindowInteractor* interactor = frame.Window->GetInteractor();
   const double stillRate = interactor ? interactor->GetStillUpdateRate() : 0.0001;
-  const bool interacting = frame.Window->GetDesiredUpdateRate() > stillRate;
+  // Interacting: a desired rate above the still one and of at least one frame a second (VTK's
+  // interactor asks 15 while the camera moves and 0.0001 when it stops; ParaView's view 5 and
+  // 0.002, with its interactor's still rate left at 0.0001).
+  const double desired = frame.Window->GetDesiredUpdateRate();
+  const bool interacting = desired > stillRate && desired >= 1.0;
   double distance = 1.0;
   if (interacting && !this->AutoAdjustSampleDistances)
   {

@@ -26,7 +26,8 @@
  * light); the mapper's clipping planes (at most 6) cut it.
  *
  * Level of detail: while the render window's desired update rate is above its interactor's
- * still update rate (the camera is being moved), the image is cast at a reduced resolution
+ * still update rate and at least one frame a second (the camera is being moved; ParaView's still
+ * renders ask 0.002), the image is cast at a reduced resolution
  * (ImageSampleDistance) chosen so that the frame meets the actor's allocated render time (the
  * time the rest of the last frame took, between two renders, is not the cast's to spend), and
  * upscaled edge- and depth-aware (a joint bilateral filter over the cast's 2 x 2 pixels around

@@ -160,7 +160,9 @@ void vtkDirectSurfaceRepresentation::CheckInput()
   const std::string contourBy = key.str();
   if (!this->HasInput)
   {
-    this->InputDrawable = true; // nothing connected (a client's copy): nothing to say
+    // Nothing connected (the client's copy in client-server mode, where the servers render the
+    // data): nothing to say, and nothing to draw (its mapper would find an empty piece).
+    this->InputDrawable = false;
     this->UpdateActorVisibility();
     return;
   }
@@ -477,6 +479,22 @@ void vtkDirectSurfaceRepresentation::SetLookupTable(vtkScalarsToColors* lookupTa
 void vtkDirectSurfaceRepresentation::SetMapScalars(int map)
 {
   this->Mapper->SetColorMode(map ? VTK_COLOR_MODE_MAP_SCALARS : VTK_COLOR_MODE_DIRECT_SCALARS);
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceRepresentation::SetAutoAdjustSampleDistances(int adjust)
+{
+  this->Mapper->SetAutoAdjustSampleDistances(adjust != 0);
+}
+
+void vtkDirectSurfaceRepresentation::SetInteractiveImageSampleDistance(double distance)
+{
+  this->Mapper->SetInteractiveImageSampleDistance(distance);
+}
+
+double vtkDirectSurfaceRepresentation::GetLastImageSampleDistance()
+{
+  return this->Mapper->GetLastImageSampleDistance();
 }
 
 //------------------------------------------------------------------------------

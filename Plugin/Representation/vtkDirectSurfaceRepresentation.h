@@ -120,6 +120,16 @@ public:
 
   ///@{
   /**
+   * Level of detail while the camera moves, forwarded to the mapper (its checks and clamping),
+   * and the pixels per ray of the last frame it cast (on the first rendering process).
+   */
+  void SetAutoAdjustSampleDistances(int adjust);
+  void SetInteractiveImageSampleDistance(double distance);
+  double GetLastImageSampleDistance();
+  ///@}
+
+  ///@{
+  /**
    * Forwarded to the actor's vtkProperty.
    */
   void SetOpacity(double opacity);

@@ -73,17 +73,24 @@ def stop_server(server):
         server.wait()
 
 
+def mpirun_with_displays(ranks, command, displays):
+    """The mpirun command line and environment that run `command` on `ranks` ranks, each with
+    DISPLAY set to its own of `displays`."""
+    # Each rank picks its display by its rank (Open MPI's OMPI_COMM_WORLD_RANK).
+    env = dict(os.environ, TETDSR_RANK_DISPLAYS=" ".join(displays))
+    # sh -c '...' takes the command as $0 and its arguments as "$@".
+    launcher = ["sh", "-c", 'DISPLAY=$(echo $TETDSR_RANK_DISPLAYS | cut -d" " '
+                '-f$((OMPI_COMM_WORLD_RANK + 1))); export DISPLAY; exec "$0" "$@"']
+    mpirun = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks)]
+    return mpirun + launcher + list(command), env
+
+
 def attempt(ranks, seconds, command):
     """(return code or None on a hang, output)."""
     servers = [start_server() for _ in range(ranks)]
     try:
-        # Each rank picks its display by its rank (Open MPI's OMPI_COMM_WORLD_RANK).
-        env = dict(os.environ, TETDSR_RANK_DISPLAYS=" ".join(name for _, name in servers))
-        # sh -c '...' takes the command as $0 and its arguments as "$@".
-        launcher = ["sh", "-c", 'DISPLAY=$(echo $TETDSR_RANK_DISPLAYS | cut -d" " '
-                    '-f$((OMPI_COMM_WORLD_RANK + 1))); export DISPLAY; exec "$0" "$@"']
-        mpirun = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks)]
-        run = subprocess.Popen(mpirun + launcher + command, env=env,
+        argv, env = mpirun_with_displays(ranks, command, [name for _, name in servers])
+        run = subprocess.Popen(argv, env=env,
                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                errors="replace", start_new_session=True)
         try:

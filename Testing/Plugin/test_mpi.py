@@ -25,12 +25,12 @@ from paraview import servermanager
 from paraview.simple import (Box, ColorBy, CreateView, GetColorTransferFunction, LoadPlugin, SaveScreenshot, Show,
                              XMLPartitionedUnstructuredGridReader, XMLUnstructuredGridReader)
 from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkIdList
-from vtkmodules.vtkFiltersCore import vtkExtractCells
 from vtkmodules.vtkIOImage import vtkPNGReader
-from vtkmodules.vtkIOXML import (vtkXMLImageDataReader, vtkXMLImageDataWriter,
-                                 vtkXMLUnstructuredGridReader, vtkXMLUnstructuredGridWriter)
+from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLImageDataWriter
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pieces import make_pieces  # noqa: E402
 
 plugin_path, data_dir, work_dir, mode = sys.argv[1:5]
 os.makedirs(work_dir, exist_ok=True)
@@ -53,54 +53,6 @@ CAMERA = dict(CameraPosition=[4.5, -4.0, 10.0], CameraFocalPoint=[4.2, 0.0, 0.0]
 PRESSURE_RANGE = [-0.027, 0.51]
 ARRAYS = ["Colors", "Depth", "Normals", "CellId", "ColorValues"]
 pvtu = os.path.join(work_dir, "expansion_flow.pvtu")
-
-
-def make_pieces():
-    """Cuts the flow at the median cell y centroid into piece0.vtu, piece1.vtu and the .pvtu."""
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(os.path.join(data_dir, "expansion_flow.vtu"))
-    reader.Update()
-    grid = reader.GetOutput()
-    points = vtk_to_numpy(grid.GetPoints().GetData())
-    ids = vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, 10)[:, :4]
-    centroid_y = points[ids, 1].mean(axis=1)
-    median = np.median(centroid_y)
-    for piece, cells in enumerate([np.nonzero(centroid_y < median)[0],
-                                   np.nonzero(centroid_y >= median)[0]]):
-        cell_list = vtkIdList()
-        for cell in cells:
-            cell_list.InsertNextId(int(cell))
-        extract = vtkExtractCells()
-        extract.SetInputData(grid)
-        extract.SetCellList(cell_list)
-        writer = vtkXMLUnstructuredGridWriter()
-        writer.SetFileName(os.path.join(work_dir, f"piece{piece}.vtu"))
-        writer.SetDataModeToBinary()
-        writer.SetInputConnection(extract.GetOutputPort())
-        writer.Write()
-    point_data = grid.GetPointData()
-    arrays = "\n".join(
-        f'      <PDataArray type="Float64" Name="{point_data.GetArrayName(k)}" '
-        f'NumberOfComponents="{point_data.GetArray(k).GetNumberOfComponents()}"/>'
-        for k in range(point_data.GetNumberOfArrays()))
-    with open(pvtu, "w") as out:
-        out.write(f"""<?xml version="1.0"?>
-<VTKFile type="PUnstructuredGrid" version="0.1" byte_order="LittleEndian" header_type="UInt32">
-  <PUnstructuredGrid GhostLevel="0">
-    <PPointData Scalars="speed">
-{arrays}
-    </PPointData>
-    <PCellData>
-      <PDataArray type="Int64" IdType="1" Name="vtkOriginalCellIds"/>
-    </PCellData>
-    <PPoints>
-      <PDataArray type="Float64" Name="Points" NumberOfComponents="3"/>
-    </PPoints>
-    <Piece Source="piece0.vtu"/>
-    <Piece Source="piece1.vtu"/>
-  </PUnstructuredGrid>
-</VTKFile>
-""")
 
 
 SCENES = {  # name: (iso-values, their opacities, the actor's opacity)
@@ -208,7 +160,7 @@ def load_image(name):
 
 if mode == "reference":
     check(ranks == 1, f"reference: expected one process, got {ranks}")
-    make_pieces()
+    make_pieces(data_dir, work_dir)
     whole = XMLUnstructuredGridReader(FileName=[os.path.join(data_dir, "expansion_flow.vtu")])
     for scene in SCENES:
         view_pixels = render_scene(whole, f"serial_view_{scene}.png", scene)
