@@ -2,8 +2,9 @@
 of its own, within a time limit; the server (1 process, or N under mpirun) is stopped in every
 case. Like mpi_private_displays.py, a run is tried again only when X refused a connection.
 
-Usage: client_server.py <server ranks> <seconds> <pvserver> <pvpython> <client script> [args...]
-The client script gets "--port <port>" after its arguments.
+Usage: client_server.py <server ranks> <seconds> <pvserver> <client> [args...]
+The client gets "--port <port>" after its arguments, or the port in place of "{port}" where an
+argument holds it (e.g. paraview --server-url=cs://localhost:{port}).
 """
 import os
 import queue
@@ -52,13 +53,18 @@ def attempt(ranks, seconds, pvserver, client):
                 break
             if time.monotonic() > deadline:
                 return None, "".join(output)
-        run = subprocess.run(client + ["--port", str(port)], env=dict(os.environ, DISPLAY=displays[0][1]),
+        if any("{port}" in argument for argument in client):
+            command = [argument.replace("{port}", str(port)) for argument in client]
+        else:
+            command = client + ["--port", str(port)]
+        run = subprocess.run(command, env=dict(os.environ, DISPLAY=displays[0][1]),
                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                              errors="replace", timeout=max(1.0, deadline - time.monotonic()))
         output.append(run.stdout)
         return run.returncode, "".join(output)
     except subprocess.TimeoutExpired as timeout:
-        output.append(timeout.output or "")
+        hung = timeout.output or ""
+        output.append(hung.decode(errors="replace") if isinstance(hung, bytes) else hung)
         return None, "".join(output) + f"\nclient_server: the client hung for {seconds:g} s\n"
     finally:
         if server is not None:
@@ -78,8 +84,7 @@ def attempt(ranks, seconds, pvserver, client):
 
 def main():
     ranks, seconds = int(sys.argv[1]), float(sys.argv[2])
-    pvserver, pvpython = sys.argv[3], sys.argv[4]
-    client = [pvpython] + sys.argv[5:]
+    pvserver, client = sys.argv[3], sys.argv[4:]
     for number in range(1, ATTEMPTS + 1):
         code, output = attempt(ranks, seconds, pvserver, client)
         print(output, flush=True)
