@@ -247,7 +247,7 @@ void vtkDirectSurfaceRepresentation::CheckInput()
 
 void vtkDirectSurfaceRepresentation::UpdateActorVisibility()
 {
-  this->Actor->SetVisibility(this->Visible && this->InputDrawable ? 1 : 0);
+  this->Actor->SetVisibility(this->Visible && this->InputDrawable && this->DeliveredDrawable ? 1 : 0);
 }
 
 //------------------------------------------------------------------------------
@@ -275,7 +275,17 @@ int vtkDirectSurfaceRepresentation::ProcessViewRequest(
   else if (request == vtkPVView::REQUEST_RENDER())
   {
     this->CheckInput();
-    this->Mapper->SetInputConnection(vtkPVRenderView::GetPieceProducer(inInfo, this));
+    vtkAlgorithmOutput* producer = vtkPVRenderView::GetPieceProducer(inInfo, this);
+    this->Mapper->SetInputConnection(producer);
+    // What the view delivered this render: a grid without cells (before the first delivery, as
+    // ParaView Catalyst's first step showed, or a process's empty share) is not drawn, and not
+    // reported again by the mapper (CheckInput spoke for the input).
+    vtkDataObject* delivered = producer && producer->GetProducer()
+      ? producer->GetProducer()->GetOutputDataObject(producer->GetIndex())
+      : nullptr;
+    auto* grid = vtkUnstructuredGrid::SafeDownCast(delivered);
+    this->DeliveredDrawable = !grid || grid->GetNumberOfCells() > 0;
+    this->UpdateActorVisibility();
   }
   return 1;
 }

@@ -206,6 +206,8 @@ private:
   vtkMTimeType CheckedInputTime = 0;
   std::string CheckedContourBy;
   bool InputDrawable = true;
+  /// Whether the piece the view delivered for this render has cells.
+  bool DeliveredDrawable = true;
   /// Lists refused for a count of numbers that is not whole colours or planes.
   bool IsoValueColorsRefused = false;
   bool ClipPlanesRefused = false;
