@@ -330,7 +330,7 @@ void vtkDirectSurfaceRepresentation::DrawTranslucent(vtkObject* caller, unsigned
     const vtkIdType pixels = static_cast<vtkIdType>(tile.GetWidth()) * tile.GetHeight();
     if (depths && tile.IsValid() && depths->GetNumberOfTuples() == pixels &&
       tile.GetRawPtr()->GetNumberOfComponents() == 4 &&
-      tile.GetRawPtr()->GetNumberOfTuples() == pixels)
+      tile.GetRawPtr()->GetNumberOfTuples() >= pixels) // (a reduced image keeps the buffer)
     {
       depth = depths->GetPointer(0);
       colors = tile.GetRawPtr()->GetPointer(0);
