@@ -7,6 +7,8 @@
 #include "vtkContourValues.h"
 #include "vtkDataArray.h"
 #include "vtkDataSetAttributes.h"
+#include "vtkHardwareSelector.h"
+#include "vtkIdList.h"
 #include "vtkInformation.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
@@ -300,6 +302,8 @@ struct vtkDirectSurfaceMapper::Frame
   const bool Translucent; ///< cast up to the opaque depth, drawn over the finished frame
   /// Every crossing kept (ImageCast::Layers) and no ray limits: for compositing across processes.
   bool CollectLayers = false;
+  /// A hardware-selection pass: each pixel's block is kept (ImageCast::PixelBlocks).
+  bool Selecting = false;
   vtkDataObject* Input = nullptr;
   std::vector<std::pair<unsigned int, vtkUnstructuredGrid*>> Blocks; ///< by flat index
 
@@ -405,6 +409,9 @@ struct vtkDirectSurfaceMapper::ImageCast
   std::vector<double> BlockDepth;
   std::vector<tetdsr::NodeId> BlockCellIds;
   std::vector<double> RayLimits;
+  std::vector<unsigned int> CasterBlocks; ///< each caster's block (flat index)
+  /// Per pixel, the flat index of the block it shows (only when sized: hardware selection).
+  std::vector<unsigned int> PixelBlocks;
   /// Per block, per tile, the crossings (Frame::CollectLayers).
   std::vector<std::unique_ptr<std::vector<std::vector<tetdsr::PixelLayer>>>> Layers;
 
@@ -478,9 +485,11 @@ struct vtkDirectSurfaceMapper::ImageCast
     return image;
   }
 
-  /// Keeps, per pixel, the nearest block's surface.
-  void KeepNearest(std::size_t pixels)
+  /// Keeps, per pixel, the nearest block's surface (and that block's flat index, when
+  /// PixelBlocks is sized).
+  void KeepNearest(std::size_t pixels, unsigned int block)
   {
+    const bool blocks = !this->PixelBlocks.empty();
     for (std::size_t p = 0; p < pixels; ++p)
     {
       if (this->BlockDepth[p] < this->Depth[p])
@@ -488,6 +497,10 @@ struct vtkDirectSurfaceMapper::ImageCast
         this->Depth[p] = this->BlockDepth[p];
         this->CellIds[p] = this->BlockCellIds[p];
         std::copy_n(&this->BlockColors[4 * p], 4, &this->Colors[4 * p]);
+        if (blocks)
+        {
+          this->PixelBlocks[p] = block;
+        }
       }
     }
   }
@@ -588,7 +601,7 @@ struct vtkDirectSurfaceMapper::Refinement
       }
       if (this->SeveralBlocks)
       {
-        this->Cast.KeepNearest(this->Cast.Depth.size());
+        this->Cast.KeepNearest(this->Cast.Depth.size(), 0);
       }
     }
     this->Cast.ComputeWindowDepth(this->Rays, this->ModelToNdc, this->Width, 0, this->Height);
@@ -642,9 +655,36 @@ struct vtkDirectSurfaceMapper::Internals
     double ImageSampleDistance = 1.0;
     std::unique_ptr<Refinement> Refining;
 
+    /// Hardware selection: the last selection cast of this view (its signature, and per pixel
+    /// the input's cell, the block's flat index, the window depth; the nearest point is found
+    /// when a point pass asks), and the textures a pass draws its ids with.
+    struct SelectionImage
+    {
+      std::vector<double> Signature;
+      int Width = 0, Height = 0;
+      tetdsr::RayGenerator Rays{ glm::dmat4(1.0), 1, 1 };
+      std::vector<tetdsr::NodeId> CellIds;
+      std::vector<unsigned int> Blocks;
+      std::vector<double> Depth;
+      std::vector<float> WindowDepth;
+      std::vector<tetdsr::NodeId> PointIds; ///< empty until a point pass
+      vtkSmartPointer<vtkTextureObject> IdTexture;
+      vtkSmartPointer<vtkTextureObject> DepthTexture;
+      std::vector<std::uint8_t> Ids; ///< the pass's colours
+    } Selection;
+
     void Release(vtkWindow* window)
     {
       this->Refining.reset();
+      for (auto* texture : { &this->Selection.IdTexture, &this->Selection.DepthTexture })
+      {
+        if (*texture)
+        {
+          (*texture)->ReleaseGraphicsResources(window);
+          *texture = nullptr;
+        }
+      }
+      this->Selection.Signature.clear();
       if (this->Quad)
       {
         this->Quad->ReleaseGraphicsResources(window);
@@ -790,6 +830,15 @@ struct vtkDirectSurfaceMapper::Internals
   static bool Draw(
     ViewResources& gl, vtkOpenGLRenderWindow* window, bool translucent, const int viewport[4])
   {
+    return DrawTextures(gl, window, translucent, viewport, gl.ColorTexture, gl.DepthTexture,
+      gl.ImageSize[0] != viewport[2] || gl.ImageSize[1] != viewport[3]);
+  }
+
+  /// Draws `color` at `depth` (a texture each, of the viewport's size unless `upsample`) with
+  /// the view's quad.
+  static bool DrawTextures(ViewResources& gl, vtkOpenGLRenderWindow* window, bool translucent,
+    const int viewport[4], vtkTextureObject* color, vtkTextureObject* depth, bool upsample)
+  {
     if (!gl.Quad)
     {
       std::string fragment = vtkOpenGLRenderUtilities::GetFullScreenQuadFragmentShaderTemplate();
@@ -832,16 +881,15 @@ struct vtkDirectSurfaceMapper::Internals
       state->vtkglDepthFunc(GL_LEQUAL);
       state->vtkglDepthMask(GL_TRUE);
     }
-    gl.ColorTexture->Activate();
-    gl.DepthTexture->Activate();
-    gl.Quad->Program->SetUniformi("colorTexture", gl.ColorTexture->GetTextureUnit());
-    gl.Quad->Program->SetUniformi("depthTexture", gl.DepthTexture->GetTextureUnit());
+    color->Activate();
+    depth->Activate();
+    gl.Quad->Program->SetUniformi("colorTexture", color->GetTextureUnit());
+    gl.Quad->Program->SetUniformi("depthTexture", depth->GetTextureUnit());
     // Full resolution is drawn texel for texel, exactly as cast.
-    gl.Quad->Program->SetUniformi(
-      "upsample", gl.ImageSize[0] != viewport[2] || gl.ImageSize[1] != viewport[3] ? 1 : 0);
+    gl.Quad->Program->SetUniformi("upsample", upsample ? 1 : 0);
     gl.Quad->Render();
-    gl.DepthTexture->Deactivate();
-    gl.ColorTexture->Deactivate();
+    depth->Deactivate();
+    color->Deactivate();
     return true;
   }
 };
@@ -1184,6 +1232,12 @@ void vtkDirectSurfaceMapper::ReleaseGraphicsResources(vtkWindow* window)
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceMapper::Render(vtkRenderer* renderer, vtkActor* actor)
 {
+  if (renderer && renderer->GetSelector())
+  {
+    // (vtkActor renders translucent actors in the selector's passes too, in its opaque pass.)
+    this->DrawSelection(renderer, actor);
+    return;
+  }
   if (!this->IsTranslucent(actor))
   {
     this->Draw(renderer, actor, false);
@@ -1217,6 +1271,185 @@ void vtkDirectSurfaceMapper::Render(vtkRenderer* renderer, vtkActor* actor)
   {
     entry->Actors.emplace_back(actor);
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* actor)
+{
+  vtkHardwareSelector* selector = renderer->GetSelector();
+  auto* window = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
+  if (!window || !actor)
+  {
+    return;
+  }
+  if (!this->Static)
+  {
+    this->Update();
+  }
+  Frame frame(window, actor, false);
+  frame.Selecting = true;
+  if (!this->CollectBlocks(frame) || !frame.SetUpView(renderer, 1.0))
+  {
+    return;
+  }
+  Internals& in = *this->Internal;
+  Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor);
+  auto& image = gl.Selection;
+
+  // The passes of one selection share one cast: of the view, the data and the settings that
+  // decide what each pixel shows (not its colour).
+  std::vector<double> signature(&frame.ModelToNdc[0][0], &frame.ModelToNdc[0][0] + 16);
+  signature.insert(signature.end(),
+    { static_cast<double>(this->GetMTime()),
+      static_cast<double>(actor->GetProperty()->GetMTime()),
+      static_cast<double>(frame.Input->GetMTime()), static_cast<double>(frame.CastWidth),
+      static_cast<double>(frame.CastHeight) });
+  vtkIdType maximumPointId = 0, maximumCellId = 0;
+  for (const auto& block : frame.Blocks)
+  {
+    signature.push_back(static_cast<double>(adapter::MeshModifiedTime(block.second)));
+    maximumPointId = std::max(maximumPointId, block.second->GetNumberOfPoints() - 1);
+    maximumCellId = std::max(maximumCellId, block.second->GetNumberOfCells() - 1);
+  }
+  if (signature != image.Signature)
+  {
+    image.Signature.clear();
+    if (!this->ConvertSettings(frame))
+    {
+      return;
+    }
+    in.CancelRefinements(); // (the cast may rebuild the prepared meshes they read)
+    if (!this->CastBlocks(frame))
+    {
+      return;
+    }
+    in.ComputeWindowDepth(frame);
+    ImageCast& cast = in.Cast;
+    image.Width = frame.CastWidth;
+    image.Height = frame.CastHeight;
+    image.Rays = frame.Rays;
+    image.CellIds = cast.CellIds;
+    image.Depth = cast.Depth;
+    image.WindowDepth = cast.WindowDepth;
+    if (frame.SeveralBlocks())
+    {
+      image.Blocks = cast.PixelBlocks;
+    }
+    else
+    {
+      image.Blocks.assign(frame.Pixels(), frame.Blocks.front().first);
+    }
+    image.PointIds.clear();
+    image.Signature = std::move(signature);
+  }
+
+  const int pass = selector->GetCurrentPass();
+  const bool composite = vtkCompositeDataSet::SafeDownCast(frame.Input) != nullptr;
+  if (pass == vtkHardwareSelector::ACTOR_PASS)
+  {
+    // The id passes of more than 24 bits are asked for from these.
+    selector->UpdateMaximumCellId(maximumCellId);
+    selector->UpdateMaximumPointId(maximumPointId);
+  }
+  if ((pass == vtkHardwareSelector::POINT_ID_LOW24 ||
+        pass == vtkHardwareSelector::POINT_ID_HIGH24) &&
+    image.PointIds.empty())
+  {
+    // A pixel's point: the node of its cell nearest to its hit.
+    std::map<unsigned int, vtkUnstructuredGrid*> grids(frame.Blocks.begin(), frame.Blocks.end());
+    image.PointIds.assign(image.CellIds.size(), -1);
+    vtkNew<vtkIdList> nodes;
+    for (int j = 0; j < image.Height; ++j)
+    {
+      for (int i = 0; i < image.Width; ++i)
+      {
+        const std::size_t p = static_cast<std::size_t>(j) * image.Width + i;
+        const auto grid = grids.find(image.Blocks[p]);
+        if (image.WindowDepth[p] >= 1.0f || image.CellIds[p] < 0 || grid == grids.end() ||
+          image.CellIds[p] >= grid->second->GetNumberOfCells())
+        {
+          continue;
+        }
+        const tetdsr::Ray ray = image.Rays.pixelRay(i, j);
+        const glm::dvec3 hit = ray.origin + image.Depth[p] * ray.direction;
+        grid->second->GetCellPoints(image.CellIds[p], nodes);
+        double nearest = std::numeric_limits<double>::infinity();
+        for (vtkIdType k = 0; k < nodes->GetNumberOfIds(); ++k)
+        {
+          double x[3];
+          grid->second->GetPoint(nodes->GetId(k), x);
+          const double d = glm::distance(glm::dvec3(x[0], x[1], x[2]), hit);
+          if (d < nearest)
+          {
+            nearest = d;
+            image.PointIds[p] = nodes->GetId(k);
+          }
+        }
+      }
+    }
+  }
+
+  // This pass's value of each covered pixel, as vtkHardwareSelector reads it: 24 bits in the
+  // red, green and blue bytes, low byte first.
+  selector->BeginRenderProp();
+  const float* propColor = selector->GetPropColorValue();
+  std::uint8_t propBytes[3];
+  for (int c = 0; c < 3; ++c)
+  {
+    propBytes[c] = static_cast<std::uint8_t>(std::lround(255.0 * propColor[c]));
+  }
+  const std::size_t pixels = image.CellIds.size();
+  image.Ids.assign(4 * pixels, 0);
+  for (std::size_t p = 0; p < pixels; ++p)
+  {
+    std::uint8_t* rgba = &image.Ids[4 * p];
+    rgba[3] = 255;
+    long long value = 0;
+    switch (pass)
+    {
+      case vtkHardwareSelector::COMPOSITE_INDEX_PASS:
+        // (vtkCompositePolyDataMapper2's flat index of a block; 1 for a dataset, as VTK's
+        // polygon mappers write it.)
+        value = composite ? image.Blocks[p] : 1;
+        break;
+      case vtkHardwareSelector::CELL_ID_LOW24:
+        value = image.CellIds[p] & 0xffffff;
+        break;
+      case vtkHardwareSelector::CELL_ID_HIGH24:
+        value = (image.CellIds[p] >> 24) & 0xffffff;
+        break;
+      case vtkHardwareSelector::POINT_ID_LOW24:
+        value = image.PointIds[p] & 0xffffff;
+        break;
+      case vtkHardwareSelector::POINT_ID_HIGH24:
+        value = (image.PointIds[p] >> 24) & 0xffffff;
+        break;
+      default: // the actor's and the process's passes: the selector's colour
+        std::copy_n(propBytes, 3, rgba);
+        continue;
+    }
+    rgba[0] = static_cast<std::uint8_t>(value & 0xff);
+    rgba[1] = static_cast<std::uint8_t>((value >> 8) & 0xff);
+    rgba[2] = static_cast<std::uint8_t>((value >> 16) & 0xff);
+  }
+  for (auto* texture : { &image.IdTexture, &image.DepthTexture })
+  {
+    if (!*texture)
+    {
+      *texture = vtkSmartPointer<vtkTextureObject>::New();
+      (*texture)->SetMinificationFilter(vtkTextureObject::Nearest);
+      (*texture)->SetMagnificationFilter(vtkTextureObject::Nearest);
+      (*texture)->SetWrapS(vtkTextureObject::ClampToEdge);
+      (*texture)->SetWrapT(vtkTextureObject::ClampToEdge);
+    }
+    (*texture)->SetContext(window);
+  }
+  image.IdTexture->Create2DFromRaw(image.Width, image.Height, 4, VTK_UNSIGNED_CHAR, image.Ids.data());
+  image.DepthTexture->Create2DFromRaw(
+    image.Width, image.Height, 1, VTK_FLOAT, image.WindowDepth.data());
+  Internals::DrawTextures(
+    gl, window, false, frame.Viewport, image.IdTexture, image.DepthTexture, false);
+  selector->EndRenderProp();
 }
 
 //------------------------------------------------------------------------------
@@ -1712,11 +1945,13 @@ bool vtkDirectSurfaceMapper::PrepareCast(Frame& frame, ImageCast& cast)
 {
   Internals& in = *this->Internal;
   cast.Resize(frame.Pixels(), frame.SeveralBlocks());
+  cast.PixelBlocks.assign(frame.Selecting && frame.SeveralBlocks() ? frame.Pixels() : 0, 0);
   if (frame.Translucent && !frame.CollectLayers)
   {
     cast.ComputeRayLimits(frame, in.OpaqueDepth);
   }
   cast.Casters.clear();
+  cast.CasterBlocks.clear();
   this->NumberOfRenderedCells = 0;
   for (const auto& block : frame.Blocks)
   {
@@ -1730,6 +1965,7 @@ bool vtkDirectSurfaceMapper::PrepareCast(Frame& frame, ImageCast& cast)
     cast.Casters.emplace_back(
       new tetdsr::Renderer(prepared.GetSurface(frame.Values, this->NumberOfThreads), frame.Rays,
         frame.Settings, cast.BlockImage(frame)));
+    cast.CasterBlocks.push_back(block.first);
   }
   adapter::ReportMessages(this, frame.Messages);
   return this->NumberOfRenderedCells > 0;
@@ -1743,8 +1979,9 @@ bool vtkDirectSurfaceMapper::CastBlocks(Frame& frame)
     return false;
   }
   vtkOpenGLRenderWindow* window = frame.Window;
-  for (const auto& caster : cast.Casters)
+  for (std::size_t k = 0; k < cast.Casters.size(); ++k)
   {
+    tetdsr::Renderer* caster = cast.Casters[k].get();
     const tetdsr::NodeId done = adapter::Cast(
       *caster, false, this->NumberOfThreads, [window]() { return window->CheckAbortStatus() != 0; },
       [](double) {});
@@ -1754,7 +1991,7 @@ bool vtkDirectSurfaceMapper::CastBlocks(Frame& frame)
     }
     if (frame.SeveralBlocks())
     {
-      cast.KeepNearest(frame.Pixels());
+      cast.KeepNearest(frame.Pixels(), cast.CasterBlocks[k]);
     }
   }
   return true;

@@ -272,6 +272,10 @@ private:
   struct Refinement;
   /// Casts and draws: opaque surfaces with depth, or translucent ones blended over the frame.
   void Draw(vtkRenderer* renderer, vtkActor* actor, bool translucent);
+  /// A pass of the renderer's hardware selector: the ids it asks for (the actor's, the
+  /// process's, the block's flat index, the input's cell, the cell's node nearest the hit) of
+  /// each pixel a surface covers, at its exact depth.
+  void DrawSelection(vtkRenderer* renderer, vtkActor* actor);
   /// Records a finished cast (its time sizes the next interactive frame's sample distance).
   void CastFinished(const Frame& frame, double sampleDistance, double seconds);
   /// Pick and PickSegment: the ray (origin, unit direction, the input's coordinates) up to

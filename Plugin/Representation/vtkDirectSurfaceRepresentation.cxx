@@ -347,6 +347,8 @@ bool vtkDirectSurfaceRepresentation::AddToView(vtkView* view)
   if (auto* renderView = vtkPVRenderView::SafeDownCast(view))
   {
     renderView->GetRenderer()->AddActor(this->Actor);
+    // Selection (Select Cells / Points On, hovering): the actor's pixels name this representation.
+    renderView->RegisterPropForHardwareSelection(this, this->Actor);
     this->Renderer = renderView->GetRenderer();
     // Before the synchronized renderers' own EndEvent observers (priority 0), which put IceT's
     // composited image on process 0's screen and send it to a client.
@@ -362,6 +364,7 @@ bool vtkDirectSurfaceRepresentation::RemoveFromView(vtkView* view)
   if (auto* renderView = vtkPVRenderView::SafeDownCast(view))
   {
     renderView->GetRenderer()->RemoveActor(this->Actor);
+    renderView->UnRegisterPropForHardwareSelection(this, this->Actor);
     if (this->Renderer)
     {
       this->Renderer->RemoveObserver(this->DrawTranslucentTag);
