@@ -13,7 +13,9 @@ Usage:
 The scene: the isosurface speed = 0.25 coloured by pressure, with the default lights, and an
 opaque box through the jet. The pieces are the cells on either side of the median of the cells'
 y centroid: the cut runs along the whole jet (the flow is symmetric about y = 0), through the
-surface and the box. (The pieces are written inline:
+surface and the box. ParaView's Select Cells On over the whole view and a rectangle selects the
+cells the serial filter's rays hit there (each rank draws its own piece's cell ids and process).
+(The pieces are written inline:
 this Debian's expat cannot read VTK's appended XML data, the same failure that stops
 RedistributeDataSet from moving these cells.)
 """
@@ -94,6 +96,54 @@ def render_scene(source, name, scene="opaque"):
     png.SetFileName(path)
     png.Update()
     return vtk_to_numpy(png.GetOutput().GetPointData().GetScalars())[:, :3].astype(int)
+
+
+RECTANGLES = ([0, 0, W - 1, H - 1], [120, 50, 290, 170])
+
+
+def select_cells(source, ids_name):
+    """ParaView's Select Cells On over each of RECTANGLES of the representation alone (the
+    opaque scene, no box): the set of cells selected, by the global id array `ids_name`."""
+    view = CreateView("RenderView")
+    view.ViewSize = [W, H]
+    view.OrientationAxesVisibility = 0
+    for key, value in CAMERA.items():
+        setattr(view, key, value)
+    display = Show(source, view)
+    display.SetRepresentationType("Direct Surface")
+    display.ContourBy = ["POINTS", "speed"]
+    display.Isosurfaces = [0.25]
+    simple.Render(view)
+    selected = []
+    for rectangle in RECTANGLES:
+        simple.SelectSurfaceCells(Rectangle=rectangle, View=view, Modifier=None)
+        extract = simple.ExtractSelection(Input=source)
+        # (Fetch without a rank brings rank 0's cells only: each rank's, put together.)
+        found = set()
+        for rank in range(ranks):
+            data = servermanager.Fetch(extract, rank) if ranks > 1 else servermanager.Fetch(extract)
+            ids = data.GetCellData().GetArray(ids_name) if data.GetNumberOfCells() else None
+            found |= set() if ids is None else set(vtk_to_numpy(ids).tolist())
+        selected.append(found)
+        simple.Delete(extract)
+        simple.ClearSelection(source)
+    simple.Delete(view)
+    return selected
+
+
+def check_selection(selected, reference, label):
+    """The selected cells are those the serial filter's rays hit in each rectangle."""
+    cells = reference["CellId"].reshape(H, W)
+    for rectangle, found in zip(RECTANGLES, selected):
+        x0, y0, x1, y1 = rectangle
+        hit = cells[y0:y1 + 1, x0:x1 + 1]
+        expected = set(hit[hit >= 0].tolist())
+        check(len(expected) > 50 and found == expected,
+              f"selection, {label}, rectangle {rectangle}: expected the {len(expected)} cells the "
+              f"rays hit, got {len(found)} ({len(found - expected)} not hit, "
+              f"{len(expected - found)} hit but not selected)")
+        print(f"selection, {label}, rectangle {rectangle}: {len(found)} cells selected, the "
+              f"{len(expected)} the rays hit: {len(found ^ expected)} differ")
 
 
 FILTER_CASES = {  # name: (fit the camera to the mesh, iso-values, their opacities)
@@ -180,6 +230,9 @@ if mode == "reference":
                             f"picture, got {differing}")
     for case in FILTER_CASES:
         save_image(run_filter(whole, case), f"serial_filter_{case}.vti")
+    # (The whole mesh's extracted cells carry their ids as vtkOriginalCellIds.)
+    check_selection(select_cells(whole, "vtkOriginalCellIds"),
+                    load_image("serial_filter_opaque.vti"), "serial")
     print(f"reference written to {work_dir}; the second piece shows at {differing} pixels")
 else:
     check(ranks == 2, f"compare: expected 2 MPI ranks, got {ranks}")
@@ -243,6 +296,14 @@ else:
         check(color_error <= tolerance, f"filter, {case}: expected the serial colours within "
                                         f"{tolerance} / 255, got {colors} pixels differing by up "
                                         f"to {color_error} / 255")
+
+    # Selection: each rank draws its own piece's ids; the pieces' cells carry their ids in the
+    # whole mesh as vtkOriginalCellIds, renamed (ExtractSelection writes its own of that name).
+    renamed = simple.Calculator(Input=pieces, AttributeType="Cell Data",
+                                ResultArrayName="GlobalCellId", Function="vtkOriginalCellIds",
+                                ResultArrayType="Int")
+    check_selection(select_cells(renamed, "GlobalCellId"),
+                    load_image("serial_filter_opaque.vti"), "2 ranks")
 
 if failures:
     sys.exit(1)
