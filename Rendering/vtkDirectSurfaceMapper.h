@@ -46,8 +46,14 @@
  * (by the distance of their centres from the camera), not sorted per pixel. One mapper may serve
  * several actors, renderers and windows: each view keeps its own last image. An input with
  * empty bounds (no cells, only non-finite points, an empty composite dataset), which VTK's
- * culler drops before Render, is reported when its bounds are asked for. Positional lights are point lights without attenuation or cone. Hardware selection
- * (picking) does not see the surface.
+ * culler drops before Render, is reported when its bounds are asked for. Positional lights are point lights without attenuation or cone.
+ *
+ * Hardware selection (vtkHardwareSelector: ParaView's Select Cells / Points On, hovering,
+ * vtkPropPicker, vtkRenderer::PickProp) sees the surface: in each of the selector's passes the
+ * mapper draws, at every pixel the surface covers and at its exact depth, the id asked for: the
+ * actor's, the process's, the block's flat index (1 for a dataset), the input cell the ray hits,
+ * or that cell's node nearest the hit. Translucent surfaces are selected at their nearest
+ * crossing. For the exact hit itself (point, normal, values), see Pick and vtkDirectSurfacePicker.
  *
  * @sa vtkDirectSurfaceRayCaster
  */

@@ -34,7 +34,10 @@
  * back and blends them over the composited frame (vtkDirectSurfaceMapper::
  * DrawTranslucentAcrossProcesses): the serial picture for any distribution of the cells, with no
  * cell moved. Other props' translucent geometry is composited by ParaView, not sorted with this
- * surface. Selection (picking) does not see the surface.
+ * surface.
+ * Selection (Select Cells / Points On, hovering, Extract Selection) sees the surface: its actor is
+ * registered with the view's hardware selector, and each process draws the cells its rays hit
+ * (vtkDirectSurfaceMapper).
  *
  * @sa vtkDirectSurfaceMapper vtkDirectSurfaceRayCaster
  */
