@@ -14,7 +14,9 @@ when it stops); the mesh's bounding box is drawn as an outline.
 Keys: Up / Down move the selected iso-value by 2% of the field's range (the new value is
 printed), Tab selects the next iso-value (marked > <), the slider at the bottom sets the selected iso-value;
 the usual VTK trackball camera (left drag rotates, right drag / wheel zooms, middle drag pans,
-r resets the camera, q quits).
+r resets the camera, q quits). p picks the surface under the mouse (vtkDirectSurfacePicker): the
+exact hit is marked with a small sphere and its cell, point and the arrays' values there are
+shown and printed; ... --screenshot out.png --pick X Y does the same at display position (X, Y).
 """
 import argparse
 import os
@@ -23,6 +25,7 @@ import sys
 from vtkmodules.vtkCommonCore import vtkCommand, vtkLookupTable
 from vtkmodules.vtkCommonDataModel import vtkDataObject
 from vtkmodules.vtkFiltersModeling import vtkOutlineFilter
+from vtkmodules.vtkFiltersSources import vtkSphereSource
 from vtkmodules.vtkInteractionWidgets import vtkSliderRepresentation2D, vtkSliderWidget
 from vtkmodules.vtkInteractionStyle import vtkInteractorStyleTrackballCamera
 from vtkmodules.vtkIOImage import vtkPNGWriter
@@ -35,7 +38,7 @@ import vtkmodules.vtkRenderingFreeType  # noqa: F401 (text)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
 import vtkmodules.vtkRenderingUI  # noqa: F401 (the platform's interactor)
 
-from tetdsr import vtkDirectSurfaceMapper
+from tetdsr import vtkDirectSurfaceMapper, vtkDirectSurfacePicker
 
 DEFAULT_MESH = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Data",
                             "expansion_flow.vtu")
@@ -92,6 +95,8 @@ def main():
                         help="render one frame offscreen, write it to this PNG and exit")
     parser.add_argument("--press", nargs="+", default=[], metavar="KEYSYM",
                         help="with --screenshot: press these keys first (e.g. Up Up Tab Down)")
+    parser.add_argument("--pick", nargs=2, type=float, metavar=("X", "Y"),
+                        help="with --screenshot: pick the surface at this display position first")
     args = parser.parse_args()
 
     if args.mesh is None:
@@ -255,6 +260,50 @@ def main():
     def on_slider(caller, event):
         set_iso(caller.GetRepresentation().GetValue())
 
+    # Picking (p, or --pick): the exact hit, marked, and what the mesh holds there.
+    marker_source = vtkSphereSource()
+    marker_source.SetThetaResolution(24)
+    marker_source.SetPhiResolution(12)
+    bounds = grid.GetBounds()
+    marker_source.SetRadius(0.008 * sum((bounds[2 * k + 1] - bounds[2 * k]) ** 2
+                                        for k in range(3)) ** 0.5)
+    marker_mapper = vtkPolyDataMapper()
+    marker_mapper.SetInputConnection(marker_source.GetOutputPort())
+    marker = vtkActor()
+    marker.SetMapper(marker_mapper)
+    marker.GetProperty().SetColor(1.0, 0.85, 0.1)
+    marker.PickableOff()
+    marker.VisibilityOff()
+    renderer.AddActor(marker)
+    picked = vtkTextActor()
+    picked.GetTextProperty().SetFontSize(16)
+    picked.GetTextProperty().SetColor(1.0, 0.85, 0.1)
+    picked.GetPositionCoordinate().SetCoordinateSystemToNormalizedDisplay()
+    picked.GetPositionCoordinate().SetValue(0.015, 0.13)
+    renderer.AddActor2D(picked)
+    picker = vtkDirectSurfacePicker()
+    interactor.SetPicker(picker)
+
+    def on_pick(caller, event):
+        pick = picker.GetLastPick()
+        if not pick.GetHit():
+            marker.VisibilityOff()
+            picked.SetInput("")
+            return
+        marker.SetPosition(pick.GetPosition())
+        marker.VisibilityOn()
+        data = pick.GetPointData()
+        values = ", ".join(
+            f"{data.GetArrayName(k)} = " + ", ".join(
+                "%.6g" % data.GetArray(k).GetComponent(0, c)
+                for c in range(data.GetArray(k).GetNumberOfComponents()))
+            for k in range(data.GetNumberOfArrays()))
+        x = ", ".join("%.6g" % v for v in pick.GetPosition())
+        line = f"picked cell {pick.GetCellId()} at ({x})\n{values}"
+        picked.SetInput(line)
+        print(line.replace("\n", "; "), flush=True)
+
+    picker.AddObserver(vtkCommand.EndPickEvent, on_pick)
     interactor.AddObserver(vtkCommand.KeyPressEvent, on_key)
     slider.AddObserver(vtkCommand.InteractionEvent, on_slider)
     update(announce=False)
@@ -265,6 +314,9 @@ def main():
         for key in args.press:  # as the interactor delivers a key press
             interactor.SetKeySym(key)
             interactor.InvokeEvent(vtkCommand.KeyPressEvent)
+        if args.pick:
+            picker.Pick(args.pick[0], args.pick[1], 0.0, renderer)
+            window.Render()
         grab = vtkWindowToImageFilter()
         grab.SetInput(window)
         grab.ReadFrontBufferOff()
