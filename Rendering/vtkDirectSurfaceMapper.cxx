@@ -505,27 +505,12 @@ struct vtkDirectSurfaceMapper::ImageCast
     }
   }
 
-  /// Window depth of each hit in rows [rowBegin, rowEnd): 0.5 z/w + 0.5 of its model point
-  /// through the composite matrix.
+  /// Window depth of each hit in rows [rowBegin, rowEnd) (the core's windowDepths).
   void ComputeWindowDepth(const tetdsr::RayGenerator& rays, const glm::dmat4& modelToNdc,
     int castWidth, int rowBegin, int rowEnd)
   {
-    for (int j = rowBegin; j < rowEnd; ++j)
-    {
-      for (int i = 0; i < castWidth; ++i)
-      {
-        const std::size_t p = static_cast<std::size_t>(j) * castWidth + i;
-        float depth = 1.0f;
-        if (std::isfinite(this->Depth[p]))
-        {
-          const tetdsr::Ray ray = rays.pixelRay(i, j);
-          const glm::dvec4 clip =
-            modelToNdc * glm::dvec4(ray.origin + this->Depth[p] * ray.direction, 1.0);
-          depth = static_cast<float>(std::min(1.0, std::max(0.0, 0.5 * clip.z / clip.w + 0.5)));
-        }
-        this->WindowDepth[p] = depth;
-      }
-    }
+    tetdsr::windowDepths(rays, modelToNdc, this->Depth.data(), this->WindowDepth.data(),
+      castWidth, rowBegin, rowEnd);
   }
 };
 

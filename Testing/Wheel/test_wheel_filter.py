@@ -293,3 +293,54 @@ def test_abort_empties_the_output(data):
     assert any("Aborted after" in w for w in messages.warnings), messages.warnings
     assert caster.GetOutput().GetNumberOfPoints() == 0, "expected an emptied output after abort"
     assert len(progress) > 5, f"expected progress reports, got {progress}"
+
+
+def test_pick_equals_the_image_at_pixel_centres(data):
+    """Pick at pixel (i, j)'s centre is the hit the image shows there (depth, cell, normal), on the
+    nested ellipsoids cut and capped by a plane; the point arrays interpolated at the hit; None
+    off the surface; WindowDepth is the hit's through a projection; bad arguments raise."""
+    caster, keep, diagonal = scenes.quadric_lattice(vtkDirectSurfaceRayCaster, data)
+    assert caster.Pick(10.5, 10.5) is None, "expected no pick before an execution"
+    out = outputs(caster)
+    width, height = 200, 160
+    rng = np.random.default_rng(5)
+    caps = surfaces = misses = 0
+    for i, j in zip(rng.integers(0, width, 600), rng.integers(0, height, 600)):
+        p = j * width + i
+        pick = caster.Pick(i + 0.5, j + 0.5)
+        if not np.isfinite(out["Depth"][p]):
+            assert pick is None, (i, j)
+            misses += 1
+            continue
+        assert pick is not None, (i, j)
+        assert pick.ray_parameter == out["Depth"][p] and pick.cell_id == out["CellId"][p], (i, j)
+        assert np.allclose(pick.normal, out["Normals"][p], atol=1e-12), (i, j)
+        assert abs(pick.point_data["x"] - pick.position[0]) < 1e-12  # x is held exactly
+        if pick.clipping_plane_id >= 0:
+            assert pick.iso_value_index == -1 and abs(pick.position[2] - 0.3) < 1e-12
+            caps += 1
+        else:
+            assert pick.iso_value_index in (0, 1)
+            assert abs(pick.value - (0.3, 0.8)[pick.iso_value_index]) < 1e-12
+            surfaces += 1
+    print(f"filter Pick at pixel centres: {surfaces} on a surface, {caps} on the cap, {misses} "
+          f"misses, each equal to the image's pixel")
+    assert caps > 20 and surfaces > 20 and misses > 20
+    # WindowDepth: 0.5 z / w + 0.5 of each hit through a projection (here a plain perspective).
+    camera = keep[1]
+    matrix = camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1)
+    window = caster.WindowDepth(matrix)
+    assert window.shape == (height, width) and window.dtype == np.float32
+    m = np.array([[matrix.GetElement(r, c) for c in range(4)] for r in range(4)])
+    origins, directions = rays(camera, width, height)
+    hit = np.isfinite(out["Depth"])
+    points = origins[hit] + out["Depth"][hit, None] * directions[hit]
+    clip = np.c_[points, np.ones(len(points))] @ m.T
+    expected = 0.5 * clip[:, 2] / clip[:, 3] + 0.5
+    assert np.abs(window.reshape(-1)[hit] - expected).max() < 1e-6
+    assert np.all(window.reshape(-1)[~hit] == 1.0)
+    with pytest.raises(TypeError):
+        caster.Pick("a", 1.0)
+    with pytest.raises(ValueError):
+        caster.WindowDepth(np.eye(3))
+    assert caster.Pick(float("nan"), 3.0) is None and caster.Pick(-5.0, 1e9) is None

@@ -8,6 +8,8 @@ import pytest
 
 pv = pytest.importorskip("pyvista")
 import truth  # noqa: E402
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+from vtkmodules.vtkCommonCore import vtkFloatArray  # noqa: E402
 from tetdsr.pyvista import add_isosurface  # noqa: E402
 
 pv.OFF_SCREEN = True
@@ -101,4 +103,197 @@ def test_interaction_casts_coarse_then_full(sphere):
     assert wrong == 0, f"expected the full-resolution sphere after the interaction, {wrong} pixels differ"
     surface.remove()
     assert plotter.renderer.GetLayer() == 0
+    plotter.close()
+
+
+# -- among the plotter's meshes, by depth; exact picks -----------------------------------------
+DIAGONAL = np.sqrt(12.0)  # of sphere_in_cell.vtu's mesh, [-1, 1]^3
+
+
+def display_rays(camera, xy):
+    """Rays through display positions (x, y) (pixel (i, j)'s centre at (i + 0.5, j + 0.5)), by
+    the filter's documented camera convention."""
+    position = np.asarray(camera.position, float)
+    forward = np.asarray(camera.focal_point, float) - position
+    forward /= np.linalg.norm(forward)
+    right = np.cross(forward, camera.up)
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    half = np.tan(np.radians(camera.view_angle) / 2)
+    x = ((2 * xy[:, :1] / W - 1) * half * W / H)
+    y = ((2 * xy[:, 1:] / H - 1) * half)
+    directions = forward + x * right + y * up
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    return np.tile(position, (len(xy), 1)), directions
+
+
+def box_hits(origins, directions, lo, hi):
+    """The first t > 0 of each ray in the box [lo, hi] (inf on a miss), by slabs."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t1, t2 = (lo - origins) / directions, (hi - origins) / directions
+        near = np.nanmax(np.minimum(t1, t2), axis=1)
+        far = np.nanmin(np.maximum(t1, t2), axis=1)
+    return np.where((near <= far) & (far > 0), np.maximum(near, 0.0), np.inf)
+
+
+def with_linear_array(grid):
+    """The grid with g = x + 2y - z, which its quadratic cells hold exactly."""
+    grid = grid.copy()
+    grid.point_data["g"] = grid.points @ np.array([1.0, 2.0, -1.0])
+    return grid
+
+
+def sphere_and_box_plotter(sphere):
+    grid, centre, radius = sphere
+    plotter = pv.Plotter(window_size=(W, H))
+    plotter.set_background("black")
+    # An unlit pure blue box cutting into the sphere: in front of it in some pixels, behind it in
+    # others.
+    lo, hi = centre + radius * np.array([0.3, -0.6, -1.4]), centre + radius * np.array([1.6, 0.5, 0.35])
+    plotter.add_mesh(pv.Box(bounds=(lo[0], hi[0], lo[1], hi[1], lo[2], hi[2])), color=(0, 0, 255),
+                     lighting=False)
+    surface = add_isosurface(plotter, with_linear_array(grid), 0.0, "sphere", color="orange")
+    plotter.camera.focal_point = centre
+    plotter.camera.position = centre + np.array([0.4, -0.7, 1.3])
+    plotter.camera.up = (0.0, 1.0, 0.0)
+    plotter.camera.view_angle = 30.0
+    return plotter, surface, lo, hi
+
+
+def test_box_and_sphere_hide_each_other_by_exact_depth(sphere):
+    grid, centre, radius = sphere
+    plotter, surface, lo, hi = sphere_and_box_plotter(sphere)
+    shot = plotter.screenshot(return_img=True)
+    camera = plotter.camera
+    origins, directions = truth.pixel_rays(camera.position, camera.focal_point, camera.up,
+                                           camera.view_angle, W, H)
+    quadric = truth.QuadraticQuadric(np.eye(3), np.zeros(3), -radius ** 2, centre)
+    t_sphere, unsure = truth.first_hit_in_box(quadric, origins, directions, 0.0, -1.0, 1.0)
+    t_box = box_hits(origins, directions, lo, hi)
+    # Truth per pixel: 0 nothing, 1 the box, 2 the sphere (whichever is nearer).
+    label = np.where(np.isfinite(t_sphere) & (t_sphere < t_box), 2, np.where(np.isfinite(t_box), 1, 0))
+    pixels = shot[::-1].reshape(-1, 3).astype(int)
+    seen = np.where(np.all(pixels == 0, axis=1), 0, np.where(np.all(pixels == [0, 0, 255], axis=1), 1, 2))
+    # Pixels next to a change of the truth (silhouettes, the box's edges, where the two meet) are
+    # shared by both sides (the box's edges are anti-aliased): not compared.
+    grid2 = label.reshape(H, W)
+    edge = np.zeros((H, W), bool)
+    for dj in (-1, 0, 1):
+        for di in (-1, 0, 1):
+            shifted = np.roll(np.roll(grid2, dj, axis=0), di, axis=1)
+            edge |= shifted != grid2
+    compared = ~edge.reshape(-1) & ~unsure
+    wrong = int(np.count_nonzero((seen != label) & compared))
+    in_front = int(np.count_nonzero((label == 2) & np.isfinite(t_box) & compared))
+    behind = int(np.count_nonzero((label == 1) & np.isfinite(t_sphere) & compared))
+    # The window depth where the sphere shows: its exact hit through the plotter's projection.
+    z = vtkFloatArray()
+    plotter.render_window.GetZbufferData(0, 0, W - 1, H - 1, z)
+    z = vtk_to_numpy(z).astype(np.float64)
+    m = camera.GetCompositeProjectionTransformMatrix(plotter.renderer.GetTiledAspectRatio(), -1, 1)
+    matrix = np.array([[m.GetElement(r, c) for c in range(4)] for r in range(4)])
+    sphere_pixels = (label == 2) & compared
+    hits = origins[sphere_pixels] + t_sphere[sphere_pixels, None] * directions[sphere_pixels]
+    clip = np.c_[hits, np.ones(len(hits))] @ matrix.T
+    depth = np.abs(z[sphere_pixels] - (0.5 * clip[:, 2] / clip[:, 3] + 0.5)).max()
+    print(f"PyVista, box cutting into the exact sphere: {int(compared.sum())} pixels compared, "
+          f"{wrong} wrong; the sphere in front of the box at {in_front}, behind it at {behind}; "
+          f"window depth within {depth:.1e} of the exact hit's")
+    assert in_front > 300 and behind > 100, "expected the box and the sphere to hide each other"
+    assert wrong == 0, f"{wrong} pixels show the wrong prop"
+    assert depth < 1e-4
+    plotter.close()
+
+
+def test_picks_at_random_positions_are_the_exact_hits(sphere):
+    grid, centre, radius = sphere
+    plotter, surface, lo, hi = sphere_and_box_plotter(sphere)
+    plotter.screenshot(return_img=True)  # (casts)
+    rng = np.random.default_rng(7)
+    xy = np.c_[rng.uniform(0, W, 400), rng.uniform(0, H, 400)]
+    origins, directions = display_rays(plotter.camera, xy)
+    quadric = truth.QuadraticQuadric(np.eye(3), np.zeros(3), -radius ** 2, centre)
+    t, unsure = truth.first_hit_in_box(quadric, origins, directions, 0.0, -1.0, 1.0)
+    hits = misses = 0
+    position = value = g = normal = 0.0
+    for k, (x, y) in enumerate(xy):
+        pick = surface.pick(x, y)
+        if unsure[k]:
+            continue
+        assert (pick is not None) == bool(np.isfinite(t[k])), (x, y)
+        if pick is None:
+            misses += 1
+            continue
+        hits += 1
+        exact = origins[k] + t[k] * directions[k]
+        position = max(position, np.linalg.norm(np.array(pick.position) - exact) / DIAGONAL)
+        value = max(value, abs(pick.value))  # the field |x - c|^2 - r^2 there: 0
+        g = max(g, abs(pick.point_data["g"] - exact @ [1.0, 2.0, -1.0]))
+        gradient = (exact - centre) / np.linalg.norm(exact - centre)
+        normal = max(normal, np.linalg.norm(np.array(pick.normal) - gradient))
+        assert pick.cell_id >= 0 and pick.iso_value_index == 0
+    print(f"DirectSurface.pick: {hits} hits and {misses} misses at random display positions; "
+          f"position within {position:.1e} of the diagonal, field value {value:.1e}, g {g:.1e}, "
+          f"normal {normal:.1e}")
+    assert hits > 50 and misses > 50
+    assert position < 1e-9 and value < 1e-12 and g < 1e-12 and normal < 1e-9
+
+    # PyVista's own point picking (right click, its default vtkPointPicker) gets the exact hit,
+    # and the picked mesh holds the values there.
+    picked = []
+    plotter.enable_point_picking(
+        callback=lambda point, picker: picked.append((point, picker.GetDataSet(), picker.GetPointId())),
+        use_picker=True, show_message=False, show_point=False)
+    error, clicks = 0.0, 0
+    for x, y in zip(rng.integers(60, 180, 40), rng.integers(40, 140, 40)):
+        del picked[:]
+        plotter.iren._mouse_right_button_click(int(x), int(y))
+        origin, direction = display_rays(plotter.camera, np.array([[x, y]], float))
+        tk, unsure_k = truth.first_hit_in_box(quadric, origin, direction, 0.0, -1.0, 1.0)
+        if unsure_k[0] or not np.isfinite(tk[0]):
+            continue
+        exact = origin[0] + tk[0] * direction[0]
+        assert picked, f"expected a pick at ({x}, {y})"
+        point, mesh, point_id = picked[-1]
+        if mesh is None or mesh.GetPointData().GetArray("g") is None:
+            # Only a vertex of the box (vtkPointPicker picks points) within the picker's tolerance.
+            assert np.isfinite(box_hits(origin, direction, lo, hi)[0]), (x, y)
+            continue
+        clicks += 1
+        error = max(error, np.linalg.norm(point - exact) / DIAGONAL)
+        g = mesh.GetPointData().GetArray("g").GetValue(point_id)
+        assert abs(g - exact @ [1.0, 2.0, -1.0]) < 1e-12
+    print(f"enable_point_picking: {clicks} clicks on the sphere, within {error:.1e} of the diagonal")
+    assert clicks > 10 and error < 1e-9
+    plotter.close()
+
+
+def test_a_matplotlib_colour_map(sphere):
+    """cmap: a PyVista lookup table maps the colour array (x, held exactly) on the surface."""
+    grid, centre, radius = sphere
+    grid = with_linear_array(grid)
+    plotter = pv.Plotter(window_size=(W, H))
+    plotter.set_background("black")
+    surface = add_isosurface(plotter, grid, 0.0, "sphere", color_by="g", cmap="viridis",
+                             clim=(-1.0, 1.0), ambient=1.0, diffuse=0.0, specular=0.0)
+    plotter.camera.focal_point = centre
+    plotter.camera.position = centre + np.array([0.0, 0.0, 1.5])
+    plotter.camera.up = (0.0, 1.0, 0.0)
+    shot = plotter.screenshot(return_img=True)
+    pixels = shot[::-1].reshape(-1, 3).astype(int)
+    lit = np.any(pixels != 0, axis=1)
+    assert lit.sum() > 1000, f"expected the coloured sphere on more than 1000 pixels, got {lit.sum()}"
+    # Unlit: each pixel is viridis at g of its pick, within a colour table step.
+    table = pv.LookupTable(cmap="viridis")
+    rng = np.random.default_rng(3)
+    worst = 0
+    for k in rng.choice(np.nonzero(lit)[0], 60, replace=False):
+        j, i = divmod(int(k), W)
+        pick = surface.pick(i + 0.5, j + 0.5)
+        rgb = [0.0, 0.0, 0.0]
+        table.SetRange(-1.0, 1.0)
+        table.GetColor(pick.point_data["g"], rgb)
+        worst = max(worst, int(np.abs(np.round(np.array(rgb) * 255) - pixels[k]).max()))
+    print(f"cmap viridis: {int(lit.sum())} pixels, colour within {worst} / 255 of the map at the pick")
+    assert worst <= 3
     plotter.close()

@@ -25,9 +25,11 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <exception>
 #include <functional>
+#include <limits>
 #include <cstring>
 #include <memory>
 #include <mutex>
@@ -365,6 +367,15 @@ struct PyRenderer
   Array<std::int64_t> CellIds;
   std::optional<Array<double>> ColorValues;
   std::unique_ptr<tetdsr::Renderer> Renderer;
+  tetdsr::Camera Camera; // with the image's size: the rays of pick's display positions
+  int Width = 0, Height = 0;
+};
+
+/// What Renderer.pick found: the core's Pick, and the point arrays asked for interpolated there.
+struct PyPick
+{
+  tetdsr::Pick Core;
+  std::vector<std::vector<double>> PointValues;
 };
 
 /// Checks that `array` has `shape` (height, width[, components]).
@@ -431,7 +442,7 @@ void InitRenderer(PyRenderer* self, nb::object meshObject, const std::vector<dou
 
   // The arrays are referenced (with the GIL) before the scene is looked at (without it).
   PyRenderer made{ meshObject, 0, nullptr, std::make_unique<std::mutex>(), settings, colors, depth,
-    normals, cellIds, colorValues, nullptr };
+    normals, cellIds, colorValues, nullptr, camera, static_cast<int>(width), static_cast<int>(height) };
   made.Settings.Core.colorBy = settings.ColorBy ? settings.ColorBy->Core : tetdsr::ColorByArray();
   tetdsr::ImageView view;
   view.width = static_cast<int>(width);
@@ -476,6 +487,93 @@ void InitRenderer(PyRenderer* self, nb::object meshObject, const std::vector<dou
     made.Renderer.reset(new tetdsr::Renderer(*made.Surface, camera, made.Settings.Core, view));
   }
   new (self) PyRenderer(std::move(made));
+}
+
+/// Renderer.pick: the core's pick along the ray through (x, y) of the image, and the point
+/// arrays interpolated at the hit with its cell's shape functions.
+std::optional<PyPick> PickAt(const PyRenderer& r, double x, double y,
+  const std::vector<Array<const double>>& pointArrays, double tLimit)
+{
+  if (!std::isfinite(x) || !std::isfinite(y) || std::isnan(tLimit))
+  {
+    throw nb::value_error("pick: x and y must be finite numbers and t_limit a number");
+  }
+  for (const Array<const double>& values : pointArrays)
+  {
+    if (values.ndim() < 1 || values.ndim() > 2 || (values.ndim() == 2 && values.shape(1) == 0))
+    {
+      throw nb::value_error("pick: point_arrays must be (n,) or (n, k) float64 arrays");
+    }
+  }
+  PyPreparedMesh& mesh = nb::cast<PyPreparedMesh&>(r.MeshOwner);
+  nb::gil_scoped_release release;
+  SharedLock sceneLock(mesh.SceneLock);
+  if (mesh.Generation != r.Generation)
+  {
+    throw nb::value_error("the PreparedMesh was prepared again since this Renderer was made: make a new one");
+  }
+  const tetdsr::Scene& scene = mesh.SceneOrThrow();
+  const auto points = static_cast<std::size_t>(scene.mesh().numberOfPoints);
+  for (const Array<const double>& values : pointArrays)
+  {
+    if (values.shape(0) < points)
+    {
+      throw nb::value_error(("pick: a point array has " + std::to_string(values.shape(0)) +
+        " tuples for " + std::to_string(points) + " points")
+                              .c_str());
+    }
+  }
+  const tetdsr::RayGenerator rays(r.Camera, r.Width, r.Height);
+  PyPick found;
+  if (!r.Renderer->pick(rays.displayRay(x, y), found.Core, tLimit))
+  {
+    return std::nullopt;
+  }
+  for (const Array<const double>& values : pointArrays)
+  {
+    const int components = values.ndim() == 2 ? static_cast<int>(values.shape(1)) : 1;
+    std::vector<double>& tuple = found.PointValues.emplace_back(static_cast<std::size_t>(components));
+    for (int c = 0; c < components; ++c)
+    {
+      tuple[static_cast<std::size_t>(c)] =
+        scene.interpolate(found.Core.sceneCell, found.Core.point, values.data(), components, c);
+    }
+  }
+  return found;
+}
+
+/// Renderer.window_depth: the depth image as the depth buffer of a view with the composite
+/// projection `matrix` (4 x 4, row-major, from the rays' coordinates to normalized device
+/// coordinates) would hold it, written into `out` (height, width) float32.
+void WindowDepthOf(PyRenderer& r, const Array<const double>& matrix, Array<float> out)
+{
+  if (matrix.ndim() != 2 || matrix.shape(0) != 4 || matrix.shape(1) != 4)
+  {
+    throw nb::value_error("window_depth: matrix must be a 4 x 4 float64 array");
+  }
+  CheckShape(out, static_cast<std::size_t>(r.Height), static_cast<std::size_t>(r.Width), 1, "out");
+  glm::dmat4 toNdc;
+  for (int row = 0; row < 4; ++row)
+  {
+    for (int column = 0; column < 4; ++column)
+    {
+      const double value = matrix.data()[4 * row + column];
+      if (!std::isfinite(value))
+      {
+        throw nb::value_error("window_depth: matrix has a non-finite entry");
+      }
+      toNdc[column][row] = value; // (glm: columns first)
+    }
+  }
+  std::unique_lock<std::mutex> casting(*r.Casting, std::try_to_lock); // (a cast writes depth)
+  if (!casting.owns_lock())
+  {
+    throw nb::value_error("window_depth: this Renderer is casting (in another thread, or this is "
+                          "its own callback): ask when the cast is done");
+  }
+  nb::gil_scoped_release release;
+  const tetdsr::RayGenerator rays(r.Camera, r.Width, r.Height);
+  tetdsr::windowDepths(rays, toNdc, r.Depth.data(), out.data(), r.Width, 0, r.Height);
 }
 
 nb::dict SummaryOf(const tetdsr::PreprocessSummary& summary)
@@ -863,6 +961,29 @@ void BindMesh(nb::module_& m)
 /// Images.
 void BindImages(nb::module_& m)
 {
+  nb::class_<PyPick>(m, "Pick",
+    "What a ray sees first (Renderer.pick): the nearest crossing of a surface, or of a clipping "
+    "plane's cap, inside the clipping planes.")
+    .def_prop_ro("t", [](const PyPick& p) { return p.Core.t; }, "along the ray")
+    .def_prop_ro("point", [](const PyPick& p) { return p.Core.point; })
+    .def_prop_ro("cell_id", [](const PyPick& p) { return p.Core.cellId; }, "the input's cell")
+    .def_prop_ro("iso_value", [](const PyPick& p) { return p.Core.isoValue; },
+      "the iso-value crossed (its index as given); -1 on a cap")
+    .def_prop_ro("clip_plane", [](const PyPick& p) { return p.Core.clipPlane; },
+      "a cap's clipping plane (its index); -1 on a surface")
+    .def_prop_ro("normal", [](const PyPick& p) { return p.Core.normal; },
+      "unit: along the field's exact gradient on a surface, the plane's normal on a cap")
+    .def_prop_ro("value", [](const PyPick& p) { return p.Core.value; }, "the field at the point")
+    .def_prop_ro("parametric",
+      [](const PyPick& p) -> std::optional<std::array<double, 3>> {
+        if (!p.Core.hasParametric)
+        {
+          return std::nullopt;
+        }
+        return std::array<double, 3>{ p.Core.parametric[0], p.Core.parametric[1], p.Core.parametric[2] };
+      },
+      "VTK's parametric coordinates in the cell, or None (hexahedra and wedges)")
+    .def_ro("point_values", &PyPick::PointValues, "the point arrays asked for, one tuple each");
   nb::class_<PyRenderer>(m, "Renderer",
     "One image of a PreparedMesh: rays from a camera, written into the given arrays, whose "
     "shapes give the size: depth (height, width), colors (height, width, 4) uint8, normals "
@@ -919,7 +1040,17 @@ void BindImages(nb::module_& m)
       "threads"_a = 0, "abort"_a.none() = nb::none(), "progress"_a.none() = nb::none(),
       "Casts every tile in PROGRESS_STEPS steps on `threads` threads (0: all cores) without the "
       "GIL, asking abort() before each step and telling progress(fraction) after it; then the "
-      "depth-buffer normals' pass (NormalMode.DEPTH_BUFFER). Returns the tiles cast.");
+      "depth-buffer normals' pass (NormalMode.DEPTH_BUFFER). Returns the tiles cast.")
+    .def("pick", &PickAt, "x"_a, "y"_a, "point_arrays"_a = std::vector<Array<const double>>(),
+      "t_limit"_a = std::numeric_limits<double>::infinity(),
+      "What the image shows at (x, y) in pixels ((i + 0.5, j + 0.5): pixel (i, j)'s centre, "
+      "exactly its hit), as the core picks it: a Pick, or None when the ray sees nothing no "
+      "farther than t_limit. point_arrays: (n,) or (n, k) float64 arrays, one tuple per point "
+      "(PreparedMesh.point_values), interpolated at the hit into Pick.point_values.")
+    .def("window_depth", &WindowDepthOf, "matrix"_a, "out"_a,
+      "Writes into out ((height, width) float32) the window depth of each pixel's hit as a view "
+      "with this composite projection (4 x 4 float64, row-major, as VTK's camera gives it) holds "
+      "it in its depth buffer: 0.5 z / w + 0.5 in [0, 1], 1 where the ray sees nothing.");
 }
 
 } // namespace

@@ -243,4 +243,29 @@ private:
   glm::dmat4 NdcToWorld_{ 1.0 };
 };
 
+/// Window depth, as OpenGL's depth buffer holds it: 0.5 z / w + 0.5 of each hit through
+/// `toNdc` (the view's composite projection, from the rays' coordinates), clamped to [0, 1];
+/// 1 for a miss (an infinite or NaN ray parameter). `depth` and `out` hold one value per pixel
+/// of `rays`' image (row j from the bottom), `width` pixels a row; rows [rowBegin, rowEnd).
+inline void windowDepths(const RayGenerator& rays, const glm::dmat4& toNdc, const double* depth,
+  float* out, int width, int rowBegin, int rowEnd)
+{
+  for (int j = rowBegin; j < rowEnd; ++j)
+  {
+    for (int i = 0; i < width; ++i)
+    {
+      const std::size_t p = static_cast<std::size_t>(j) * static_cast<std::size_t>(width) +
+        static_cast<std::size_t>(i);
+      float value = 1.0f;
+      if (std::isfinite(depth[p]))
+      {
+        const Ray ray = rays.pixelRay(i, j);
+        const glm::dvec4 clip = toNdc * glm::dvec4(ray.origin + depth[p] * ray.direction, 1.0);
+        value = static_cast<float>(std::min(1.0, std::max(0.0, 0.5 * clip.z / clip.w + 0.5)));
+      }
+      out[p] = value;
+    }
+  }
+}
+
 } // namespace tetdsr

@@ -111,6 +111,16 @@ def _integer(setter, value):
     raise TypeError(f"{setter} takes an integer, got {value!r}")
 
 
+def _color_of(table):
+    """`table`'s colour of a value, by GetColor(value, rgb): VTK 9.7's Python wrapping of
+    vtkLookupTable has no one-argument GetColor."""
+    def color(value):
+        rgb = [0.0, 0.0, 0.0]
+        table.GetColor(value, rgb)
+        return tuple(rgb)
+    return color
+
+
 def _reals(setter, values):
     """Numbers (numpy's too) as floats; a TypeError naming the setter for anything else."""
     if all(isinstance(v, numbers.Real) for v in values):
@@ -130,6 +140,40 @@ def _vtk_object(setter, value, cls, none=True):
 def _same_stamp(a, b):
     return a is not None and len(a) == len(b) and all(
         (x[0] is y[0] and x[1] == y[1]) if isinstance(x, tuple) else x == y for x, y in zip(a, b))
+
+
+class DirectSurfacePick:
+    """What vtkDirectSurfaceRayCaster.Pick found (the C++ build's vtkDirectSurfacePick): the
+    nearest crossing of a surface, or of a cap, along the ray through a position of the image.
+
+    position: the hit (world coordinates); normal: unit, along the field's exact gradient
+    (towards increasing field) on a surface, the plane's normal on a cap; cell_id: the input's
+    cell; parametric_coordinates: VTK's (r, s, t) in that cell, or None (hexahedra and wedges,
+    which are rendered as tetrahedra); iso_value_index: the iso-value crossed (its index, as given
+    to SetValue), -1 on a cap; clipping_plane_id: a cap's plane (its index), -1 on a surface;
+    value: the contoured field at the hit (the iso-value, to rounding, on a surface);
+    ray_parameter: the distance from the ray's start (the camera, or the camera plane in parallel
+    projection); point_data: every point array of the grid interpolated at the hit with the
+    cell's shape functions, by name (a float for one component, a tuple for more).
+    """
+
+    __slots__ = ("position", "normal", "cell_id", "parametric_coordinates", "iso_value_index",
+                 "clipping_plane_id", "value", "ray_parameter", "point_data")
+
+    def __init__(self, pick, point_data):
+        self.position = pick.point
+        self.normal = pick.normal
+        self.cell_id = pick.cell_id
+        self.parametric_coordinates = pick.parametric
+        self.iso_value_index = pick.iso_value
+        self.clipping_plane_id = pick.clip_plane
+        self.value = pick.value
+        self.ray_parameter = pick.t
+        self.point_data = point_data
+
+    def __repr__(self):
+        return (f"DirectSurfacePick(position={self.position}, cell_id={self.cell_id}, "
+                f"iso_value_index={self.iso_value_index}, value={self.value!r})")
 
 
 class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
@@ -176,6 +220,7 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         self._observed = []  # (object, observer tag): edits of these re-execute the filter
         self._prepared = None  # the core's PreparedMesh
         self._prepared_stamp = None  # what it was prepared from
+        self._last_image = None  # (renderer, grid, stamp arguments) of the last image: for Pick
         self._counts = dict.fromkeys(
             ("Rendered", "Inverted", "Curved", "Degenerate", "Tangled", "NonFinite", "InvalidId",
              "Unsupported", "Malformed", "OrderTooHigh", "Rational", "HigherOrder", "OutOfScale",
@@ -582,6 +627,59 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
     def GetNumberOfUncertifiedHits(self):
         return self._counts["UncertifiedHits"]
 
+    # -- picking
+    def Pick(self, x, y):
+        """The exact surface at a position of the last output image, as the core picks it: pixel
+        (i, j) covers [i, i + 1) x [j, j + 1), and (i + 0.5, j + 0.5) gives exactly the hit that
+        pixel shows. With the last execution's camera, iso-values and clipping planes (a cap
+        included): a DirectSurfacePick, or None when nothing is hit there, before an execution
+        that cast an image, or after the input changed."""
+        x, y = _reals("Pick", (x, y))
+        if self._last_image is None or not (math.isfinite(x) and math.isfinite(y)):
+            return None
+        renderer, grid, stamp_arguments, _ = self._last_image
+        if not _same_stamp(self._prepared_stamp, _stamp(grid, *stamp_arguments)):
+            return None
+        # Every point array of the grid with a value per point, as the core converts it.
+        messages = _core.Messages()
+        names, arrays = [], []
+        point_data = grid.GetPointData()
+        for a in range(point_data.GetNumberOfArrays()):
+            array = point_data.GetArray(a)
+            if array is None or array.GetNumberOfTuples() < grid.GetNumberOfPoints():
+                continue
+            values = self._prepared.point_values(_as_numpy(array), array.GetName() or "",
+                                                 array.GetMTime(), "point array", messages)
+            if values is not None:
+                names.append(array.GetName() or f"array {a}")
+                arrays.append(values)
+        self._report(messages)
+        pick = renderer.pick(x, y, arrays)
+        if pick is None:
+            return None
+        return DirectSurfacePick(pick, {
+            name: (tuple_[0] if len(tuple_) == 1 else tuple(tuple_))
+            for name, tuple_ in zip(names, pick.point_values)})
+
+    def WindowDepth(self, matrix):
+        """The last output image's hits as a render window's depth buffer holds them, for a view
+        whose composite projection is `matrix` (4 x 4, from world to normalized device
+        coordinates: a vtkMatrix4x4 or an array, e.g. vtkCamera.GetCompositeProjectionTransform
+        Matrix(aspect, -1, 1)): a (height, width) float32 array of 0.5 z / w + 0.5, 1 where
+        nothing is hit; None before an execution that cast an image, or after the input
+        changed."""
+        if self._last_image is None:
+            return None
+        renderer, grid, stamp_arguments, (width, height) = self._last_image
+        if not _same_stamp(self._prepared_stamp, _stamp(grid, *stamp_arguments)):
+            return None
+        if hasattr(matrix, "GetElement"):
+            matrix = [[matrix.GetElement(r, c) for c in range(4)] for r in range(4)]
+        matrix = np.ascontiguousarray(matrix, dtype=np.float64)
+        out = np.empty((height, width), np.float32)
+        renderer.window_depth(matrix, out)
+        return out
+
     def GetPreprocessedBytes(self):
         """Bytes kept between executions: the scene and converted copies of input arrays."""
         return self._prepared.memory_bytes if self._prepared is not None else 0
@@ -693,6 +791,7 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         s = self._settings
         width, height = s["ImageSize"]
         messages = _core.Messages()
+        self._last_image = None  # until this execution's image is whole
         if not _core.check_mesh_not_empty(grid.GetNumberOfPoints() if grid else 0,
                                           grid.GetNumberOfCells() if grid else 0, messages):
             return self._report(messages)
@@ -781,7 +880,7 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
             lookup_table = (self._lookup_table
                             or _color_transfer_function(_core.built_in_color_map(s["ColorMap"])))
             settings.color_table = _core.sample_color_table(
-                lookup_table.GetColor, *lookup_table.GetRange(), lo, hi)
+                _color_of(lookup_table), *lookup_table.GetRange(), lo, hi)
 
         # Cast in steps, between which progress is told and abort asked. What the binding
         # raises (memory that cannot be had, a thread that cannot start) becomes an error.
@@ -822,4 +921,7 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
             point_data.AddArray(arrays["ColorValues"])
         if tuple(extent) != whole:
             output.Crop(extent)
+        self._last_image = (renderer, grid, (scalars, component,
+                                             (s["TransverseTest"], s["NodalRangeWidening"])),
+                            (width, height))
         return 1

@@ -1,17 +1,19 @@
 """The isosurface in a PyVista plotter: `add_isosurface(plotter, grid, value, ...)`.
 
 The surface is cast by tetdsr.vtkDirectSurfaceRayCaster with the plotter's camera and its
-renderer's size in pixels, and shown as an image in a renderer of its own under the plotter's
-(render window layer 0; the plotter's renderer moves to layer 1 and draws its props over it).
-Before each frame the image is cast again if the camera or the size changed; while the mouse
-drags the camera the cast is made at `interactive_scale` of the resolution, and at full
-resolution when the interaction ends.
+renderer's size in pixels, and drawn by a quad actor in the plotter's renderer whose shaders
+(vtkShaderProperty replacements) write each pixel's cast colour and the exact hit's window depth:
+the plotter's meshes and the surface hide one another by depth. Before each frame the image is
+cast again if the camera or the size changed (and its depth recomputed if the projection did);
+while the mouse drags the camera the cast is made at `interactive_scale` of the resolution, and
+at full resolution when the interaction ends. `DirectSurface.pick(x, y)` gives the exact hit at a
+display position, and the interactor's picker (PyVista's enable_point_picking) picks it exactly.
 
-Limits of this route (the C++ build's vtkDirectSurfaceMapper has none of them): the surface has no
-depth in the plotter's scene, so the plotter's own meshes are always drawn over it; it is
-composited over the renderer's (first) background colour, not a gradient or an image; the
-renderer's camera is used through its position, focal point, view up, view angle and parallel
-projection (no off-axis window centre, no stereo).
+Limits of this route (the C++ build's vtkDirectSurfaceMapper has none of them): translucent
+surfaces are drawn in VTK's translucent pass as one image, depth-tested at the nearest crossing
+(an opaque mesh between two crossings is covered by the farther one's colour; not sorted per
+pixel with other translucent props); the renderer's camera is used through its position, focal point, view up,
+view angle and parallel projection (no off-axis window centre, no stereo).
 
 Several add_isosurface calls on one plotter share that image: each surface is cast with the same
 camera and size, and the images are composited pixel by pixel by depth, so that they hide one
@@ -23,10 +25,11 @@ import numbers
 
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkCommand, vtkLookupTable
-from vtkmodules.vtkCommonDataModel import (vtkCompositeDataSet, vtkDataObject, vtkImageData,
-                                           vtkPlane, vtkUnstructuredGrid)
-from vtkmodules.vtkRenderingCore import vtkCamera, vtkImageActor, vtkRenderer
+from vtkmodules.vtkCommonCore import vtkCommand, vtkLookupTable, vtkPoints
+from vtkmodules.vtkCommonDataModel import (vtkCellArray, vtkCompositeDataSet, vtkDataObject,
+                                           vtkImageData, vtkPlane, vtkPolyData, vtkUnstructuredGrid)
+from vtkmodules.vtkRenderingCore import vtkActor, vtkCamera, vtkPolyDataMapper, vtkTexture
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (the OpenGL mapper: shader replacements)
 
 from . import _core
 from .filter import vtkDirectSurfaceRayCaster
@@ -84,13 +87,68 @@ def _rgb(color):
     return pyvista.Color(color).float_rgb
 
 
+# The quad that draws the cast image among the plotter's props: its vertices are the corners of
+# the surfaces' bounding box (so that VTK's culling and clipping ranges see the meshes), but the
+# vertex shader puts its two triangles over the whole viewport, and the fragment shader writes
+# each pixel's cast colour and exact window depth (packed in 24 bits), discarding pixels the rays
+# miss. gl_VertexID gives the corner (the attribute names of texture coordinates differ between
+# VTK versions).
+_QUAD_VERTEX_DECLARATIONS = "//VTK::PositionVC::Dec\nout vec2 tetdsrUV;\n"
+_QUAD_VERTEX = """
+  tetdsrUV = vec2(gl_VertexID == 1 || gl_VertexID == 2 ? 1.0 : 0.0, gl_VertexID >= 2 ? 1.0 : 0.0);
+  gl_Position = vec4(tetdsrUV * 2.0 - 1.0, 0.0, 1.0);
+"""
+_QUAD_FRAGMENT_DECLARATIONS = "//VTK::PositionVC::Dec\nin vec2 tetdsrUV;\n"
+_QUAD_FRAGMENT = """
+  vec4 tetdsrPacked = texture(tetdsrDepth, tetdsrUV);
+  if (tetdsrPacked.a < 0.5) { discard; }
+  gl_FragDepth = dot(tetdsrPacked.rgb, vec3(255.0 / 256.0, 255.0 / 65536.0, 255.0 / 16777216.0));
+  gl_FragData[0] = texture(tetdsrColor, tetdsrUV);
+"""
+
+
+def _texture():
+    image = vtkImageData()
+    texture = vtkTexture()
+    texture.SetInputData(image)
+    texture.InterpolateOff()
+    texture.MipmapOff()
+    texture.RepeatOff()
+    texture.SetColorModeToDirectScalars()
+    return texture, image
+
+
+def _set_pixels(image, pixels):
+    """`pixels` ((height, width, components) uint8, row 0 the bottom) as the image's scalars."""
+    height, width, components = pixels.shape
+    image.SetDimensions(width, height, 1)
+    array = numpy_to_vtk(pixels.reshape(-1, components), deep=1)
+    array.SetName("pixels")
+    image.GetPointData().SetScalars(array)
+    image.Modified()
+
+
+def _pack_depth(depth, covered):
+    """Window depths in [0, 1] as 24-bit integers in the red, green and blue bytes (most
+    significant first), alpha 255 where covered and 0 elsewhere: what the fragment shader reads
+    back exactly (a depth buffer holds 24 bits)."""
+    k = np.minimum(np.round(depth.astype(np.float64) * 16777216.0), 16777215.0).astype(np.int64)
+    packed = np.empty(depth.shape + (4,), np.uint8)
+    packed[..., 0] = k >> 16
+    packed[..., 1] = (k >> 8) & 255
+    packed[..., 2] = k & 255
+    packed[..., 3] = np.where(covered, 255, 0)
+    return packed
+
+
 class _SharedImage:
-    """The image every DirectSurface of one plotter renderer is shown in: each surface's caster
-    casts with the same camera and size, and the images are composited per pixel front to back
+    """The image every DirectSurface of one plotter renderer is shown in, drawn by one quad actor
+    among the renderer's props with each pixel's exact window depth: each surface's caster casts
+    with the renderer's camera and size, and the images are composited per pixel front to back
     by their Depth (the first hit along the same ray), so that surfaces of separate
-    add_isosurface calls hide one another as they should. Exact for opaque surfaces; translucent
-    surfaces of different calls are ordered by their nearest hit (one call with several values
-    orders every layer)."""
+    add_isosurface calls hide one another as they should; the nearest hit's window depth goes to
+    the depth buffer. Exact for opaque surfaces; translucent surfaces of different calls are
+    ordered by their nearest hit (one call with several values orders every layer)."""
 
     def __init__(self, plotter):
         scene = plotter.renderer
@@ -99,30 +157,69 @@ class _SharedImage:
         self.window = window
         self.surfaces = []
         self.interacting = False
-        self._view = None   # the camera parameters and size of the image shown
-        self._shown = None  # the casters' output times of the image shown
-        self.image = vtkImageData()
-        self.image_actor = vtkImageActor()
-        self.image_actor.GetMapper().SetInputData(self.image)
-        self.image_actor.GetMapper().BorderOn()  # whole pixels: the image covers the viewport
-        self.image_actor.InterpolateOff()
-        self.renderer = vtkRenderer()
-        self.renderer.SetLayer(0)
-        self.renderer.InteractiveOff()
-        self.renderer.SetViewport(scene.GetViewport())
-        self.renderer.AddViewProp(self.image_actor)
-        self.renderer.GetActiveCamera().ParallelProjectionOn()
-        window.SetNumberOfLayers(max(window.GetNumberOfLayers(), 2))
-        scene.SetLayer(1)  # drawn over the image; layers above 0 keep the colour buffer
-        window.AddRenderer(self.renderer)
-        # Cast, if needed, just before the image's renderer draws (it draws first: layer 0).
-        self._tags = [(self.renderer, self.renderer.AddObserver(vtkCommand.StartEvent, self._update))]
+        self._view = None   # the camera parameters and size the casters were given
+        self._shown = None  # what the textures hold: the casts' times and the projection
+        self.color_texture, self.color_image = _texture()
+        self.depth_texture, self.depth_image = _texture()
+        self.points = vtkPoints()
+        self.points.SetNumberOfPoints(4)
+        quad = vtkPolyData()
+        quad.SetPoints(self.points)
+        cells = vtkCellArray()
+        cells.InsertNextCell(3, [0, 1, 2])
+        cells.InsertNextCell(3, [0, 2, 3])
+        quad.SetPolys(cells)
+        # (Texture coordinates make the mapper bind the textures; the shader does not read them.)
+        tcoords = numpy_to_vtk(np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32), deep=1)
+        tcoords.SetName("TCoords")
+        quad.GetPointData().SetTCoords(tcoords)
+        self.quad = quad
+        mapper = vtkPolyDataMapper()
+        mapper.SetInputData(quad)
+        mapper.ScalarVisibilityOff()
+        self.actor = vtkActor()
+        self.actor.SetMapper(mapper)
+        self.actor.PickableOff()  # picks are exact: see DirectSurface.pick and enable_exact_picking
+        self.actor.GetProperty().LightingOff()
+        self.actor.GetProperty().SetTexture("tetdsrColor", self.color_texture)
+        self.actor.GetProperty().SetTexture("tetdsrDepth", self.depth_texture)
+        shaders = self.actor.GetShaderProperty()
+        shaders.AddVertexShaderReplacement("//VTK::PositionVC::Dec", True,
+                                           _QUAD_VERTEX_DECLARATIONS, False)
+        shaders.AddVertexShaderReplacement("//VTK::PositionVC::Impl", True, _QUAD_VERTEX, False)
+        shaders.AddFragmentShaderReplacement("//VTK::PositionVC::Dec", True,
+                                             _QUAD_FRAGMENT_DECLARATIONS, False)
+        shaders.AddFragmentShaderReplacement("//VTK::TCoord::Impl", True, _QUAD_FRAGMENT, False)
+        self.actor.VisibilityOff()  # until something is cast
+        scene.AddActor(self.actor)
+        # What the interactor's picker (PyVista's enable_point_picking, the P key) finds: before
+        # each pick a point at the exact hit under the mouse (and a small triangle through it
+        # across the ray, for cell pickers), carrying every point array interpolated there. It
+        # is never drawn (its fragments are discarded) but pickable.
+        self.pick_proxy = vtkActor()
+        self.pick_proxy.SetMapper(vtkPolyDataMapper())
+        self.pick_proxy.GetMapper().SetInputData(vtkPolyData())
+        self.pick_proxy.GetProperty().LightingOff()
+        self.pick_proxy.GetShaderProperty().AddFragmentShaderReplacement(
+            "//VTK::Light::Impl", True, "  discard;\n//VTK::Light::Impl", False)
+        scene.AddActor(self.pick_proxy)
+        self.last_pick = None  # the DirectSurfacePick of the last pick by the interactor's picker
+        self._picker = None
+        self._picker_tag = None
+        self.plotter = plotter
+        # Cast, if needed, just before the renderer draws, with the camera it draws with.
+        self._tags = [(scene, scene.AddObserver(vtkCommand.StartEvent, self._update))]
         interactor = getattr(plotter, "iren", None)
         interactor = getattr(interactor, "interactor", None)
         if interactor is not None:
             self._tags += [
                 (interactor, interactor.AddObserver(vtkCommand.StartInteractionEvent, self._start)),
                 (interactor, interactor.AddObserver(vtkCommand.EndInteractionEvent, self._end))]
+            # PyVista picks on these (and may have replaced the picker since the last render).
+            for event in (vtkCommand.LeftButtonPressEvent, vtkCommand.RightButtonPressEvent,
+                          vtkCommand.CharEvent, vtkCommand.KeyPressEvent):
+                self._tags.append((interactor, interactor.AddObserver(
+                    event, lambda *args: self._watch_picker(), 100.0)))
 
     @staticmethod
     def of(plotter):
@@ -134,6 +231,17 @@ class _SharedImage:
             scene._tetdsr_shared_image = shared
         return shared
 
+    def fit_bounds(self):
+        """The quad's corners span the surfaces' meshes' bounding box (culling and clipping)."""
+        boxes = np.array([s.caster.GetInputDataObject(0, 0).GetBounds() for s in self.surfaces])
+        lo, hi = boxes[:, 0::2].min(axis=0), boxes[:, 1::2].max(axis=0)
+        self.diagonal = float(np.linalg.norm(hi - lo))
+        for k, corner in enumerate(((lo[0], lo[1], lo[2]), (hi[0], lo[1], lo[2]),
+                                    (hi[0], hi[1], hi[2]), (lo[0], hi[1], hi[2]))):
+            self.points.SetPoint(k, *corner)
+        self.points.Modified()
+        self.quad.Modified()
+
     def _start(self, *args):
         self.interacting = True
 
@@ -141,7 +249,53 @@ class _SharedImage:
         self.interacting = False
         self.window.Render()  # the still frame, at full resolution
 
+    def _watch_picker(self):
+        """Observes the interactor's current picker (PyVista replaces it when picking is
+        enabled): its picks start with the proxy at the exact hit."""
+        interactor = getattr(getattr(self.plotter, "iren", None), "interactor", None)
+        picker = interactor.GetPicker() if interactor is not None else None
+        if picker is self._picker:
+            return
+        if self._picker is not None:
+            self._picker.RemoveObserver(self._picker_tag)
+        self._picker = picker
+        self._picker_tag = (picker.AddObserver(vtkCommand.StartPickEvent, self._place_proxy, 10.0)
+                            if picker is not None else None)
+
+    def _place_proxy(self, picker, event):
+        point = picker.GetSelectionPoint()
+        hit = self.pick(point[0], point[1]) if picker.GetRenderer() is self.scene_renderer else None
+        self.last_pick = hit
+        proxy = vtkPolyData()  # a new one each pick: a callback may keep the last
+        if hit is not None:
+            p = np.array(hit.position)
+            camera = self.scene_renderer.GetActiveCamera()
+            across = np.cross(np.array(camera.GetDirectionOfProjection()), camera.GetViewUp())
+            across /= np.linalg.norm(across) or 1.0
+            up = np.cross(across, camera.GetDirectionOfProjection())
+            up /= np.linalg.norm(up) or 1.0
+            size = 1e-3 * max(self.diagonal, 1e-300)
+            corners = [p + size * (np.cos(a) * across + np.sin(a) * up)
+                       for a in (0.0, 2.0944, 4.1888)]
+            points = vtkPoints()
+            points.SetDataTypeToDouble()
+            for x in [p] + corners:
+                points.InsertNextPoint(*x)
+            proxy.SetPoints(points)
+            vertices, triangles = vtkCellArray(), vtkCellArray()
+            vertices.InsertNextCell(1, [0])
+            triangles.InsertNextCell(3, [1, 2, 3])
+            proxy.SetVerts(vertices)
+            proxy.SetPolys(triangles)
+            for name, value in hit.point_data.items():
+                values = np.tile(np.atleast_1d(np.asarray(value, np.float64)), (4, 1))
+                array = numpy_to_vtk(values, deep=1)
+                array.SetName(name)
+                proxy.GetPointData().AddArray(array)
+        self.pick_proxy.GetMapper().SetInputData(proxy)
+
     def _update(self, *args):
+        self._watch_picker()
         scene = self.scene_renderer
         camera = scene.GetActiveCamera()
         width, height = scene.GetSize()
@@ -161,28 +315,38 @@ class _SharedImage:
                 surface.caster.SetImageSize(*size)
             surface.caster.Update()
         self._view = view
+        self.viewport_size = (width, height)
+        # The window depth is that of the projection the renderer draws with now (its clipping
+        # range changes as the camera moves).
+        matrix = camera.GetCompositeProjectionTransformMatrix(scene.GetTiledAspectRatio(), -1, 1)
+        projection = tuple(matrix.GetElement(r, c) for r in range(4) for c in range(4))
         outputs = [s.caster.GetOutput() for s in self.surfaces]
-        shown = (tuple(id(s) for s in self.surfaces), tuple(o.GetMTime() for o in outputs))
-        if shown == self._shown and self.image.GetDimensions()[:2] == size:
+        shown = (tuple(id(s) for s in self.surfaces), tuple(o.GetMTime() for o in outputs),
+                 projection, size)
+        if shown == self._shown:
             return
         self._shown = shown
-        self._show(outputs, size, (width, height), scene.GetBackground())
+        self._show(size, np.array(projection).reshape(4, 4))
 
-    def _show(self, outputs, size, viewport, background):
-        """The cast images composited front to back by depth over the background, fitted to the
-        viewport's pixels."""
+    def _show(self, size, projection):
+        """The cast images composited front to back by depth into the colour texture, and the
+        nearest hit's window depth into the depth texture."""
         pixels = size[0] * size[1]
-        depths, colors = [], []
-        for output in outputs:
+        depths, colors, windows = [], [], []
+        for surface in self.surfaces:
+            output = surface.caster.GetOutput()
             data = output.GetPointData()
             rgba = data.GetArray("Colors") if output.GetNumberOfPoints() == pixels else None
-            if rgba is None:  # nothing cast (an error was reported): this surface adds nothing
+            window = surface.caster.WindowDepth(projection) if rgba is not None else None
+            if window is None:  # nothing cast (an error was reported): this surface adds nothing
                 continue
             colors.append(vtk_to_numpy(rgba).astype(np.float64))
             depths.append(vtk_to_numpy(data.GetArray("Depth")))
+            windows.append(window.reshape(-1))
         # Front to back: each layer adds its colour over what is left of the coverage.
         covered = np.zeros((pixels, 1))
         rgb = np.zeros((pixels, 3))
+        nearest = np.ones(pixels, np.float32)
         if colors:
             order = np.argsort(np.stack(depths), axis=0, kind="stable")
             stacked = np.stack(colors)
@@ -191,43 +355,59 @@ class _SharedImage:
                 alpha = layer[:, 3:] / 255.0
                 rgb += (1.0 - covered) * (alpha * layer[:, :3])
                 covered += (1.0 - covered) * alpha
-        rgb = np.round(rgb + (1.0 - covered) * np.array(background) * 255.0).astype(np.uint8)
-        self.image.SetDimensions(size[0], size[1], 1)
-        spacing = (viewport[0] / size[0], viewport[1] / size[1], 1.0)
-        self.image.SetSpacing(spacing)
-        # Pixel k's centre at (k + 0.5) * spacing - 0.5, so whole pixels cover [-0.5, w - 0.5].
-        self.image.SetOrigin(spacing[0] / 2 - 0.5, spacing[1] / 2 - 0.5, 0.0)
-        array = numpy_to_vtk(rgb, deep=1)
-        array.SetName("Colors")
-        self.image.GetPointData().SetScalars(array)
-        self.image.Modified()
-        camera = self.renderer.GetActiveCamera()
-        centre = ((viewport[0] - 1) / 2, (viewport[1] - 1) / 2)
-        camera.SetFocalPoint(centre[0], centre[1], 0.0)
-        camera.SetPosition(centre[0], centre[1], 1.0)
-        camera.SetViewUp(0.0, 1.0, 0.0)
-        camera.SetParallelScale(viewport[1] / 2)
-        camera.SetClippingRange(0.5, 1.5)
+            nearest = np.stack(windows).min(axis=0)
+        hit = covered[:, 0] > 0.0
+        opaque = bool(np.all(covered[hit] >= 1.0))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            straight = np.where(hit[:, None], rgb / np.maximum(covered, 1e-300), 0.0)
+        rgba = np.empty((pixels, 4), np.uint8)
+        rgba[:, :3] = np.clip(np.round(straight), 0, 255)
+        rgba[:, 3] = np.clip(np.round(covered[:, 0] * 255.0), 0, 255)
+        shape = (size[1], size[0])
+        _set_pixels(self.color_image, rgba.reshape(shape + (4,)))
+        _set_pixels(self.depth_image, _pack_depth(nearest.reshape(shape), hit.reshape(shape)))
+        # Opaque: drawn in the opaque pass, writing depth; translucent: blended in the
+        # translucent pass, depth-tested against the opaque props.
+        self.actor.SetForceOpaque(opaque)
+        self.actor.SetForceTranslucent(not opaque)
+        self.actor.SetVisibility(bool(hit.any()))
+
+    def pick(self, x, y):
+        """The nearest exact hit of the surfaces at the renderer's display position (x, y)."""
+        if self._view is None:
+            return None
+        scene = self.scene_renderer
+        origin = scene.GetOrigin() if hasattr(scene, "GetOrigin") else (0, 0)
+        width, height = self.viewport_size
+        size = self._view[-1]
+        u = (x - origin[0]) * size[0] / width
+        v = (y - origin[1]) * size[1] / height
+        picks = [p for p in (s.caster.Pick(u, v) for s in self.surfaces) if p is not None]
+        return min(picks, key=lambda p: p.ray_parameter) if picks else None
 
     def remove(self, surface):
-        """Takes one surface out; the last one out takes the image out of the plotter (its
-        renderer goes back to layer 0)."""
+        """Takes one surface out; the last one out takes the quad out of the plotter."""
         self.surfaces.remove(surface)
         self._shown = None
         if self.surfaces:
+            self.fit_bounds()
             return
         for obj, tag in self._tags:
             obj.RemoveObserver(tag)
         self._tags = []
-        self.window.RemoveRenderer(self.renderer)
-        self.scene_renderer.SetLayer(0)
+        if self._picker is not None:
+            self._picker.RemoveObserver(self._picker_tag)
+            self._picker = None
+        self.scene_renderer.RemoveActor(self.actor)
+        self.scene_renderer.RemoveActor(self.pick_proxy)
         self.scene_renderer._tetdsr_shared_image = None
 
 
 class DirectSurface:
     """What add_isosurface adds to a plotter: `caster` (the filter: change its settings, then
-    `plotter.render()`), the background `renderer` holding the image, `image_actor` (both
-    shared by every DirectSurface of the plotter's renderer)."""
+    `plotter.render()`), `actor` (the quad that draws the cast image with its depth among the
+    plotter's props; shared by every DirectSurface of the plotter's renderer) and `renderer`
+    (the plotter's)."""
 
     def __init__(self, plotter, caster, interactive_scale):
         self.plotter = plotter
@@ -238,19 +418,26 @@ class DirectSurface:
         self._shared = _SharedImage.of(plotter)
         self._shared.surfaces.append(self)
         self._shared._view = None  # the new caster casts at the next frame
-        self.scene_renderer = self._shared.scene_renderer
+        self._shared.fit_bounds()
+        self.renderer = self._shared.scene_renderer
         self.window = self._shared.window
-        self.renderer = self._shared.renderer
-        self.image = self._shared.image
-        self.image_actor = self._shared.image_actor
+        self.actor = self._shared.actor
 
     @property
     def interacting(self):
         return self._shared is not None and self._shared.interacting
 
+    def pick(self, x, y):
+        """The exact surface at display position (x, y) of the plotter's render window (VTK's
+        convention: pixels from the bottom left, pixel (i, j)'s centre at (i + 0.5, j + 0.5)):
+        a tetdsr.filter.DirectSurfacePick (position, normal, cell_id, parametric_coordinates,
+        iso_value_index, value, point_data with every point array interpolated there, ...) of the
+        nearest of the plotter's Direct Surfaces, or None where none is hit (or before the first
+        render). Other props in front are not considered: enable_exact_picking does that."""
+        return self._shared.pick(x, y) if self._shared is not None else None
+
     def remove(self):
-        """Takes the surface out of the plotter (once the last is out, the plotter's renderer
-        goes back to layer 0)."""
+        """Takes the surface out of the plotter."""
         if self._shared is not None:
             self._shared.remove(self)
             self._shared = None
