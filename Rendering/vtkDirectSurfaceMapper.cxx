@@ -646,6 +646,7 @@ struct vtkDirectSurfaceMapper::Internals
     struct SelectionImage
     {
       std::vector<double> Signature;
+      std::vector<double> FailedSignature; ///< of a cast that could not be made (reported once)
       int Width = 0, Height = 0;
       tetdsr::RayGenerator Rays{ glm::dmat4(1.0), 1, 1 };
       std::vector<tetdsr::NodeId> CellIds;
@@ -1296,9 +1297,14 @@ void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* acto
     maximumPointId = std::max(maximumPointId, block.second->GetNumberOfPoints() - 1);
     maximumCellId = std::max(maximumCellId, block.second->GetNumberOfCells() - 1);
   }
+  if (signature == image.FailedSignature)
+  {
+    return; // (said at this selection's first pass; the other passes say nothing more)
+  }
   if (signature != image.Signature)
   {
     image.Signature.clear();
+    image.FailedSignature = signature;
     if (!this->ConvertSettings(frame))
     {
       return;
@@ -1308,6 +1314,7 @@ void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* acto
     {
       return;
     }
+    image.FailedSignature.clear();
     in.ComputeWindowDepth(frame);
     ImageCast& cast = in.Cast;
     image.Width = frame.CastWidth;

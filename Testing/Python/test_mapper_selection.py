@@ -171,6 +171,30 @@ class TestSelection(unittest.TestCase):
         self.assertGreater(picks, 40)
         self.assertLess(error / DIAGONAL, 1e-4)
 
+    def test_what_cannot_be_drawn_selects_nothing_and_says_so_once(self):
+        """A field that is not there, a non-finite iso-value, an empty grid or composite: the
+        selection has nothing of the actor, and each selection reports the problem once (not
+        once per pass)."""
+        from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet, vtkUnstructuredGrid
+        from shared_helpers import Messages
+        cases = {
+            "no such field": lambda m: (m.SetInputArrayToProcess(0, 0, 0, 0, "nope"), m.SetValue(0, 0.5)),
+            "a NaN iso-value": lambda m: m.SetValue(0, float("nan")),
+            "an empty grid": lambda m: (m.SetInputData(vtkUnstructuredGrid()), m.SetValue(0, 0.5)),
+            "an empty composite": lambda m: (m.SetInputData(vtkMultiBlockDataSet()), m.SetValue(0, 0.5)),
+        }
+        for name, spoil in cases.items():
+            window, renderer, mapper, actor = scene()
+            spoil(mapper)
+            messages = Messages(mapper)
+            window.Render()
+            rendered = len(messages.errors)
+            for association in (CELLS, POINTS):
+                self.assertNotIn(actor, select(renderer, association), name)
+            during = len(messages.errors) - rendered
+            self.assertGreaterEqual(rendered, 1, name)
+            self.assertLessEqual(during, 2, f"{name}: {during} errors in two selections")
+
 
 if __name__ == "__main__":
     unittest.main()
