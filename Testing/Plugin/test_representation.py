@@ -237,6 +237,48 @@ check(in_front > 200 and behind > 200,
       f"the box should hide part of the sphere and be hidden by it: expected more than 200 pixels "
       f"each, got {in_front} box pixels over the sphere and {behind} sphere pixels over the box")
 print(f"box in front of the sphere at {in_front} pixels, sphere in front of the box at {behind}")
+
+# --- Selection: Select Cells / Points On sees the surface, and the box in front of it -----------
+def selected(select, rectangle, ids):
+    """The ids (vtkOriginalCellIds or vtkOriginalPointIds) of the sphere's mesh that ParaView's
+    selection of `rectangle` extracts."""
+    select(Rectangle=rectangle, View=view, Modifier=None)
+    extract = simple.ExtractSelection(Input=xcoord)
+    data = servermanager.Fetch(extract)
+    array = data.GetCellData().GetArray(ids) or data.GetPointData().GetArray(ids)
+    found = {array.GetValue(k) for k in range(array.GetNumberOfTuples())} if array else set()
+    simple.Delete(extract)
+    simple.ClearSelection(xcoord)
+    return found
+
+
+def block_of(kind_now, kind_without_box):
+    """A 5 x 5 block of pixels (x0, y0, x1, y1) that all show `kind_now` with the box and
+    `kind_without_box` without it."""
+    for j in range(2, H - 7):
+        for i in range(2, W - 7):
+            if all(truth_box[i + a, j + b][0] == kind_now and truth[i + a, j + b][0] == kind_without_box
+                   for a in range(5) for b in range(5)):
+                return [i, j, i + 4, j + 4]
+    return None
+
+
+shown, hidden_by_box = block_of("sphere", "sphere"), block_of("box", "sphere")
+check(shown is not None and hidden_by_box is not None, "expected blocks where the sphere shows and "
+      "where the box hides it")
+# The sphere lies inside cell 0 (Data/sphere_in_cell.vtu): its cell where it shows, nothing of the
+# mesh where the box hides it; its points are nodes of cell 0.
+cells = selected(simple.SelectSurfaceCells, shown, "vtkOriginalCellIds")
+check(cells == {0}, f"Select Cells On where the sphere shows: expected cell 0, got {sorted(cells)}")
+cells = selected(simple.SelectSurfaceCells, hidden_by_box, "vtkOriginalCellIds")
+check(cells == set(), f"Select Cells On where the box hides the sphere: expected none of the mesh, "
+                      f"got {sorted(cells)}")
+nodes = servermanager.Fetch(xcoord).GetCell(0).GetPointIds()
+cell0 = {nodes.GetId(k) for k in range(nodes.GetNumberOfIds())}
+points = selected(simple.SelectSurfacePoints, [0, 0, W - 1, H - 1], "vtkOriginalPointIds")
+check(points and points <= cell0, f"Select Points On: expected nodes of cell 0, got {sorted(points)}")
+print(f"selection: cell 0 where the sphere shows {shown}, nothing where the box hides it "
+      f"{hidden_by_box}; {len(points)} nodes of cell 0 over the whole view")
 simple.Hide(box, view)
 
 # --- Opacity from the display properties -----------------------------------------------------
