@@ -787,10 +787,13 @@ struct vtkDirectSurfaceMapper::Internals
     });
   }
 
-  static void Upload(ViewResources& gl, vtkOpenGLRenderWindow* window, const ImageCast& images,
-    int width, int height, double sampleDistance)
+  /// Loads an RGBA8 image and a float depth image of width x height into two nearest-sampled
+  /// textures of the window's context (made on first use).
+  static void LoadTextures(vtkOpenGLRenderWindow* window, vtkSmartPointer<vtkTextureObject>& color,
+    vtkSmartPointer<vtkTextureObject>& depth, int width, int height, const std::uint8_t* colors,
+    const float* depths)
   {
-    for (auto* texture : { &gl.ColorTexture, &gl.DepthTexture })
+    for (auto* texture : { &color, &depth })
     {
       if (!*texture)
       {
@@ -803,10 +806,15 @@ struct vtkDirectSurfaceMapper::Internals
       (*texture)->SetContext(window);
     }
     // (Create2DFromRaw only reads the pixels; its parameter is not const.)
-    gl.ColorTexture->Create2DFromRaw(
-      width, height, 4, VTK_UNSIGNED_CHAR, const_cast<std::uint8_t*>(images.Colors.data()));
-    gl.DepthTexture->Create2DFromRaw(
-      width, height, 1, VTK_FLOAT, const_cast<float*>(images.WindowDepth.data()));
+    color->Create2DFromRaw(width, height, 4, VTK_UNSIGNED_CHAR, const_cast<std::uint8_t*>(colors));
+    depth->Create2DFromRaw(width, height, 1, VTK_FLOAT, const_cast<float*>(depths));
+  }
+
+  static void Upload(ViewResources& gl, vtkOpenGLRenderWindow* window, const ImageCast& images,
+    int width, int height, double sampleDistance)
+  {
+    LoadTextures(window, gl.ColorTexture, gl.DepthTexture, width, height, images.Colors.data(),
+      images.WindowDepth.data());
     gl.TexturesValid = true;
     gl.ImageSize[0] = width;
     gl.ImageSize[1] = height;
@@ -1424,21 +1432,8 @@ void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* acto
     rgba[1] = static_cast<std::uint8_t>((value >> 8) & 0xff);
     rgba[2] = static_cast<std::uint8_t>((value >> 16) & 0xff);
   }
-  for (auto* texture : { &image.IdTexture, &image.DepthTexture })
-  {
-    if (!*texture)
-    {
-      *texture = vtkSmartPointer<vtkTextureObject>::New();
-      (*texture)->SetMinificationFilter(vtkTextureObject::Nearest);
-      (*texture)->SetMagnificationFilter(vtkTextureObject::Nearest);
-      (*texture)->SetWrapS(vtkTextureObject::ClampToEdge);
-      (*texture)->SetWrapT(vtkTextureObject::ClampToEdge);
-    }
-    (*texture)->SetContext(window);
-  }
-  image.IdTexture->Create2DFromRaw(image.Width, image.Height, 4, VTK_UNSIGNED_CHAR, image.Ids.data());
-  image.DepthTexture->Create2DFromRaw(
-    image.Width, image.Height, 1, VTK_FLOAT, image.WindowDepth.data());
+  Internals::LoadTextures(window, image.IdTexture, image.DepthTexture, image.Width, image.Height,
+    image.Ids.data(), image.WindowDepth.data());
   Internals::DrawTextures(
     gl, window, false, frame.Viewport, image.IdTexture, image.DepthTexture, false);
   selector->EndRenderProp();

@@ -66,9 +66,8 @@ SCENES = {  # name: (iso-values, their opacities, the actor's opacity)
 }
 
 
-def render_scene(source, name, scene="opaque"):
-    """The representation, coloured by pressure, and an opaque box: a screenshot's pixels."""
-    iso_values, iso_opacities, opacity = SCENES[scene]
+def show_surface(source, iso_values):
+    """A view of W x H pixels from CAMERA, and `source` shown in it as a Direct Surface of speed."""
     view = CreateView("RenderView")
     view.ViewSize = [W, H]
     view.OrientationAxesVisibility = 0
@@ -79,6 +78,13 @@ def render_scene(source, name, scene="opaque"):
     display.SetRepresentationType("Direct Surface")
     display.ContourBy = ["POINTS", "speed"]
     display.Isosurfaces = iso_values
+    return view, display
+
+
+def render_scene(source, name, scene="opaque"):
+    """The representation, coloured by pressure, and an opaque box: a screenshot's pixels."""
+    iso_values, iso_opacities, opacity = SCENES[scene]
+    view, display = show_surface(source, iso_values)
     display.IsoValueOpacities = iso_opacities
     display.Opacity = opacity
     ColorBy(display, ("POINTS", "pressure"))
@@ -104,15 +110,7 @@ RECTANGLES = ([0, 0, W - 1, H - 1], [120, 50, 290, 170])
 def select_cells(source, ids_name):
     """ParaView's Select Cells On over each of RECTANGLES of the representation alone (the
     opaque scene, no box): the set of cells selected, by the global id array `ids_name`."""
-    view = CreateView("RenderView")
-    view.ViewSize = [W, H]
-    view.OrientationAxesVisibility = 0
-    for key, value in CAMERA.items():
-        setattr(view, key, value)
-    display = Show(source, view)
-    display.SetRepresentationType("Direct Surface")
-    display.ContourBy = ["POINTS", "speed"]
-    display.Isosurfaces = [0.25]
+    view, _ = show_surface(source, [0.25])
     simple.Render(view)
     selected = []
     for rectangle in RECTANGLES:
