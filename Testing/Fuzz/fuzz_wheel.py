@@ -356,6 +356,17 @@ def run_core(case):
             done = refused(lambda: r.cast(int(srng.integers(0, 4))), case, "cast")
             if done is not None and done == r.number_of_tiles:
                 check_image(o, ncells, broken, "step%d" % step)
+            if srng.random() < 0.5:  # picks and window depths, with hostile arguments
+                x, y = pick(srng, [(0.5, 0.5), (np.nan, 1.0), (1e308, -1e308), (w / 2, h / 2),
+                                   (-3.0, 2.0), (np.inf, 0.0)])
+                values = pick(srng, [[], [field], [np.zeros(1)], [np.ones((len(points), 3))],
+                                     [np.ones((len(points), 0))], [field.astype(np.float32)]])
+                refused(lambda: r.pick(x, y, values), case, "pick")
+                matrix = pick(srng, [np.eye(4), np.full((4, 4), np.nan), np.eye(3),
+                                     np.zeros((4, 4)), np.ones((4, 4)) * 1e308])
+                depth = pick(srng, [np.empty((h, w), np.float32), np.empty((w + 1, h), np.float32),
+                                    np.empty((h, w), np.float64)])
+                refused(lambda: r.window_depth(matrix, depth), case, "window_depth")
     if order.random() < 0.3 and cells is not None:
         concurrent_renderers(core, case, points, cells, field, broken)
     return broken
