@@ -630,8 +630,9 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
     # -- picking
     def Pick(self, x, y):
         """The exact surface at a position of the last output image, as the core picks it: pixel
-        (i, j) covers [i, i + 1) x [j, j + 1), and (i + 0.5, j + 0.5) gives exactly the hit that
-        pixel shows. With the last execution's camera, iso-values and clipping planes (a cap
+        (i, j) (the output's point i + j * width; row 0 is the bottom, as in VTK's display
+        coordinates) covers [i, i + 1) x [j, j + 1), and (i + 0.5, j + 0.5) gives exactly the hit
+        that pixel shows. With the last execution's camera, iso-values and clipping planes (a cap
         included): a DirectSurfacePick, or None when nothing is hit there, before an execution
         that cast an image, or after the input changed."""
         x, y = _reals("Pick", (x, y))

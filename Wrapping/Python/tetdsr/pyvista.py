@@ -7,13 +7,17 @@ the plotter's meshes and the surface hide one another by depth. Before each fram
 cast again if the camera or the size changed (and its depth recomputed if the projection did);
 while the mouse drags the camera the cast is made at `interactive_scale` of the resolution, and
 at full resolution when the interaction ends. `DirectSurface.pick(x, y)` gives the exact hit at a
-display position, and the interactor's picker (PyVista's enable_point_picking) picks it exactly.
+display position, and the interactor's picker (PyVista's enable_point_picking and
+enable_surface_point_picking, with a point or cell picker) picks it exactly.
 
 Limits of this route (the C++ build's vtkDirectSurfaceMapper has none of them): translucent
 surfaces are drawn in VTK's translucent pass as one image, depth-tested at the nearest crossing
 (an opaque mesh between two crossings is covered by the farther one's colour; not sorted per
-pixel with other translucent props); the renderer's camera is used through its position, focal point, view up,
-view angle and parallel projection (no off-axis window centre, no stereo).
+pixel with other translucent props); with PyVista's enable_depth_peeling, translucent surfaces
+are not drawn correctly (opaque ones are; seen with pip's VTK 9.7.2 through EGL, where PyVista's
+own translucent meshes vanish too); the "hardware" picker and cell or mesh picking do not see
+the surface; the renderer's camera is used through its position, focal point, view up, view
+angle and parallel projection (no off-axis window centre, no stereo).
 
 Several add_isosurface calls on one plotter share that image: each surface is cast with the same
 camera and size, and the images are composited pixel by pixel by depth, so that they hide one
@@ -179,7 +183,7 @@ class _SharedImage:
         mapper.ScalarVisibilityOff()
         self.actor = vtkActor()
         self.actor.SetMapper(mapper)
-        self.actor.PickableOff()  # picks are exact: see DirectSurface.pick and enable_exact_picking
+        self.actor.PickableOff()  # picks are exact: DirectSurface.pick and the pick proxy below
         self.actor.GetProperty().LightingOff()
         self.actor.GetProperty().SetTexture("tetdsrColor", self.color_texture)
         self.actor.GetProperty().SetTexture("tetdsrDepth", self.depth_texture)
@@ -433,7 +437,8 @@ class DirectSurface:
         a tetdsr.filter.DirectSurfacePick (position, normal, cell_id, parametric_coordinates,
         iso_value_index, value, point_data with every point array interpolated there, ...) of the
         nearest of the plotter's Direct Surfaces, or None where none is hit (or before the first
-        render). Other props in front are not considered: enable_exact_picking does that."""
+        render). Other props in front are not considered: the interactor's picker (PyVista's
+        enable_point_picking or enable_surface_point_picking) weighs them."""
         return self._shared.pick(x, y) if self._shared is not None else None
 
     def remove(self):
