@@ -1400,33 +1400,34 @@ void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* acto
   }
   const std::size_t pixels = image.CellIds.size();
   image.Ids.assign(4 * pixels, 0);
+  // The id passes: the cells' or the points' ids, their low or high 24 bits.
+  const bool cellPass =
+    pass == vtkHardwareSelector::CELL_ID_LOW24 || pass == vtkHardwareSelector::CELL_ID_HIGH24;
+  const bool pointPass =
+    pass == vtkHardwareSelector::POINT_ID_LOW24 || pass == vtkHardwareSelector::POINT_ID_HIGH24;
+  const int shift =
+    pass == vtkHardwareSelector::CELL_ID_HIGH24 || pass == vtkHardwareSelector::POINT_ID_HIGH24 ? 24 : 0;
+  const std::vector<tetdsr::NodeId>* ids =
+    cellPass ? &image.CellIds : (pointPass ? &image.PointIds : nullptr);
   for (std::size_t p = 0; p < pixels; ++p)
   {
     std::uint8_t* rgba = &image.Ids[4 * p];
     rgba[3] = 255;
     long long value = 0;
-    switch (pass)
+    if (ids)
     {
-      case vtkHardwareSelector::COMPOSITE_INDEX_PASS:
-        // (vtkCompositePolyDataMapper2's flat index of a block; 1 for a dataset, as VTK's
-        // polygon mappers write it.)
-        value = composite ? image.Blocks[p] : 1;
-        break;
-      case vtkHardwareSelector::CELL_ID_LOW24:
-        value = image.CellIds[p] & 0xffffff;
-        break;
-      case vtkHardwareSelector::CELL_ID_HIGH24:
-        value = (image.CellIds[p] >> 24) & 0xffffff;
-        break;
-      case vtkHardwareSelector::POINT_ID_LOW24:
-        value = image.PointIds[p] & 0xffffff;
-        break;
-      case vtkHardwareSelector::POINT_ID_HIGH24:
-        value = (image.PointIds[p] >> 24) & 0xffffff;
-        break;
-      default: // the actor's and the process's passes: the selector's colour
-        std::copy_n(propBytes, 3, rgba);
-        continue;
+      value = ((*ids)[p] >> shift) & 0xffffff;
+    }
+    else if (pass == vtkHardwareSelector::COMPOSITE_INDEX_PASS)
+    {
+      // (vtkCompositePolyDataMapper2's flat index of a block; 1 for a dataset, as VTK's
+      // polygon mappers write it.)
+      value = composite ? image.Blocks[p] : 1;
+    }
+    else // the actor's and the process's passes: the selector's colour
+    {
+      std::copy_n(propBytes, 3, rgba);
+      continue;
     }
     rgba[0] = static_cast<std::uint8_t>(value & 0xff);
     rgba[1] = static_cast<std::uint8_t>((value >> 8) & 0xff);

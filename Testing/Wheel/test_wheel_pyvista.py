@@ -136,6 +136,21 @@ def box_hits(origins, directions, lo, hi):
     return np.where((near <= far) & (far > 0), np.maximum(near, 0.0), np.inf)
 
 
+def right_clicks_on(plotter, quadric, rng, picked):
+    """Right clicks at 40 random positions of the plotter (PyVista's picking), each after
+    emptying `picked`; yields (x, y, exact hit, ray origin, ray direction, ray parameter) of those
+    whose ray surely hits the analytic sphere, once the click has picked something."""
+    for x, y in zip(rng.integers(60, 180, 40), rng.integers(40, 140, 40)):
+        del picked[:]
+        plotter.iren._mouse_right_button_click(int(x), int(y))
+        origin, direction = display_rays(plotter.camera, np.array([[x, y]], float))
+        t, unsure = truth.first_hit_in_box(quadric, origin, direction, 0.0, -1.0, 1.0)
+        if unsure[0] or not np.isfinite(t[0]):
+            continue
+        assert picked, f"expected a pick at ({x}, {y})"
+        yield x, y, origin[0] + t[0] * direction[0], origin, direction, t[0]
+
+
 def with_linear_array(grid):
     """The grid with g = x + 2y - z, which its quadratic cells hold exactly."""
     grid = grid.copy()
@@ -245,15 +260,7 @@ def test_picks_at_random_positions_are_the_exact_hits(sphere):
         callback=lambda point, picker: picked.append((point, picker.GetDataSet(), picker.GetPointId())),
         use_picker=True, show_message=False, show_point=False)
     error, clicks = 0.0, 0
-    for x, y in zip(rng.integers(60, 180, 40), rng.integers(40, 140, 40)):
-        del picked[:]
-        plotter.iren._mouse_right_button_click(int(x), int(y))
-        origin, direction = display_rays(plotter.camera, np.array([[x, y]], float))
-        tk, unsure_k = truth.first_hit_in_box(quadric, origin, direction, 0.0, -1.0, 1.0)
-        if unsure_k[0] or not np.isfinite(tk[0]):
-            continue
-        exact = origin[0] + tk[0] * direction[0]
-        assert picked, f"expected a pick at ({x}, {y})"
+    for x, y, exact, origin, direction, _ in right_clicks_on(plotter, quadric, rng, picked):
         point, mesh, point_id = picked[-1]
         if mesh is None or mesh.GetPointData().GetArray("g") is None:
             # Only a vertex of the box (vtkPointPicker picks points) within the picker's tolerance.
@@ -338,16 +345,11 @@ def test_surface_point_picking_is_exact(sphere):
     quadric = truth.QuadraticQuadric(np.eye(3), np.zeros(3), -radius ** 2, centre)
     rng = np.random.default_rng(11)
     error, clicks = 0.0, 0
-    for x, y in zip(rng.integers(60, 180, 40), rng.integers(40, 140, 40)):
-        del picked[:]
-        plotter.iren._mouse_right_button_click(int(x), int(y))
-        origin, direction = display_rays(plotter.camera, np.array([[x, y]], float))
-        t, unsure = truth.first_hit_in_box(quadric, origin, direction, 0.0, -1.0, 1.0)
-        if unsure[0] or not np.isfinite(t[0]) or box_hits(origin, direction, lo, hi)[0] < t[0]:
-            continue  # off the sphere, or the box in front of it (the cell picker picks the box)
-        assert picked, f"expected a pick at ({x}, {y})"
+    for x, y, exact, origin, direction, t in right_clicks_on(plotter, quadric, rng, picked):
+        if box_hits(origin, direction, lo, hi)[0] < t:
+            continue  # the box in front of the sphere (the cell picker picks the box)
         clicks += 1
-        error = max(error, np.linalg.norm(picked[-1] - (origin[0] + t[0] * direction[0])) / DIAGONAL)
+        error = max(error, np.linalg.norm(picked[-1] - exact) / DIAGONAL)
     print(f"enable_surface_point_picking: {clicks} clicks on the sphere, within {error:.1e} of the diagonal")
     assert clicks > 10 and error < 1e-9
     plotter.close()
