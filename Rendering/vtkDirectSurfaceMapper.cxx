@@ -1292,16 +1292,13 @@ void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* acto
 
   // The passes of one selection share one cast: of the view, the data and the settings that
   // decide what each pixel shows (not its colour).
-  std::vector<double> signature(&frame.ModelToNdc[0][0], &frame.ModelToNdc[0][0] + 16);
-  signature.insert(signature.end(),
-    { static_cast<double>(this->GetMTime()),
-      static_cast<double>(actor->GetProperty()->GetMTime()),
-      static_cast<double>(frame.Input->GetMTime()), static_cast<double>(frame.CastWidth),
-      static_cast<double>(frame.CastHeight) });
+  this->ComputeSignature(frame, false);
+  std::vector<double> signature = std::move(frame.Signature);
+  signature.insert(
+    signature.end(), { static_cast<double>(frame.CastWidth), static_cast<double>(frame.CastHeight) });
   vtkIdType maximumPointId = 0, maximumCellId = 0;
   for (const auto& block : frame.Blocks)
   {
-    signature.push_back(static_cast<double>(adapter::MeshModifiedTime(block.second)));
     maximumPointId = std::max(maximumPointId, block.second->GetNumberOfPoints() - 1);
     maximumCellId = std::max(maximumCellId, block.second->GetNumberOfCells() - 1);
   }
@@ -1695,7 +1692,7 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   vtkRenderWindowInteractor* interactor = window->GetInteractor();
   const bool eventLoop =
     this->ProgressiveRefinement && interactor && this->EventLoopRuns(interactor);
-  this->ComputeSignature(frame);
+  this->ComputeSignature(frame, true);
   this->LastRenderRefining = false;
   // The image this view holds: of the same scene (camera, data, settings), and of the size.
   const bool sameSize = gl.ImageSize[0] == frame.CastWidth && gl.ImageSize[1] == frame.CastHeight;
@@ -1872,21 +1869,28 @@ double vtkDirectSurfaceMapper::ChooseSampleDistance(const Frame& frame)
   return distance;
 }
 
-void vtkDirectSurfaceMapper::ComputeSignature(Frame& frame)
+void vtkDirectSurfaceMapper::ComputeSignature(Frame& frame, bool shading)
 {
+  // What decides which cell each pixel shows: the view, the mapper's, the property's, the
+  // input's and the meshes' modification times.
   std::vector<double>& signature = frame.Signature;
   const glm::dmat4& modelToNdc = frame.ModelToNdc;
   signature.assign(&modelToNdc[0][0], &modelToNdc[0][0] + 16);
   signature.insert(signature.end(),
     { static_cast<double>(this->GetMTime()),
       static_cast<double>(frame.Actor->GetProperty()->GetMTime()),
-      static_cast<double>(frame.Input->GetMTime()),
-      frame.Settings.lighting.headlightOnly ? 1.0 : 0.0 });
-  signature.insert(signature.end(), frame.LightState.begin(), frame.LightState.end());
+      static_cast<double>(frame.Input->GetMTime()) });
   for (const auto& block : frame.Blocks)
   {
     signature.push_back(static_cast<double>(adapter::MeshModifiedTime(block.second)));
   }
+  if (!shading)
+  {
+    return;
+  }
+  // And what decides its colour: the lights, and the opaque depth translucent rays stop at.
+  signature.push_back(frame.Settings.lighting.headlightOnly ? 1.0 : 0.0);
+  signature.insert(signature.end(), frame.LightState.begin(), frame.LightState.end());
   if (frame.Translucent)
   {
     signature.push_back(this->Internal->ReadOpaqueDepth(frame));

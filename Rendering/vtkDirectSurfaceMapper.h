@@ -295,9 +295,11 @@ private:
   /// Level of detail: 1 for a still render, else a reduced resolution (pixels a ray along each
   /// axis) sized to the actor's allocated render time.
   double ChooseSampleDistance(const Frame& frame);
-  /// Everything the image depends on (matrices, cast size, modification times, lights, and the
-  /// opaque depth under translucent surfaces): an unchanged signature re-uses the last image.
-  void ComputeSignature(Frame& frame);
+  /// What the image depends on, into frame.Signature: what decides which cell each pixel shows
+  /// (matrices, modification times: a selection's passes share a cast by it), and with `shading`
+  /// also what decides its colour (lights, the opaque depth under translucent surfaces). An
+  /// unchanged signature (and cast size) re-uses the last image.
+  void ComputeSignature(Frame& frame, bool shading);
   /// The iso-values, the clipping planes in model coordinates and the actor's material; false,
   /// with the errors, when they cannot be cast.
   bool ConvertSettings(Frame& frame);
