@@ -94,6 +94,16 @@ def scene(mesh, iso=RADIUS2, parallel=False, configure=None, window=None):
     return window, renderer, mapper, actor
 
 
+def polygon_actor(source, color):
+    """An opaque actor drawing the polygons of `source` (an algorithm) in `color`."""
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputConnection(source.GetOutputPort())
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetColor(*color)
+    return actor
+
+
 def zbuffer(window):
     width, height = window.GetSize()
     z = vtkFloatArray()
@@ -648,11 +658,7 @@ class Mapper(unittest.TestCase):
                         actor.GetProperty().SetOpacity(a)
                     if "peeling" in mode:
                         renderer.UseDepthPeelingOn()
-                    plane_mapper = vtkPolyDataMapper()
-                    plane_mapper.SetInputConnection(source.GetOutputPort())
-                    plane_actor = vtkActor()
-                    plane_actor.SetMapper(plane_mapper)
-                    plane_actor.GetProperty().SetColor(0.2, 0.4, 1.0)
+                    plane_actor = polygon_actor(source, (0.2, 0.4, 1.0))
                     renderer.AddActor(plane_actor)
                     actor.SetVisibility(content != "plane")
                     plane_actor.SetVisibility(content != "sphere")

@@ -20,11 +20,11 @@ from vtkmodules.vtkFiltersCore import vtkExtractCells
 from vtkmodules.vtkCommonCore import vtkIdList
 from vtkmodules.vtkFiltersSources import vtkPlaneSource
 from vtkmodules.vtkParallelCore import vtkMultiProcessController
-from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow
+from vtkmodules.vtkRenderingCore import vtkActor, vtkRenderer, vtkRenderWindow
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from test_mapper import grid  # noqa: E402
+from test_mapper import grid, polygon_actor  # noqa: E402
 from tetdsr import vtkDirectSurfaceMapper  # noqa: E402
 
 W, H = 200, 150
@@ -69,11 +69,7 @@ def render(mesh, distributed, plane):
         source.SetOrigin(-1.2, -1.2, 0.1)
         source.SetPoint1(1.2, -1.2, 0.1)
         source.SetPoint2(-1.2, 1.2, -0.2)
-        polygons = vtkPolyDataMapper()
-        polygons.SetInputConnection(source.GetOutputPort())
-        wall = vtkActor()
-        wall.SetMapper(polygons)
-        wall.GetProperty().SetColor(0.3, 0.8, 0.4)
+        wall = polygon_actor(source, (0.3, 0.8, 0.4))
         renderer.AddActor(wall)
     window = vtkRenderWindow()
     window.SetSize(W, H)

@@ -12,11 +12,10 @@ import unittest
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkMultiBlockDataSet
 from vtkmodules.vtkFiltersSources import vtkCubeSource
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkHardwareSelector, vtkPolyDataMapper,
-                                         vtkPropPicker)
+from vtkmodules.vtkRenderingCore import vtkHardwareSelector, vtkPropPicker
 from vtkmodules.vtkCommonCore import vtkIdList
 
-from test_mapper import W, H, grid, matrix, window_depth, zbuffer
+from test_mapper import W, H, grid, matrix, polygon_actor, window_depth, zbuffer
 from test_mapper_pick import DIAGONAL, actor_matrix, exact_hit, scene
 from tetdsr import vtkDirectSurfacePick
 
@@ -28,11 +27,7 @@ def add_box(renderer):
     """An opaque box in front of the sphere's lower left (world coordinates)."""
     cube = vtkCubeSource()
     cube.SetBounds(0.3, 1.0, -0.9, -0.1, 0.4, 1.1)
-    mapper = vtkPolyDataMapper()
-    mapper.SetInputConnection(cube.GetOutputPort())
-    box = vtkActor()
-    box.SetMapper(mapper)
-    box.GetProperty().SetColor(0.9, 0.3, 0.2)
+    box = polygon_actor(cube, (0.9, 0.3, 0.2))
     renderer.AddActor(box)
     return box
 
