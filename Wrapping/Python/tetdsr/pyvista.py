@@ -381,7 +381,7 @@ class _SharedImage:
         if self._view is None:
             return None
         scene = self.scene_renderer
-        origin = scene.GetOrigin() if hasattr(scene, "GetOrigin") else (0, 0)
+        origin = scene.GetOrigin()  # (the viewport's lower left, in display pixels)
         width, height = self.viewport_size
         size = self._view[-1]
         u = (x - origin[0]) * size[0] / width
