@@ -49,6 +49,7 @@
 #include "vtkXMLUnstructuredGridWriter.h"
 
 #include "BenchmarkLattice.h"
+#include "tetdsr/HexahedronCell.h"
 #include "tetdsr/SplitCells.h"
 #include "tetdsr/HigherOrderTet.h"
 #include "tetdsr/QuadraticTet.h"
@@ -605,7 +606,7 @@ vtkSmartPointer<vtkUnstructuredGrid> MakeKindMesh(int n, int type, int nodes, bo
 /// Per hexahedron and wedge kind, straight and bent: as Orders.
 int Kinds(int size, int n)
 {
-  std::printf("| cells | type | nodes/cell | shape | pieces (order) | mesh MB | preprocess s | kept MB | image | first frame s | camera move s | M rays/s | contour s | triangles |\n"
+  std::printf("| cells | type | nodes/cell | shape | solved as: itself, or tetrahedra (order) | mesh MB | preprocess s | kept MB | image | first frame s | camera move s | M rays/s | contour s | triangles |\n"
               "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   struct Row
   {
@@ -631,21 +632,40 @@ int Kinds(int size, int n)
     for (const Row& row : rows)
     {
       vtkSmartPointer<vtkUnstructuredGrid> mesh = MakeKindMesh(n, row.type, row.nodes, curved);
+      // Hexahedra are solved as themselves (order p per axis); wedges are split into
+      // tetrahedra of total degree D.
+      const tetdsr::HexahedronNodes* hexahedron = nullptr;
       const tetdsr::SplitShape* shape = nullptr;
-      tetdsr::splitShapeOf(row.type, row.nodes, shape);
-      // Bent cells at size / 4 up to total degree 4, and fewer rays as their solve's cost grows
-      // (size / 8 to degree 6, / 16 to 9, / 32 for 12).
+      const bool isHexahedron = tetdsr::isHexahedronType(row.type);
+      if (isHexahedron)
+      {
+        tetdsr::hexahedronNodesOf(row.type, row.nodes, hexahedron);
+      }
+      else
+      {
+        tetdsr::splitShapeOf(row.type, row.nodes, shape);
+      }
+      // Bent hexahedra at size / 2; bent wedges at size / 4 up to total degree 4, and fewer rays
+      // as their pieces' solve's cost grows (size / 8 to degree 6, / 16 beyond).
       const int image = !curved ? size
+        : isHexahedron          ? size / 2
         : shape->degree <= 4    ? size / 4
         : shape->degree <= 6    ? size / 8
-        : shape->degree <= 9    ? size / 16
-                                : size / 32;
+                                : size / 16;
+      char solvedAs[32];
+      if (isHexahedron)
+      {
+        std::snprintf(solvedAs, sizeof solvedAs, "itself (Q%d)", hexahedron->order);
+      }
+      else
+      {
+        std::snprintf(solvedAs, sizeof solvedAs, "%d (%d)", shape->pieces, shape->degree);
+      }
       const WaveTimings t = TimeWave(mesh, image);
       // (M rays/s to 3 significant digits: bent cells of high degree reach only tens of rays/s.)
-      std::printf("| %lld | %s | %d | %s (%lld curved) | %d (%d) | %.1f | %.3f | %.1f | %d^2 | %.3f | %.3f | %.3g | %.3f | %lld |\n",
+      std::printf("| %lld | %s | %d | %s (%lld curved) | %s | %.1f | %.3f | %.1f | %d^2 | %.3f | %.3f | %.3g | %.3f | %lld |\n",
         static_cast<long long>(mesh->GetNumberOfCells()), row.name, row.nodes,
-        curved ? "curved" : "straight", static_cast<long long>(t.curvedCells), shape->pieces,
-        shape->degree, 1024.0 * mesh->GetActualMemorySize() / 1e6, t.preprocess, t.kept, image,
+        curved ? "curved" : "straight", static_cast<long long>(t.curvedCells), solvedAs, 1024.0 * mesh->GetActualMemorySize() / 1e6, t.preprocess, t.kept, image,
         t.first, t.cameraMove, image * double(image) / t.cameraMove / 1e6, t.contourTime,
         static_cast<long long>(t.triangles));
       std::fflush(stdout);

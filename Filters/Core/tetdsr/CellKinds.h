@@ -4,6 +4,7 @@
 #include "tetdsr/Cells.h"
 #include "tetdsr/CurvedHigherOrderTetCell.h"
 #include "tetdsr/CurvedTetCell.h"
+#include "tetdsr/HexahedronCell.h"
 #include "tetdsr/HigherOrderTetCell.h"
 #include "tetdsr/LinearTetCell.h"
 #include "tetdsr/QuadraticTetCell.h"
@@ -50,6 +51,22 @@ decltype(auto) forKind(CellKind kind, Step&& step)
       return step(CurvedHigherOrderTetCell<9>{});
     case CellKind::CurvedTet12:
       return step(CurvedHigherOrderTetCell<12>{});
+    case CellKind::Hexahedron1:
+      return step(HexahedronCell<1, false>{});
+    case CellKind::Hexahedron2:
+      return step(HexahedronCell<2, false>{});
+    case CellKind::Hexahedron3:
+      return step(HexahedronCell<3, false>{});
+    case CellKind::Hexahedron4:
+      return step(HexahedronCell<4, false>{});
+    case CellKind::CurvedHexahedron1:
+      return step(HexahedronCell<1, true>{});
+    case CellKind::CurvedHexahedron2:
+      return step(HexahedronCell<2, true>{});
+    case CellKind::CurvedHexahedron3:
+      return step(HexahedronCell<3, true>{});
+    case CellKind::CurvedHexahedron4:
+      return step(HexahedronCell<4, true>{});
     case CellKind::QuadraticTet:
       break;
   }

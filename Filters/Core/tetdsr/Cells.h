@@ -22,6 +22,8 @@
 //   HigherOrderTetCell.h     orders 3 and 4 (Lagrange or Bezier, 20 and 35 nodes), straight: an
 //                            affine map, a field of degree 3 or 4 along each ray
 //   CurvedHigherOrderTetCell.h  orders 3 and 4, curved: isoparametric
+//   HexahedronCell.h         every hexahedron type, orders 1 to 4 per axis, straight or curved:
+//                            solved in its own reference cube
 #pragma once
 
 #include "tetdsr/Camera.h"
@@ -74,8 +76,24 @@ enum class CellKind : std::uint8_t
   CurvedTet6,
   CurvedTet8,
   CurvedTet9,
-  CurvedTet12
+  CurvedTet12,
+  /// HexahedronCell<P, false> and <P, true>: hexahedra of order P per axis, in their own
+  /// reference space (HexahedronCell.h).
+  Hexahedron1,
+  Hexahedron2,
+  Hexahedron3,
+  Hexahedron4,
+  CurvedHexahedron1,
+  CurvedHexahedron2,
+  CurvedHexahedron3,
+  CurvedHexahedron4
 };
+
+/// Whether a kind is one of the hexahedra's.
+inline bool isHexahedronKind(CellKind kind)
+{
+  return kind >= CellKind::Hexahedron1;
+}
 
 /// Outcome bits of a cell's validation; Scene counts them (PreprocessSummary).
 enum CellStatus : std::uint16_t
@@ -97,12 +115,20 @@ enum CellStatus : std::uint16_t
 
 /// How a cell's node ids are read: the order of its polynomials and whether its nodes are
 /// Bernstein control points (VTK_BEZIER_TETRAHEDRON) rather than nodal values.
+struct HexahedronNodes;
 struct CellLayout
 {
-  int order = 0; ///< 1..kMaxTetOrder
+  int order = 0; ///< 1..kMaxTetOrder (a hexahedron's: per axis, 1..4)
   bool bezier = false;
-  int nodes = 0; ///< latticeCount(order)
+  int nodes = 0; ///< latticeCount(order); a hexahedron's: its type's id count
+  /// A hexahedron's node table (HexahedronCell.h); null for tetrahedra.
+  const HexahedronNodes* hexahedron = nullptr;
 };
+
+/// Whether a VTK type is a hexahedron the core reads as itself (HexahedronCell.h).
+bool isHexahedronType(int vtkType);
+/// cellLayout for a hexahedron type (HexahedronCell.cpp).
+std::uint16_t hexahedronLayout(int vtkType, long long ids, CellLayout& layout);
 
 /// The layout of a cell of VTK type `vtkType` with `ids` node ids; 0 (kValid) if it can be read,
 /// else the status saying why not: kUnsupported (a type the core does not read), kMalformed (an
@@ -137,13 +163,18 @@ inline std::uint16_t cellLayout(int vtkType, long long ids, CellLayout& layout,
       return 0;
     }
     default:
-      return kUnsupported;
+      return isHexahedronType(vtkType) ? hexahedronLayout(vtkType, ids, layout) : kUnsupported;
   }
 }
 
 /// The kind of a valid cell of this layout, curved or not.
 inline CellKind kindOf(const CellLayout& layout, bool curved)
 {
+  if (layout.hexahedron)
+  {
+    return static_cast<CellKind>(static_cast<int>(curved ? CellKind::CurvedHexahedron1 : CellKind::Hexahedron1) +
+      (layout.order - 1));
+  }
   switch (layout.order)
   {
     case 1:
@@ -245,6 +276,8 @@ struct alignas(64) CellRecord
     Constant,  ///< straight, the field constant to rounding (QuadraticTetCell)
     Curved,    ///< isoparametric: solved from the mesh (CurvedTetCell, CurvedHigherOrderTetCell)
     HigherOrder, ///< straight, order 3 or 4 (HigherOrderTetCell): the field read from the mesh
+    Hexahedron,  ///< a straight hexahedron (HexahedronCell): its forms kept beside the record
+    CurvedHexahedron, ///< a curved hexahedron (HexahedronCell), the same
     Empty      ///< never hit (not a valid cell)
   };
   glm::dvec3 vertex0;
@@ -257,7 +290,8 @@ struct alignas(64) CellRecord
     /// the edges in mid-edge node order (Quadratic and Constant records).
     double form[10];
     /// A HigherOrder record's: latticeCount(order) Bernstein coefficients of the field times
-    /// `scale`, in TetBernstein.h's canonical order, kept beside the records (SurfaceIndex).
+    /// `scale`, in TetBernstein.h's canonical order, kept beside the records (SurfaceIndex); a
+    /// hexahedron's: HexahedronCell::kRecordCoefficients numbers.
     const double* coefficients;
   };
   double scale; ///< a power of two bringing the largest nodal magnitude near 1

@@ -293,6 +293,16 @@ void Scene::countBySource(FillLaterVector<std::uint16_t>& status)
         }
         flags |= status[piece];
       }
+      if ((flags & kValid) && Mesh_.sourceMirrored && Mesh_.sourceMirrored[source])
+      {
+        flags ^= kInverted; // (its pieces are all of one orientation: a valid cell's map is one-to-one)
+      }
+      if ((flags & kValid) && Mesh_.sourceOrders && Mesh_.sourceOrders[source] != 0)
+      {
+        // Of higher order by its own order (3 or 4 per axis), not its pieces' total degree.
+        flags = static_cast<std::uint16_t>((flags & ~kHigherOrder) |
+          (Mesh_.sourceOrders[source] > 2 ? kHigherOrder : 0));
+      }
     }
     if (!(flags & kValid))
     {
@@ -392,7 +402,11 @@ BoxItem Scene::cellBox(NodeId cellId) const
   {
     lo = hi = Origin_; // edited since validation: a point box (its record is empty, never hit)
   }
-  BoxItem box = boxOf(lo, hi, asValidated ? longestEdge(nodes) : 0.0);
+  // (A hexahedron's tensor form does not start with its corners: its box's diagonal for size.)
+  const double size = !asValidated ? 0.0
+    : isHexahedronKind(kindOf(cellId)) ? glm::length(hi - lo)
+                                       : longestEdge(nodes);
+  BoxItem box = boxOf(lo, hi, size);
   box.id = static_cast<std::uint32_t>(cellId);
   return box;
 }
@@ -498,6 +512,22 @@ std::uint16_t Scene::checkNodes(const CellLayout& layout, const NodeId* ids,
       return kNonFinite;
     }
   }
+  if (layout.hexahedron)
+  {
+    // A hexahedron is checked on its tensor form (its control points' frame and det J).
+    toKindForm(layout, nodes);
+    toKindForm(layout, values);
+    for (int n = 0; n < tensor::count(layout.order); ++n)
+    {
+      if (!std::isfinite(values[n]) || !isFinite(nodes[n]))
+      {
+        return kOutOfScale; // Bernstein coefficients beyond double range
+      }
+    }
+    return forHexahedronOrder(layout.order, [&](auto P) {
+      return HexahedronCell<decltype(P)::value, false>::validate(nodes, Mesh_.pointRounding);
+    });
+  }
   // Orders 3 and 4 are checked on their nodes as given (where the affine map puts a node is
   // where a Lagrange node or a Bezier control point sits), orders 1 and 2 on the quadratic
   // tetrahedron's nodes that their steps take (toKindForm).
@@ -536,7 +566,11 @@ std::uint16_t Scene::checkNodes(const CellLayout& layout, const NodeId* ids,
 template <typename T>
 void Scene::toKindForm(const CellLayout& layout, T items[kMaxCellNodes])
 {
-  if (layout.order == 1)
+  if (layout.hexahedron)
+  {
+    toTensorForm(*layout.hexahedron, items);
+  }
+  else if (layout.order == 1)
   {
     LinearTetCell::complete(items);
   }
@@ -847,7 +881,16 @@ void Scene::computeNodalGradients()
     for (int n = 0; n < layout.nodes; ++n)
     {
       double L[4];
-      tetNodePoint(layout.order, n, L);
+      if (layout.hexahedron)
+      {
+        const auto& at = layout.hexahedron->nodePoints[static_cast<std::size_t>(n)];
+        L[0] = 0.0;
+        std::copy(at.begin(), at.end(), L + 1);
+      }
+      else
+      {
+        tetNodePoint(layout.order, n, L);
+      }
       sum[static_cast<std::size_t>(ids[n])] +=
         forKind(kind, [&](auto cell) { return decltype(cell)::gradient(nodes, values, L); });
       ++count[static_cast<std::size_t>(ids[n])];
@@ -880,6 +923,22 @@ glm::dvec3 Scene::interpolateNodalGradient(NodeId cellId, const glm::dvec3& poin
   for (int n = 0; n < layout.nodes; ++n)
   {
     nodal[n] = NodalGradients_[static_cast<std::size_t>(ids[n])];
+  }
+  if (layout.hexahedron)
+  {
+    toKindForm(layout, nodal);
+    glm::dvec3 gradient(0.0);
+    for (int a = 0; a < 3; ++a)
+    {
+      double component[kMaxCellNodes];
+      for (int n = 0; n < tensor::count(layout.order); ++n)
+      {
+        component[n] = nodal[n][a];
+      }
+      gradient[a] = forHexahedronOrder(layout.order,
+        [&](auto P) { return HexahedronCell<decltype(P)::value, false>::interpolate(component, L); });
+    }
+    return gradient;
   }
   if (layout.order <= 2)
   {

@@ -5,6 +5,7 @@
 
 #include "tetdsr/Camera.h"
 #include "tetdsr/Cells.h"
+#include "tetdsr/HexahedronCell.h"
 #include "tetdsr/HigherOrderTet.h"
 #include "tetdsr/HigherOrderTetCell.h"
 #include "tetdsr/QuadraticTetCell.h"
@@ -51,6 +52,12 @@ struct MeshView
   const NodeId* sourceOffsets = nullptr; ///< per input cell: its first cell (+ 1 entry at the end)
   /// per input cell: why it was not split or kept (CellStatus bits), 0 if it was
   const std::uint16_t* sourceStatus = nullptr;
+  /// per input cell: the order per axis of a split one (a wedge of order 3 or 4 is of higher
+  /// order, whatever its pieces' total degree), 0 for one kept as it is
+  const std::uint8_t* sourceOrders = nullptr;
+  /// per input cell: 1 for a type whose VTK node order reverses the parametric orientation
+  /// (mirroredType, SplitCells.h): its pieces' inversion is the reverse of the cell's
+  const std::uint8_t* sourceMirrored = nullptr;
   NodeId numberOfSourceCells = 0;
 };
 
@@ -356,6 +363,22 @@ inline bool Scene::intersectCell(const CellRecord& cell, const Ray& ray, const I
   if (cell.kind == CellRecord::Kind::Curved)
   {
     return intersectCurvedCell(cell.cellId, ray, isoValues, first, last, tMin, tLimit, hit);
+  }
+  if (cell.kind == CellRecord::Kind::Hexahedron || cell.kind == CellRecord::Kind::CurvedHexahedron)
+  {
+    bool certified = true;
+    const bool curved = cell.kind == CellRecord::Kind::CurvedHexahedron;
+    const bool found = forHexahedronOrder(cell.order, [&](auto P) {
+      return curved ? HexahedronCell<decltype(P)::value, true>::intersect(
+                        cell, ray, isoValues, first, last, tMin, tLimit, hit, certified)
+                    : HexahedronCell<decltype(P)::value, false>::intersect(
+                        cell, ray, isoValues, first, last, tMin, tLimit, hit, certified);
+    });
+    if (found)
+    {
+      countUncertified(certified);
+    }
+    return found;
   }
   if (cell.kind == CellRecord::Kind::HigherOrder)
   {

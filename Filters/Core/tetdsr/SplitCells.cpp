@@ -730,26 +730,33 @@ void SplitShape::basis(const double parametric[3], double* weights) const
   }
 }
 
+bool mirroredType(int vtkType)
+{
+  // vtkWedge and its quadratic relatives: the triangle (0, 1, 2)'s right-hand normal points away
+  // from (3, 4, 5) (VTK's documentation; vtkCellTypeSource builds them so), the reverse of the
+  // parametric cell's (r, s, t) orientation. VTK's Lagrange and Bezier wedges are not mirrored.
+  return vtkType == kVtkWedge || vtkType == kVtkQuadraticWedge || vtkType == kVtkQuadraticLinearWedge ||
+    vtkType == kVtkBiquadraticQuadraticWedge;
+}
+
+std::vector<std::array<double, 3>> hexahedronNodePoints(int order)
+{
+  return hexahedronNodes(order);
+}
+
 bool isSplitType(int vtkType)
 {
   switch (vtkType)
   {
-    case kVtkVoxel:
-    case kVtkHexahedron:
     case kVtkWedge:
     case kVtkPyramid:
-    case kVtkQuadraticHexahedron:
     case kVtkQuadraticWedge:
     case kVtkQuadraticPyramid:
-    case kVtkTriquadraticHexahedron:
     case kVtkQuadraticLinearWedge:
     case kVtkBiquadraticQuadraticWedge:
-    case kVtkBiquadraticQuadraticHexahedron:
     case kVtkTriquadraticPyramid:
-    case kVtkLagrangeHexahedron:
     case kVtkLagrangeWedge:
     case kVtkLagrangePyramid:
-    case kVtkBezierHexahedron:
     case kVtkBezierWedge:
     case kVtkBezierPyramid:
       return true;
@@ -834,6 +841,10 @@ struct SplitMesh::Arrays
   std::vector<NodeId> SourceCells;
   std::vector<NodeId> SourceOffsets;
   std::vector<std::uint16_t> SourceStatus;
+  /// Per input cell that is split: its order per axis (0 for cells kept as they are).
+  std::vector<std::uint8_t> SourceOrders;
+  /// Per input cell: 1 for a type whose VTK node order reverses the parametric orientation.
+  std::vector<std::uint8_t> SourceMirrored;
   /// Per input cell that is split: its shape, its first new point (after the input's points)
   /// and its node ids (copied: the input may be edited later).
   std::vector<const SplitShape*> Shape;
@@ -866,6 +877,8 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
   out.InputPoints = input.numberOfPoints;
   out.SourceOffsets.resize(cells + 1);
   out.SourceStatus.assign(cells, 0);
+  out.SourceOrders.assign(cells, 0);
+  out.SourceMirrored.assign(cells, 0);
   out.Shape.assign(cells, nullptr);
   out.FirstNew.assign(cells, 0);
   out.IdsAt.assign(cells, 0);
@@ -926,6 +939,8 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
       continue;
     }
     out.Shape[c] = shape;
+    out.SourceOrders[c] = static_cast<std::uint8_t>(shape->order);
+    out.SourceMirrored[c] = mirroredType(type);
     out.IdsAt[c] = copiedIds;
     copiedIds += shape->nodes;
     pieces += shape->pieces;
@@ -1058,6 +1073,8 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
   View_.sourceCells = out.SourceCells.data();
   View_.sourceOffsets = out.SourceOffsets.data();
   View_.sourceStatus = out.SourceStatus.data();
+  View_.sourceOrders = out.SourceOrders.data();
+  View_.sourceMirrored = out.SourceMirrored.data();
   View_.numberOfSourceCells = input.numberOfCells;
   return true;
 }
@@ -1101,7 +1118,7 @@ std::size_t SplitMesh::memoryBytes() const
   }
   const Arrays& a = *Data_;
   return sizeof(double) * (a.Points.capacity() + a.Values.capacity()) +
-    a.Types.capacity() + a.SourceStatus.capacity() * sizeof(std::uint16_t) +
+    a.Types.capacity() + a.SourceOrders.capacity() + a.SourceMirrored.capacity() + a.SourceStatus.capacity() * sizeof(std::uint16_t) +
     sizeof(NodeId) *
     (a.Offsets.capacity() + a.Connectivity.capacity() + a.SourceCells.capacity() +
       a.SourceOffsets.capacity() + a.FirstNew.capacity() + a.IdsAt.capacity() + a.Ids.capacity()) +

@@ -1,26 +1,26 @@
-// Hexahedra and wedges, as tetrahedra of their polynomials' degree.
+// Wedges, as tetrahedra of their polynomials' degree. (Hexahedra are solved as themselves, in
+// their reference cube: HexahedronCell.h; their shapes below serve as node tables.)
 //
-// A hexahedron's or wedge's map and field are polynomials in its parametric coordinates (r, s, t):
-// trilinear for VTK_HEXAHEDRON, the serendipity space for the 20-node hexahedron, P_p(r, s) x
-// P_q(t) and its relatives for wedges. Split its parametric domain (the unit cube, or the unit
-// triangle times [0, 1]) into tetrahedra (6 along the cube's diagonal, Kuhn's split; 3 for the
-// wedge): on each, the cell's polynomials restricted to that tetrahedron are polynomials of total
-// degree D in its barycentric coordinates (D = 3 for a trilinear hexahedron, 4 for the serendipity
-// one, 5 and 6 for the 24- and 27-node ones, 3p for Lagrange and Bezier hexahedra of order p, 2p
-// for wedges), so a tetrahedron of order D whose nodes (D <= 4: Lagrange) or control points
-// (above: Bezier) come from the cell's map and field represents them exactly. The pieces are
-// then ordinary cells of the core (straight when the cell's map is affine, then placed by that
-// map; isoparametric otherwise): every step (validation, Bernstein bounds, certified roots,
-// tangled cells, colour arrays) is theirs, and the hit's cell id is mapped back to the input
-// cell. A curved piece's ray test is a subdivision solve whose cost grows steeply with D
-// (docs/performance.md gives the figures per kind).
+// A wedge's map and field are polynomials in its parametric coordinates (r, s, t): P_p(r, s) x
+// P_q(t) and its relatives. Split its parametric domain (the unit triangle times [0, 1]) into 3
+// tetrahedra: on each, the cell's polynomials restricted to that tetrahedron are polynomials of
+// total degree D in its barycentric coordinates (2p for wedges of order p), so a tetrahedron of
+// order D whose nodes (D <= 4: Lagrange) or control points (above: Bezier) come from the cell's
+// map and field represents them exactly. The pieces are then ordinary cells of the core
+// (straight when the cell's map is affine, then placed by that map; isoparametric otherwise):
+// every step (validation, Bernstein bounds, certified roots, tangled cells, colour arrays) is
+// theirs, and the hit's cell id is mapped back to the input cell. A curved piece's ray test is a
+// subdivision solve whose cost grows steeply with D (docs/performance.md gives the figures per
+// kind).
 //
 // Neighbours stay watertight: two cells sharing a face have the same polynomial map on it (the
 // same nodes), and each cell's pieces cover its whole face, however each splits it.
 //
 // The cell's shape functions come from its nodes (VTK order, checked against VTK's own cells by
 // Testing/Cxx/TestSplitCellsNodeOrder) and its polynomial space: the nodal basis (the inverse of
-// the space's Vandermonde matrix at the nodes), or for a Bezier cell its Bernstein basis.
+// the space's Vandermonde matrix at the nodes), or for a Bezier cell its Bernstein basis. The
+// split of hexahedra (6 Kuhn tetrahedra, degree 3p) is kept for that test and for their node
+// tables; no mesh is split that way.
 #pragma once
 
 #include "tetdsr/Scene.h"
@@ -116,8 +116,19 @@ struct SplitShape
 /// 12 and 8: the pieces' orders are kPieceOrders).
 constexpr int kMaxSplitOrder = 4;
 
-/// Whether a VTK type is a hexahedron, wedge or pyramid (read or refused by the split).
+/// Whether a VTK type is a wedge or pyramid (read or refused by the split; hexahedra are read
+/// as themselves: HexahedronCell.h).
 bool isSplitType(int vtkType);
+
+/// Whether VTK orders a type's nodes so that a well-formed cell's map from parametric space
+/// reverses orientation (VTK_WEDGE and its quadratic relatives): such a cell is inverted when
+/// its map is positive.
+bool mirroredType(int vtkType);
+
+/// The parametric points (r, s, t) of the nodes of VTK's Lagrange and Bezier hexahedron of order
+/// p, in VTK's order (vtkHigherOrderHexahedron; order 1 is VTK_HEXAHEDRON's, order 2
+/// VTK_TRIQUADRATIC_HEXAHEDRON's).
+std::vector<std::array<double, 3>> hexahedronNodePoints(int order);
 
 /// The shape of a cell of a hexahedron or wedge type with `ids` node ids; 0 if it is read, else
 /// the status saying why not (kMalformed: an id count that does not fit the type; kOrderTooHigh:

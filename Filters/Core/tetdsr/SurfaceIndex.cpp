@@ -97,8 +97,10 @@ SurfaceIndex::CellFaces SurfaceIndex::facesOf(const Scene& scene, const CellReco
     faces.d = Float4{ -1.0f, -1.0f, -1.0f, -1.0f };
     return faces;
   }
-  if (record.kind == CellRecord::Kind::Curved)
+  if (record.kind == CellRecord::Kind::Curved || record.kind == CellRecord::Kind::Hexahedron ||
+    record.kind == CellRecord::Kind::CurvedHexahedron)
   {
+    // (No four planes bound them: a curved cell, a hexahedron's six faces.) No culling.
     faces.d = Float4{ 1.0f, 1.0f, 1.0f, 1.0f };
     return faces;
   }
@@ -271,7 +273,7 @@ __attribute__((flatten)) bool SurfaceIndex::firstHit(
         continue;
       }
       CellRecord made;
-      double madeCoefficients[kMaxCellNodes];
+      double madeCoefficients[kMaxRecordCoefficients];
       if (records.empty())
       {
         Scene_.prepareCell(ids[k], made, madeCoefficients); // beyond the record limit: made as needed

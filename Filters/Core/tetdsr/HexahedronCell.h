@@ -1,0 +1,195 @@
+// Hexahedra in their own reference space: every VTK hexahedron (VTK_HEXAHEDRON, VTK_VOXEL, the
+// 20-, 24- and 27-node ones, VTK_LAGRANGE_HEXAHEDRON and VTK_BEZIER_HEXAHEDRON of orders 1 to 4)
+// as tensor-product Bernstein forms of degree P per axis on the unit cube (TensorBernstein.h):
+// map X(r, s, t) and field f(r, s, t). The 20- and 24-node spaces lie in Q2, so P = 2 holds them
+// exactly; a Lagrange cell's nodes are converted along each axis (LagrangeToBernstein), a Bezier
+// cell's are its coefficients.
+//
+// Straight cells (the map affine: a parallelepiped) take the ray to a line in (r, s, t): it is
+// clipped to the cube, and the field along it is a polynomial of degree 3P in the ray parameter,
+// whose Bernstein coefficients come from the cell's by a stable reparametrisation of each axis
+// (segmentMatrix) and the product rule; its first root is certified by firstBernsteinRoot.
+// Curved cells are solved in the cube: with u, v orthonormal and both perpendicular to the ray's
+// direction d, the hit is the common root of
+//   u . (X(r) - o) = 0,   v . (X(r) - o) = 0,   f(r) - c = 0
+// with the least depth d . (X(r) - o): a subdivision of the cube into boxes (each equation's
+// coefficients on a box bound it there: a box where one has one sign is dropped, so is one whose
+// depth bound lies beyond the nearest root found), and on each box Krawczyk's test (the box's
+// Jacobian bounded by its coefficients' differences) proves a unique root, which Newton then
+// reaches. A box that reaches the size limit unproven (a ray tangent to the surface) is settled
+// by Newton alone and its hit flagged uncertified.
+//
+// The cell seam's steps (Cells.h). `nodes` and `values` arrive as the tensor form's coefficients
+// (count(P) of them, world coordinates and field; Scene::toKindForm makes them). The parametric
+// point of a hit or a located point is (r, s, t) in L[1..3] (L[0] unused: 0), VTK's parametric
+// coordinates.
+#pragma once
+
+#include "tetdsr/Camera.h"
+#include "tetdsr/Cells.h"
+#include "tetdsr/TensorBernstein.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+#include <vector>
+
+namespace tetdsr
+{
+
+/// The highest order per axis of the hexahedra the core reads.
+constexpr int kMaxHexahedronOrder = 4;
+
+/// How a hexahedron type's nodes (VTK's order) become its tensor form: a permutation onto the
+/// lattice of its order when its nodes are the lattice's (Lagrange, Bezier, VTK_HEXAHEDRON,
+/// VTK_VOXEL, 27 nodes), else the nodal basis at the lattice points (20 and 24 nodes).
+struct HexahedronNodes
+{
+  const char* name = "";
+  int order = 1;
+  bool bezier = false;
+  int nodes = 0;
+  /// Per node, its lattice index (tensor::index); empty when `weights` is used.
+  std::vector<int> lattice;
+  /// count(order) x nodes: the nodal values at lattice point k are sum_n weights[k][n] node[n].
+  std::vector<double> weights;
+  /// Each node's parametric point (r, s, t), VTK's.
+  std::vector<std::array<double, 3>> nodePoints;
+};
+
+/// The node table of a hexahedron type with `ids` node ids (CellLayout's hexahedron part); 0 if
+/// read, else kMalformed (an id count that does not fit the type) or kOrderTooHigh.
+std::uint16_t hexahedronNodesOf(int vtkType, long long ids, const HexahedronNodes*& table);
+
+
+/// A hexahedron's nodes (or a point array's values at them) made its tensor form's count(order)
+/// coefficients, in place (`items` holds kMaxCellNodes).
+template <typename T>
+void toTensorForm(const HexahedronNodes& table, T* items);
+
+/// Runs `step` with std::integral_constant<int, P> for a hexahedron's order P = 1..4.
+template <typename Step>
+decltype(auto) forHexahedronOrder(int order, Step&& step)
+{
+  switch (order)
+  {
+    case 1:
+      return step(std::integral_constant<int, 1>{});
+    case 2:
+      return step(std::integral_constant<int, 2>{});
+    case 3:
+      return step(std::integral_constant<int, 3>{});
+    default:
+      return step(std::integral_constant<int, 4>{});
+  }
+}
+
+/// One hexahedron kind: order P, straight (the map affine) or curved.
+template <int P, bool Curved>
+struct HexahedronCell
+{
+  static constexpr int kNodes = tensor::count(P);
+  /// The nodes its record is made from: all of its tensor form.
+  static constexpr int kRecordNodes = kNodes;
+  /// What its record keeps beside it: kHeader numbers (origin, scale, affine frame and its
+  /// inverse), the map's control points in local coordinates (3 kNodes) and the scaled field; a
+  /// curved cell's on the cube widened by kBarycentricTolerance (its solve's domain).
+  static constexpr int kHeader = 24;
+  static constexpr int kRecordCoefficients = kHeader + 4 * kNodes;
+
+  /// validate, on the tensor form: the corners' frame checks (QuadraticTetCell's on the
+  /// tetrahedron of the corners (0,0,0), (1,0,0), (0,1,0), (0,0,1)); kCurved when a control point
+  /// is off where the frame's affine map puts it; for a curved cell the sign of det J over the
+  /// whole cube (kTangled when it changes or vanishes, kInverted when negative).
+  static std::uint16_t validate(const glm::dvec3* nodes, double pointRounding);
+
+  static void valueBound(const double values[], const TransverseTest&, double& lo, double& hi)
+  {
+    tensor::range(values, kNodes, lo, hi);
+  }
+
+  /// extent: the control points' box (the cell lies in their convex hull).
+  static bool extent(const glm::dvec3* nodes, glm::dvec3& lo, glm::dvec3& hi);
+
+  static void record(const glm::dvec3* nodes, const double* values, CellRecord& cell, double* coefficients);
+
+  static bool intersect(const CellRecord& cell, const Ray& ray, const IsoValues& isoValues,
+    std::size_t first, std::size_t last, double tMin, double tLimit, SurfaceHit& hit, bool& certified);
+
+  /// contains: whether `point` lies in the cell (within kBarycentricTolerance of the cube), and
+  /// its parametric point (L[1..3]).
+  static bool contains(const glm::dvec3* nodes, const glm::dvec3& point, double L[4]);
+  /// coordinates: contains' parametric point, or outside the cell the map's polynomial extension's
+  /// as far as Newton finds it from the cube's centre.
+  static void coordinates(const glm::dvec3* nodes, const glm::dvec3& point, double L[4]);
+
+  static double interpolate(const double values[], const double L[4])
+  {
+    const double x[3] = { L[1], L[2], L[3] };
+    const double scale = unitScale(values, kNodes);
+    double c[kNodes];
+    for (int k = 0; k < kNodes; ++k)
+    {
+      c[k] = values[k] * scale;
+    }
+    return tensor::evaluate<P>(c, x) / scale;
+  }
+
+  /// gradient: J^-T grad_(r,s,t) f at the parametric point L[1..3] (zero where J is singular).
+  static glm::dvec3 gradient(const glm::dvec3* nodes, const double* values, const double L[4]);
+};
+
+/// The most numbers any kind's record keeps beside it (a curved tetrahedron of the highest piece
+/// order's coefficients, an order-4 hexahedron's forms).
+constexpr int kMaxRecordCoefficients =
+  std::max(kMaxCellNodes, HexahedronCell<kMaxHexahedronOrder, true>::kRecordCoefficients);
+
+extern template struct HexahedronCell<1, false>;
+extern template struct HexahedronCell<2, false>;
+extern template struct HexahedronCell<3, false>;
+extern template struct HexahedronCell<4, false>;
+extern template struct HexahedronCell<1, true>;
+extern template struct HexahedronCell<2, true>;
+extern template struct HexahedronCell<3, true>;
+extern template struct HexahedronCell<4, true>;
+
+/// Work bounds of one box solve: boxes visited, and the width (of the cube) below which an
+/// unproven box is settled by Newton alone.
+struct BoxSolveLimits
+{
+  int maxPieces = 20000;
+  double minWidth = 0x1p-24;
+};
+
+/// A root of a box solve: its parametric point, its objective value, whether proven.
+struct BoxRoot
+{
+  double x[3] = { 0.0, 0.0, 0.0 };
+  double value = 0.0;
+  bool certified = true;
+};
+
+/// The common root in the unit box of the three tensor forms of degree P `equations` with the
+/// least `objective` value within [lo, hi] (objective null: any root), found by subdivision with
+/// Krawczyk's test (HexahedronCell.h's header); root.x in the box's coordinates. False if there is
+/// none. `pieces`, if given, receives the boxes visited.
+template <int P>
+bool solveOnUnitBox(const double* const equations[3], const double* objective, double lo, double hi,
+  BoxRoot& root, const BoxSolveLimits& limits = {}, int* pieces = nullptr);
+
+/// A form on the unit cube made a form on the cube widened by `tolerance` on every side, in
+/// that cube's unit coordinates w (x = -tolerance + w (1 + 2 tolerance)).
+template <int P>
+void widen(const double* form, double tolerance, double* out);
+
+/// solveOnUnitBox on the unit cube widened by `tolerance` (the equations and objective given on
+/// the unit cube); root.x in the unit cube's coordinates.
+template <int P>
+bool solveOnCube(const double* const equations[3], const double* objective, double lo, double hi,
+  double tolerance, BoxRoot& root, const BoxSolveLimits& limits = {}, int* pieces = nullptr);
+
+} // namespace tetdsr
