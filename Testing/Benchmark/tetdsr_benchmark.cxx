@@ -606,7 +606,7 @@ vtkSmartPointer<vtkUnstructuredGrid> MakeKindMesh(int n, int type, int nodes, bo
 /// Per hexahedron and wedge kind, straight and bent: as Orders.
 int Kinds(int size, int n)
 {
-  std::printf("| cells | type | nodes/cell | shape | solved as: itself, or tetrahedra (order) | mesh MB | preprocess s | kept MB | image | first frame s | camera move s | M rays/s | contour s | triangles |\n"
+  std::printf("| cells | type | nodes/cell | shape | solved as: itself, or split into tetrahedra (order) | mesh MB | preprocess s | kept MB | image | first frame s | camera move s | M rays/s | contour s | triangles |\n"
               "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   struct Row
   {
@@ -632,34 +632,21 @@ int Kinds(int size, int n)
     for (const Row& row : rows)
     {
       vtkSmartPointer<vtkUnstructuredGrid> mesh = MakeKindMesh(n, row.type, row.nodes, curved);
-      // Hexahedra are solved as themselves (order p per axis); wedges are split into
-      // tetrahedra of total degree D.
-      const tetdsr::HexahedronNodes* hexahedron = nullptr;
+      // Hexahedra are solved as themselves (order p per axis); straight wedges are split into
+      // tetrahedra of total degree D, curved ones solved as themselves (collapsed hexahedra).
       const tetdsr::SplitShape* shape = nullptr;
-      const bool isHexahedron = tetdsr::isHexahedronType(row.type);
-      if (isHexahedron)
-      {
-        tetdsr::hexahedronNodesOf(row.type, row.nodes, hexahedron);
-      }
-      else
-      {
-        tetdsr::splitShapeOf(row.type, row.nodes, shape);
-      }
-      // Bent hexahedra at size / 2; bent wedges at size / 4 up to total degree 4, and fewer rays
-      // as their pieces' solve's cost grows (size / 8 to degree 6, / 16 beyond).
-      const int image = !curved ? size
-        : isHexahedron          ? size / 2
-        : shape->degree <= 4    ? size / 4
-        : shape->degree <= 6    ? size / 8
-                                : size / 16;
+      const bool split = tetdsr::splitShapeOf(row.type, row.nodes, shape) == 0 && shape->wedge && !curved;
+      const int image = curved ? size / 2 : size;
       char solvedAs[32];
-      if (isHexahedron)
-      {
-        std::snprintf(solvedAs, sizeof solvedAs, "itself (Q%d)", hexahedron->order);
-      }
-      else
+      if (split)
       {
         std::snprintf(solvedAs, sizeof solvedAs, "%d (%d)", shape->pieces, shape->degree);
+      }
+      else
+      {
+        const tetdsr::HexahedronNodes* table = nullptr;
+        tetdsr::hexahedronNodesOf(row.type, row.nodes, table);
+        std::snprintf(solvedAs, sizeof solvedAs, "itself (Q%d%s)", table->order, shape->wedge ? ", collapsed" : "");
       }
       const WaveTimings t = TimeWave(mesh, image);
       // (M rays/s to 3 significant digits: bent cells of high degree reach only tens of rays/s.)

@@ -291,24 +291,28 @@ TEST(Hexahedron, BentCellsHoldAPlane)
 
 TEST(Hexahedron, JacobianSign)
 {
+  const tetdsr::HexahedronNodes* q2 = nullptr;
+  const tetdsr::HexahedronNodes* q3 = nullptr;
+  ASSERT_EQ(tetdsr::hexahedronNodesOf(72, 27, q2), 0);
+  ASSERT_EQ(tetdsr::hexahedronNodesOf(72, 64, q3), 0);
   auto value = [](const glm::dvec3& x) { return x.x; };
   // Bent: valid and curved.
   const Cell<2> bent(bend, value);
-  EXPECT_EQ((tetdsr::HexahedronCell<2, false>::validate(bent.nodes, 0x1p-52)),
+  EXPECT_EQ((tetdsr::HexahedronCell<2, false>::validate(bent.nodes, 0x1p-52, *q2)),
     tetdsr::kValid | tetdsr::kCurved);
   // Mirrored (x -> -x): inverted, still rendered.
   const Cell<2> mirrored([](const glm::dvec3& r) { const glm::dvec3 x = bend(r); return glm::dvec3(-x.x, x.y, x.z); }, value);
-  EXPECT_EQ((tetdsr::HexahedronCell<2, false>::validate(mirrored.nodes, 0x1p-52)),
+  EXPECT_EQ((tetdsr::HexahedronCell<2, false>::validate(mirrored.nodes, 0x1p-52, *q2)),
     tetdsr::kValid | tetdsr::kCurved | tetdsr::kInverted);
   // Folded: the middle pushed through the face x = 1 (det J changes sign inside).
   const Cell<2> folded([](const glm::dvec3& r) {
     const double bump = 16.0 * r.x * (1.0 - r.x) * r.y * (1.0 - r.y) * r.z * (1.0 - r.z);
     return glm::dvec3(r.x + 1.5 * bump, r.y, r.z);
   }, value);
-  EXPECT_EQ((tetdsr::HexahedronCell<2, false>::validate(folded.nodes, 0x1p-52)), tetdsr::kTangled);
+  EXPECT_EQ((tetdsr::HexahedronCell<2, false>::validate(folded.nodes, 0x1p-52, *q2)), tetdsr::kTangled);
   // Straight: valid, not curved.
   const Cell<3> straight([](const glm::dvec3& r) { return 2.0 * r + glm::dvec3(0.1, 0.2, 0.3); }, value);
-  EXPECT_EQ((tetdsr::HexahedronCell<3, false>::validate(straight.nodes, 0x1p-52)), tetdsr::kValid);
+  EXPECT_EQ((tetdsr::HexahedronCell<3, false>::validate(straight.nodes, 0x1p-52, *q3)), tetdsr::kValid);
 }
 
 } // namespace

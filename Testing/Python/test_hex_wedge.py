@@ -13,7 +13,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import (
     VTK_BEZIER_HEXAHEDRON, VTK_BEZIER_WEDGE, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON,
     VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON, VTK_LAGRANGE_WEDGE, VTK_PYRAMID,
-    VTK_QUADRATIC_HEXAHEDRON, VTK_QUADRATIC_LINEAR_WEDGE, VTK_QUADRATIC_TETRA, VTK_QUADRATIC_WEDGE,
+    VTK_QUADRATIC_HEXAHEDRON, VTK_QUADRATIC_LINEAR_WEDGE, VTK_QUADRATIC_PYRAMID, VTK_QUADRATIC_TETRA, VTK_QUADRATIC_WEDGE,
     VTK_TRIQUADRATIC_HEXAHEDRON, VTK_VOXEL, VTK_WEDGE, vtkPlane, vtkUnstructuredGrid)
 
 import hex_wedge_grids as hw
@@ -415,7 +415,7 @@ class VtkConvention(unittest.TestCase):
         from vtkmodules.vtkCommonTransforms import vtkTransform
         cases = [(VTK_HEXAHEDRON, 1), (VTK_QUADRATIC_HEXAHEDRON, 2),
                  (VTK_LAGRANGE_HEXAHEDRON, 3), (VTK_BEZIER_HEXAHEDRON, 2), (VTK_WEDGE, 1), (VTK_QUADRATIC_WEDGE, 2),
-                 (VTK_LAGRANGE_WEDGE, 3), (VTK_BEZIER_WEDGE, 2)]
+                 (VTK_LAGRANGE_WEDGE, 3), (VTK_BEZIER_WEDGE, 2), (VTK_PYRAMID, 1)]
         for vtk_type, order in cases:
             with self.subTest(vtk_type=vtk_type):
                 source = vtkCellTypeSource()
@@ -453,6 +453,66 @@ class VtkConvention(unittest.TestCase):
                                      f"got {caster.GetNumberOfInvertedCells()}")
 
 
+class Pyramids(unittest.TestCase):
+    """VTK_PYRAMID (a collapsed trilinear hexahedron) holds any linear field exactly, straight or
+    curved: vtkCellTypeSource's pyramids filling the unit cube, bent by hw.bulge, with the plane's
+    field, against the plane; and beside hexahedra and tetrahedra in one mesh."""
+
+    def pyramids(self, warp):
+        from vtkmodules.vtkFiltersSources import vtkCellTypeSource
+        source = vtkCellTypeSource()
+        source.SetCellType(VTK_PYRAMID)
+        source.SetBlocksDimensions(2, 2, 2)
+        source.Update()
+        mesh = vtkUnstructuredGrid()
+        mesh.DeepCopy(source.GetOutput())
+        x = vtk_to_numpy(mesh.GetPoints().GetData()).astype(np.float64) / 2.0  # [0, 2]^3 to the unit cube
+        x = warp(x) if warp is not None else x
+        points = numpy_to_vtk(np.ascontiguousarray(x), deep=1)
+        mesh.GetPoints().SetData(points)
+        for name, values in (("f", PLANE.value(x)), ("colour", linear_colour(x))):
+            array = numpy_to_vtk(np.ascontiguousarray(values), deep=1)
+            array.SetName(name)
+            mesh.GetPointData().AddArray(array)
+        mesh.GetPointData().SetActiveScalars("f")
+        return mesh
+
+    def test_pyramids_hold_a_plane(self):
+        cam = camera()
+        w, h = 80, 60
+        origins, directions = hog.pixel_rays(cam.GetPosition(), cam.GetFocalPoint(), cam.GetViewUp(),
+                                             cam.GetViewAngle(), w, h)
+        t, grazing = hog.first_crossing(PLANE, origins, directions)
+        for label, warp in (("straight", None), ("curved", hw.bulge())):
+            with self.subTest(shape=label):
+                mesh = self.pyramids(warp)
+
+                def configure(c):
+                    c.SetImageSize(w, h)
+                    c.ColorByArrayOn()
+                    c.SetInputArrayToProcess(1, 0, 0, 0, "colour")
+
+                caster = caster_for(mesh, [PLANE.iso], cam, configure)
+                messages = Messages(caster)
+                out = outputs(caster)
+                result = compare(out, t, grazing, origins, directions, PLANE)
+                cells = mesh.GetNumberOfCells()
+                print(f"VTK_PYRAMID {label}: {cells} cells, {caster.GetNumberOfRenderedCells()} rendered, "
+                      f"{caster.GetNumberOfInvertedCells()} inverted, {result['pixels']} pixels, "
+                      f"{result['missed']} missed, {result['false']} false, depth {result['depth']:.3g}, "
+                      f"normal {result['angle']:.3g} rad")
+                self.assertGreater(result["pixels"], 0.25 * w * h)
+                self.assertEqual(result["missed"], 0, f"{label}: expected 0 missed pixels, got {result['missed']}")
+                self.assertEqual(result["false"], 0, f"{label}: expected 0 false pixels, got {result['false']}")
+                self.assertLess(result["depth"], 1e-9)
+                self.assertLess(result["angle"], 1e-6)
+                self.assertEqual(caster.GetNumberOfRenderedCells(), cells)
+                self.assertEqual(caster.GetNumberOfInvertedCells(), 0)
+                self.assertEqual(messages.errors, [])
+                self.assertEqual(messages.warnings, [])
+                EveryKind.colour_error(self, label, out, linear_colour, result["both"], origins, directions, t)
+
+
 class Refusals(unittest.TestCase):
     """Cells TetDSR does not read: skipped, counted by kind, told in a warning; the rest of the
     mesh renders as without them."""
@@ -463,9 +523,9 @@ class Refusals(unittest.TestCase):
         good = hw.grid(N, VTK_HEXAHEDRON, 8, {"f": scalar.value})
         reference = outputs(caster_for(good, [scalar.iso], cam))
         # Lagrange hexahedra and Bezier wedges of order 5 (216 and 126 ids: VTK reads the order
-        # from the count), a pyramid, a hexahedron of 7 ids.
+        # from the count), a quadratic pyramid (VTK's map is rational), a hexahedron of 7 ids.
         bad = with_extra_cells(good, 216, [(VTK_LAGRANGE_HEXAHEDRON, 216), (VTK_BEZIER_WEDGE, 126),
-                                           (VTK_PYRAMID, 5), (VTK_HEXAHEDRON, 7)])
+                                           (VTK_QUADRATIC_PYRAMID, 13), (VTK_HEXAHEDRON, 7)])
         caster = caster_for(bad, [scalar.iso], cam)
         messages = Messages(caster)
         out = outputs(caster)

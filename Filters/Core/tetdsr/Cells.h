@@ -125,8 +125,9 @@ struct CellLayout
   const HexahedronNodes* hexahedron = nullptr;
 };
 
-/// Whether a VTK type is a hexahedron the core reads as itself (HexahedronCell.h).
-bool isHexahedronType(int vtkType);
+/// Whether a VTK type is one the core reads as a tensor-product cell (HexahedronCell.h): every
+/// hexahedron, VTK_PYRAMID, and the wedges a split mesh keeps (curved ones: SplitCells.h).
+bool isTensorProductType(int vtkType);
 /// cellLayout for a hexahedron type (HexahedronCell.cpp).
 std::uint16_t hexahedronLayout(int vtkType, long long ids, CellLayout& layout);
 
@@ -163,7 +164,7 @@ inline std::uint16_t cellLayout(int vtkType, long long ids, CellLayout& layout,
       return 0;
     }
     default:
-      return isHexahedronType(vtkType) ? hexahedronLayout(vtkType, ids, layout) : kUnsupported;
+      return isTensorProductType(vtkType) ? hexahedronLayout(vtkType, ids, layout) : kUnsupported;
   }
 }
 

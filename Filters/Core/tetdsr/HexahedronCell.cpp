@@ -55,6 +55,106 @@ HexahedronNodes basisTable(const SplitShape& shape)
   return table;
 }
 
+/// A wedge type's table: its shape functions (SplitShape::basis) at the lattice points' images
+/// r = u (1 - v), s = v (nodal values of the composite, a polynomial of degree `order` per axis).
+HexahedronNodes wedgeTable(int vtkType, const SplitShape& shape)
+{
+  HexahedronNodes table;
+  table.name = shape.name;
+  table.order = shape.order;
+  table.nodes = shape.nodes;
+  table.collapsedAxis = 1;
+  table.collapsedPower = 1;
+  table.mirrored = mirroredType(vtkType);
+  const int P = shape.order;
+  const int N = tensor::count(P);
+  table.weights.resize(static_cast<std::size_t>(N * shape.nodes));
+  for (int k = 0; k <= P; ++k)
+    for (int j = 0; j <= P; ++j)
+      for (int i = 0; i <= P; ++i)
+      {
+        const double u = static_cast<double>(i) / P, v = static_cast<double>(j) / P;
+        const double x[3] = { u * (1.0 - v), v, static_cast<double>(k) / P };
+        shape.basis(x, table.weights.data() + static_cast<std::size_t>(tensor::index(P, i, j, k) * shape.nodes));
+      }
+  for (const auto& r : shape.nodePoints)
+  {
+    // (The collapsed vertex's u is any: its middle.)
+    table.nodePoints.push_back({ r[1] < 1.0 ? r[0] / (1.0 - r[1]) : 0.5, r[1], r[2] });
+  }
+  return table;
+}
+
+/// The wedge tables, each built once (thread-safe statics) from the split's shapes.
+const HexahedronNodes* wedgeTableOf(int vtkType, long long ids, std::uint16_t& status)
+{
+  const SplitShape* shape = nullptr;
+  status = splitShapeOf(vtkType, ids, shape);
+  if (status != 0)
+  {
+    return nullptr;
+  }
+  auto make = [](int type, const SplitShape* s) { return wedgeTable(type, *s); };
+  switch (vtkType)
+  {
+    case kVtkWedge:
+    {
+      static const HexahedronNodes table = make(kVtkWedge, shape);
+      return &table;
+    }
+    case kVtkQuadraticLinearWedge:
+    {
+      static const HexahedronNodes table = make(kVtkQuadraticLinearWedge, shape);
+      return &table;
+    }
+    case kVtkQuadraticWedge:
+    {
+      static const HexahedronNodes table = make(kVtkQuadraticWedge, shape);
+      return &table;
+    }
+    case kVtkBiquadraticQuadraticWedge:
+    {
+      static const HexahedronNodes table = make(kVtkBiquadraticQuadraticWedge, shape);
+      return &table;
+    }
+    default:
+    {
+      // Lagrange and Bezier wedges of orders 1 to 4 (the order from the shape).
+      static const HexahedronNodes lagrange[4] = { make(kVtkLagrangeWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkLagrangeWedge, 6, s); return s; }()),
+        make(kVtkLagrangeWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkLagrangeWedge, 18, s); return s; }()),
+        make(kVtkLagrangeWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkLagrangeWedge, 40, s); return s; }()),
+        make(kVtkLagrangeWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkLagrangeWedge, 75, s); return s; }()) };
+      static const HexahedronNodes bezier[4] = { make(kVtkBezierWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkBezierWedge, 6, s); return s; }()),
+        make(kVtkBezierWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkBezierWedge, 18, s); return s; }()),
+        make(kVtkBezierWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkBezierWedge, 40, s); return s; }()),
+        make(kVtkBezierWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkBezierWedge, 75, s); return s; }()) };
+      return &(vtkType == kVtkBezierWedge ? bezier : lagrange)[shape->order - 1];
+    }
+  }
+}
+
+/// VTK_PYRAMID's table: the base's four nodes at t = 0 (VTK_HEXAHEDRON's order), the apex at
+/// the four corners of t = 1.
+HexahedronNodes pyramidTable()
+{
+  HexahedronNodes table;
+  table.name = "VTK_PYRAMID";
+  table.order = 1;
+  table.nodes = 5;
+  table.collapsedAxis = 2;
+  table.collapsedPower = 2;
+  table.weights.assign(static_cast<std::size_t>(8 * 5), 0.0);
+  const int baseNode[2][2] = { { 0, 3 }, { 1, 2 } }; // [i][j]
+  for (int j = 0; j <= 1; ++j)
+    for (int i = 0; i <= 1; ++i)
+    {
+      table.weights[static_cast<std::size_t>(tensor::index(1, i, j, 0) * 5 + baseNode[i][j])] = 1.0;
+      table.weights[static_cast<std::size_t>(tensor::index(1, i, j, 1) * 5 + 4)] = 1.0;
+    }
+  table.nodePoints = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 }, { 0.5, 0.5, 1 } };
+  return table;
+}
+
 template <bool Bezier, int Order>
 const HexahedronNodes& higherOrderTable()
 {
@@ -547,6 +647,31 @@ int determinantSign(const Poly& det)
   return sign;
 }
 
+/// The form divided by (1 - x_axis), which it has as a factor (a collapsed cell's det J): from
+/// B_i^(n-1) (1 - x) = (n - i) / n B_i^n, the quotient's coefficient i is c_i n / (n - i), i < n
+/// (c_n, zero up to rounding, is dropped).
+void divideByOneMinus(Poly& p, int axis)
+{
+  const int n = p.degree[axis];
+  if (n == 0)
+  {
+    return;
+  }
+  int degree[3] = { p.degree[0], p.degree[1], p.degree[2] };
+  degree[axis] = n - 1;
+  Poly q = Poly::zero(degree[0], degree[1], degree[2]);
+  for (int k = 0; k <= degree[2]; ++k)
+    for (int j = 0; j <= degree[1]; ++j)
+      for (int i = 0; i <= degree[0]; ++i)
+      {
+        const int index[3] = { i, j, k };
+        const int m = index[axis];
+        q.c[static_cast<std::size_t>(q.at(i, j, k))] =
+          p.c[static_cast<std::size_t>(p.at(i, j, k))] * n / static_cast<double>(n - m);
+      }
+  p = std::move(q);
+}
+
 /// det(dX/d(r, s, t)) as a tensor form (local coordinates).
 template <int P>
 Poly jacobianDeterminant(const LocalGeometry<P>& g)
@@ -627,10 +752,17 @@ glm::dvec3 worldGradient(const glm::dmat3& jacobian, const double parametric[3],
 
 // ---- Node tables -------------------------------------------------------------------------------
 
-bool isHexahedronType(int vtkType)
+bool isTensorProductType(int vtkType)
 {
   switch (vtkType)
   {
+    case kVtkWedge:
+    case kVtkQuadraticLinearWedge:
+    case kVtkQuadraticWedge:
+    case kVtkBiquadraticQuadraticWedge:
+    case kVtkLagrangeWedge:
+    case kVtkBezierWedge:
+    case kVtkPyramid:
     case kVtkVoxel:
     case kVtkHexahedron:
     case kVtkQuadraticHexahedron:
@@ -701,6 +833,23 @@ std::uint16_t hexahedronNodesOf(int vtkType, long long ids, const HexahedronNode
       };
       table = &kBuilders[vtkType == kVtkBezierHexahedron][order - 1]();
       return 0;
+    }
+    case kVtkPyramid:
+    {
+      static const HexahedronNodes pyramid = pyramidTable();
+      table = &pyramid;
+      return ids == 5 ? 0 : kMalformed;
+    }
+    case kVtkWedge:
+    case kVtkQuadraticLinearWedge:
+    case kVtkQuadraticWedge:
+    case kVtkBiquadraticQuadraticWedge:
+    case kVtkLagrangeWedge:
+    case kVtkBezierWedge:
+    {
+      std::uint16_t status = 0;
+      table = wedgeTableOf(vtkType, ids, status);
+      return status;
     }
     default:
       return kUnsupported;
@@ -1066,7 +1215,17 @@ template bool solveOnCube<4>(const double* const[3], const double*, double, doub
 // ---- The cell seam's steps ---------------------------------------------------------------------
 
 template <int P, bool Curved>
-std::uint16_t HexahedronCell<P, Curved>::validate(const glm::dvec3* nodes, double pointRounding)
+std::uint16_t HexahedronCell<P, Curved>::validate(
+  const glm::dvec3* nodes, double pointRounding, const HexahedronNodes& table)
+{
+  const std::uint16_t flags = validateForm(nodes, pointRounding, table);
+  // A mirrored type's well-formed cell has a map of negative orientation.
+  return table.mirrored && (flags & kValid) ? static_cast<std::uint16_t>(flags ^ kInverted) : flags;
+}
+
+template <int P, bool Curved>
+std::uint16_t HexahedronCell<P, Curved>::validateForm(
+  const glm::dvec3* nodes, double pointRounding, const HexahedronNodes& table)
 {
   // The corners' tetrahedron: size, volume, orientation, and the curved tolerance.
   const glm::dvec3 frame[4] = { nodes[tensor::index(P, 0, 0, 0)], nodes[tensor::index(P, P, 0, 0)],
@@ -1090,7 +1249,12 @@ std::uint16_t HexahedronCell<P, Curved>::validate(const glm::dvec3* nodes, doubl
   {
     return flags;
   }
-  const int sign = determinantSign(jacobianDeterminant(LocalGeometry<P>::fromNodes(nodes)));
+  Poly det = jacobianDeterminant(LocalGeometry<P>::fromNodes(nodes));
+  for (int k = 0; k < table.collapsedPower; ++k)
+  {
+    divideByOneMinus(det, table.collapsedAxis);
+  }
+  const int sign = determinantSign(det);
   if (sign == 0)
   {
     return kTangled;

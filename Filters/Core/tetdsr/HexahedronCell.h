@@ -44,20 +44,36 @@ namespace tetdsr
 /// The highest order per axis of the hexahedra the core reads.
 constexpr int kMaxHexahedronOrder = 4;
 
-/// How a hexahedron type's nodes (VTK's order) become its tensor form: a permutation onto the
-/// lattice of its order when its nodes are the lattice's (Lagrange, Bezier, VTK_HEXAHEDRON,
-/// VTK_VOXEL, 27 nodes), else the nodal basis at the lattice points (20 and 24 nodes).
+/// How a cell type's nodes (VTK's order) become its tensor form: a permutation onto the lattice
+/// of its order when its nodes are the lattice's (Lagrange, Bezier, VTK_HEXAHEDRON, VTK_VOXEL, 27
+/// nodes), else the cell's shape functions at the lattice points (20 and 24 nodes, and the
+/// collapsed cells below).
+///
+/// Wedges and VTK_PYRAMID are read as collapsed hexahedra. A wedge's polynomials (of P_p(r, s) x
+/// P_q(t) and its relatives) composed with r = u (1 - v), s = v are of degree p per axis in (u,
+/// v, t): the unit cube maps onto the wedge with its face v = 1 collapsed onto the edge through
+/// the triangle's vertex (0, 1), and det J = (1 - v) det J_wedge. VTK_PYRAMID's map and field
+/// (1 - t) (its base's bilinear ones) + t (the apex's) are trilinear with the face t = 1
+/// collapsed onto the apex: det J = (1 - t)^2 times a polynomial whose sign is the cell's.
 struct HexahedronNodes
 {
   const char* name = "";
   int order = 1;
   bool bezier = false;
   int nodes = 0;
+  /// The axis whose face at 1 is collapsed (wedges: 1, VTK_PYRAMID: 2; -1: none), and the power
+  /// of (1 - x) det J has as a factor there.
+  int collapsedAxis = -1;
+  int collapsedPower = 0;
+  /// VTK orders the type's nodes so that a well-formed cell's map reverses the parametric
+  /// orientation (SplitCells.h's mirroredType): its inversion is the reverse of its map's sign.
+  bool mirrored = false;
   /// Per node, its lattice index (tensor::index); empty when `weights` is used.
   std::vector<int> lattice;
   /// count(order) x nodes: the nodal values at lattice point k are sum_n weights[k][n] node[n].
   std::vector<double> weights;
-  /// Each node's parametric point (r, s, t), VTK's.
+  /// Each node's point in the tensor form's cube (VTK's parametric point for hexahedra; (u, v,
+  /// t) for collapsed cells).
   std::vector<std::array<double, 3>> nodePoints;
 };
 
@@ -104,8 +120,11 @@ struct HexahedronCell
   /// validate, on the tensor form: the corners' frame checks (QuadraticTetCell's on the
   /// tetrahedron of the corners (0,0,0), (1,0,0), (0,1,0), (0,0,1)); kCurved when a control point
   /// is off where the frame's affine map puts it; for a curved cell the sign of det J over the
-  /// whole cube (kTangled when it changes or vanishes, kInverted when negative).
-  static std::uint16_t validate(const glm::dvec3* nodes, double pointRounding);
+  /// whole cube (kTangled when it changes or vanishes, kInverted when negative; a collapsed
+  /// cell's with its factor (1 - x)^power divided out; a mirrored type's sign reversed).
+  static std::uint16_t validate(const glm::dvec3* nodes, double pointRounding, const HexahedronNodes& table);
+  /// validate without the mirrored type's reversal.
+  static std::uint16_t validateForm(const glm::dvec3* nodes, double pointRounding, const HexahedronNodes& table);
 
   static void valueBound(const double values[], const TransverseTest&, double& lo, double& hi)
   {

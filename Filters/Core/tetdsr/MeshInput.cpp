@@ -175,7 +175,7 @@ constexpr const char* kReadTypes =
   "to 4; VTK_HEXAHEDRON, VTK_VOXEL, VTK_QUADRATIC_HEXAHEDRON, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON, "
   "VTK_TRIQUADRATIC_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON or VTK_BEZIER_HEXAHEDRON of order 1 to 4; "
   "VTK_WEDGE, VTK_QUADRATIC_WEDGE, VTK_QUADRATIC_LINEAR_WEDGE, VTK_BIQUADRATIC_QUADRATIC_WEDGE, "
-  "VTK_LAGRANGE_WEDGE or VTK_BEZIER_WEDGE of order 1 to 4";
+  "VTK_LAGRANGE_WEDGE or VTK_BEZIER_WEDGE of order 1 to 4; VTK_PYRAMID";
 
 /// The warnings for every kind of cell the scene skipped, then whether any cell is left.
 bool describeSkipped(const PreprocessSummary& summary, NodeId numberOfCells, NodeId numberOfPoints,

@@ -525,7 +525,7 @@ std::uint16_t Scene::checkNodes(const CellLayout& layout, const NodeId* ids,
       }
     }
     return forHexahedronOrder(layout.order, [&](auto P) {
-      return HexahedronCell<decltype(P)::value, false>::validate(nodes, Mesh_.pointRounding);
+      return HexahedronCell<decltype(P)::value, false>::validate(nodes, Mesh_.pointRounding, *layout.hexahedron);
     });
   }
   // Orders 3 and 4 are checked on their nodes as given (where the affine map puts a node is

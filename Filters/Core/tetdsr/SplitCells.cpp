@@ -749,7 +749,6 @@ bool isSplitType(int vtkType)
   switch (vtkType)
   {
     case kVtkWedge:
-    case kVtkPyramid:
     case kVtkQuadraticWedge:
     case kVtkQuadraticPyramid:
     case kVtkQuadraticLinearWedge:
@@ -827,7 +826,8 @@ std::uint16_t splitShapeOf(int vtkType, long long ids, const SplitShape*& shape)
       return 0;
     }
     default:
-      return kUnsupported; // pyramids: their rational (VTK_PYRAMID: degenerate) maps are not read
+      return kUnsupported; // higher-order pyramids: VTK's are rational, not read (VTK_PYRAMID is
+                           // read as a collapsed hexahedron, HexahedronCell.h)
   }
 }
 
@@ -938,8 +938,17 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
       out.SourceStatus[c] = status;
       continue;
     }
-    out.Shape[c] = shape;
     out.SourceOrders[c] = static_cast<std::uint8_t>(shape->order);
+    glm::dvec3 frame[4];
+    if (!affineFrame(*shape, input, input.connectivity + begin, frame))
+    {
+      // A curved wedge is solved as itself (HexahedronCell.h's collapsed hexahedron): kept as it
+      // is, its own validation telling its orientation.
+      pieces += 1;
+      connectivity += end - begin;
+      continue;
+    }
+    out.Shape[c] = shape;
     out.SourceMirrored[c] = mirroredType(type);
     out.IdsAt[c] = copiedIds;
     copiedIds += shape->nodes;
