@@ -1,8 +1,9 @@
-// What one ray test costs in a curved (isoparametric) cell of order P = 2, 3, 4: random rays
-// aimed at random points of one cell, through the cell seam's intersect (CurvedTetCell for P = 2,
-// CurvedHigherOrderTetCell<P> for 3 and 4), on one core. Prints a Markdown table: the time per
-// ray-cell test, the sub-simplices the solve visits per test (mean and largest), the hits and
-// the share of them certified by a Krawczyk test.
+// What one ray test costs in a curved (isoparametric) tetrahedron of order P = 2, 3, 4: random
+// rays aimed at random points of one cell, through its record's ray test (CurvedTetCell for
+// P = 2, CurvedHigherOrderTetCell<P> for 3 and 4, recorded once as the collapsed cube's forms and
+// solved by HexahedronCell<P, true>), on one core. Prints a Markdown table: the time per ray-cell
+// test, the boxes the solve visits per test (mean and largest), the hits and the share of them
+// certified by a Krawczyk test.
 //
 //   tetdsr-curved-ray-cost [rays per case]
 //
@@ -14,6 +15,7 @@
 #include "tetdsr/CurvedTet.h"
 #include "tetdsr/CurvedTetCell.h"
 #include "tetdsr/HigherOrderTet.h"
+#include "tetdsr/HexahedronCell.h"
 #include "tetdsr/IsoparametricRay.h"
 
 #include <algorithm>
@@ -80,49 +82,42 @@ struct Result
   int maxPieces = 0, hits = 0, certified = 0;
 };
 
+/// The cell's record, made once (as the scene makes it for a transverse cell): the collapsed
+/// cube's forms (HexahedronCell.h).
 template <int P>
-bool cellIntersect(const Cell<P>& cell, const tetdsr::IsoValues& iso, const tetdsr::Ray& ray,
-  tetdsr::SurfaceHit& hit, bool& certified)
+struct Recorded
 {
-  if constexpr (P == 2)
-    return tetdsr::CurvedTetCell::intersect(cell.nodes, cell.values, iso, 0, 1, ray, 0.0, 1e30, hit, certified);
-  else
-    return tetdsr::CurvedHigherOrderTetCell<P>::intersect(
-      cell.nodes, cell.values, iso, 0, 1, ray, 0.0, 1e30, hit, certified);
-}
+  using Kind = std::conditional_t<P == 2, tetdsr::CurvedTetCell, tetdsr::CurvedHigherOrderTetCell<P>>;
+  tetdsr::CellRecord record{};
+  std::vector<double> coefficients = std::vector<double>(Kind::kRecordCoefficients);
+  explicit Recorded(const Cell<P>& cell) { Kind::record(cell.nodes, cell.values, record, coefficients.data()); }
+};
 
-/// The pieces one test visits: the cells' own set-up (geometry in the local frame, field scaled
-/// to a largest coefficient near 1), solved through isoparametric::intersect with a counter.
+/// The boxes one test visits: the record's forms as the cell's ray test builds its equations
+/// (its local frame, re-origined ray, unit field), solved by solveOnUnitBox with a counter.
 template <int P>
-int piecesOf(const Cell<P>& cell, const tetdsr::IsoValues& iso, const tetdsr::Ray& ray)
+int piecesOf(const Recorded<P>& recorded, double iso, const tetdsr::Ray& ray)
 {
-  const double scale = tetdsr::scaleFor(tetdsr::bernstein::magnitude(cell.values, Cell<P>::kNodes));
-  const double size = tetdsr::scaleFor(tetdsr::longestEdge(cell.nodes));
-  tetdsr::SurfaceHit hit;
-  bool certified;
+  constexpr int N = tetdsr::tensor::count(P);
+  constexpr int H = tetdsr::HexahedronCell<P, true>::kHeader;
+  const double* c = recorded.coefficients.data();
+  const glm::dvec3 origin = (ray.origin - glm::dvec3(c[0], c[1], c[2])) * c[3];
+  const glm::dvec3 d = ray.direction;
+  glm::dvec3 u, v;
+  tetdsr::isoparametric::orthonormalPair(d, u, v);
+  double e0[N], e1[N], f[N], depth[N];
+  for (int k = 0; k < N; ++k)
+  {
+    const glm::dvec3 offset = glm::dvec3(c[H + k], c[H + N + k], c[H + 2 * N + k]) - origin;
+    e0[k] = glm::dot(u, offset);
+    e1[k] = glm::dot(v, offset);
+    depth[k] = glm::dot(d, offset);
+    f[k] = c[H + 3 * N + k] - iso * recorded.record.scale;
+  }
+  const double* equations[3] = { e0, e1, f };
+  tetdsr::BoxRoot root;
   int pieces = 0;
-  auto inside = [](const glm::dvec3&) { return false; }; // (asked only of constant fields)
-  if constexpr (P == 2)
-  {
-    double values[10];
-    for (int n = 0; n < 10; ++n)
-      values[n] = cell.values[n] * scale;
-    const tetdsr::BernsteinForm field = tetdsr::BernsteinForm::fromNodeValues(values);
-    double lo, hi;
-    field.range(lo, hi);
-    tetdsr::isoparametric::intersect(tetdsr::CurvedGeometry::fromNodes(cell.nodes, size), field,
-      scale, lo, hi, inside, iso, 0, 1, ray, 0.0, 1e30, hit, certified, &pieces);
-  }
-  else
-  {
-    tetdsr::PolynomialForm<P> field;
-    for (int n = 0; n < Cell<P>::kNodes; ++n)
-      field.c[tetdsr::HigherOrderTet<P>::kLatticeOfNode[n]] = cell.values[n] * scale;
-    double lo, hi;
-    tetdsr::bernstein::range(field.c, Cell<P>::kNodes, lo, hi);
-    tetdsr::isoparametric::intersect(tetdsr::IsoparametricGeometry<P>::fromNodes(cell.nodes, size),
-      field, scale, lo, hi, inside, iso, 0, 1, ray, 0.0, 1e30, hit, certified, &pieces);
-  }
+  tetdsr::solveOnUnitBox<P>(equations, depth, 0.0, 1e300, root, {}, &pieces);
   return pieces;
 }
 
@@ -130,6 +125,7 @@ template <int P>
 Result measure(const Case& c, double iso, int rays)
 {
   const Cell<P> cell(c);
+  const Recorded<P> recorded(cell);
   const tetdsr::IsoValues isoValues({ iso });
   std::mt19937 random(7);
   std::exponential_distribution<double> e(1.0);
@@ -154,7 +150,8 @@ Result measure(const Case& c, double iso, int rays)
     {
       tetdsr::SurfaceHit hit;
       bool certified = true;
-      if (cellIntersect<P>(cell, isoValues, ray, hit, certified) && repeat == 0)
+      if (tetdsr::HexahedronCell<P, true>::intersect(recorded.record, ray, isoValues, 0, 1, 0.0, 1e30, hit, certified) &&
+        repeat == 0)
       {
         ++result.hits;
         result.certified += certified;
@@ -167,7 +164,7 @@ Result measure(const Case& c, double iso, int rays)
   long long total = 0;
   for (const tetdsr::Ray& ray : list)
   {
-    const int pieces = piecesOf<P>(cell, isoValues, ray);
+    const int pieces = piecesOf<P>(recorded, iso, ray);
     total += pieces;
     result.maxPieces = std::max(result.maxPieces, pieces);
   }
@@ -185,7 +182,7 @@ void row(int order, const char* name, const Result& r, int rays)
 int main(int argc, char** argv)
 {
   const int rays = argc > 1 ? std::max(1, std::atoi(argv[1])) : 20000;
-  std::printf("| P | cell | us per ray-cell test | pieces visited (mean) | (largest) | hits | certified share |\n");
+  std::printf("| P | cell | us per ray-cell test | boxes visited (mean) | (largest) | hits | certified share |\n");
   std::printf("|---|---|---|---|---|---|---|\n");
   const glm::dvec3 centre(0.4, 0.35, 0.3);
   for (double alpha : { 0.3, 0.7 })

@@ -101,7 +101,7 @@ void run(int rays, double bend)
     }
     meanPieces /= rays;
   }
-  std::printf("| Q%d | %s | %d | %.2f | %.0f | %d | %d | %.1f%% |\n", P, Curved ? "bent" : "straight", rays,
+  std::printf("| Q%d | %s %.2g | %d | %.2f | %.0f | %d | %d | %.1f%% |\n", P, Curved ? "bent" : "straight", bend, rays,
     1e6 * seconds / rays, meanPieces, mostPieces, hits, hits ? 100.0 * certified / hits : 100.0);
 }
 } // namespace
@@ -119,5 +119,8 @@ int main(int argc, char* argv[])
   run<2, true>(rays, 0.03);
   run<3, true>(rays, 0.03);
   run<4, true>(rays, 0.03);
+  // Bent ten times as much (0.3 of the cube).
+  run<2, true>(rays, 0.3);
+  run<4, true>(rays, 0.3);
   return EXIT_SUCCESS;
 }

@@ -238,7 +238,7 @@ TEST(MeshInput, CellsOfOtherTypesAndMalformedCellsAreCountedAndTold)
     "VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON, VTK_TRIQUADRATIC_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON or "
     "VTK_BEZIER_HEXAHEDRON of order 1 to 4; VTK_WEDGE, VTK_QUADRATIC_WEDGE, "
     "VTK_QUADRATIC_LINEAR_WEDGE, VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_LAGRANGE_WEDGE or "
-    "VTK_BEZIER_WEDGE of order 1 to 4";
+    "VTK_BEZIER_WEDGE of order 1 to 4; VTK_PYRAMID";
   EXPECT_EQ(messages.warnings[0], "Skipped 1 cells of a type TetDSR does not read (it reads " + reads + ").");
   EXPECT_EQ(messages.warnings[1].rfind("Skipped 3 malformed cells: a number of node ids", 0), 0u)
     << messages.warnings[1];

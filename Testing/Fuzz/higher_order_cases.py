@@ -24,7 +24,7 @@ VTK_TETRA, VTK_QUADRATIC_TETRA = 10, 24
 VTK_LAGRANGE_TETRAHEDRON, VTK_BEZIER_TETRAHEDRON = 71, 78
 READ_TYPES = (VTK_TETRA, VTK_QUADRATIC_TETRA, VTK_LAGRANGE_TETRAHEDRON, VTK_BEZIER_TETRAHEDRON)
 MAX_ORDER = 4
-# Hexahedra and wedges (read by splitting them into tetrahedra), and the pyramids (not read).
+# Hexahedra, wedges and pyramids (VTK_PYRAMID read, the higher-order ones not).
 VTK_VOXEL, VTK_HEXAHEDRON, VTK_WEDGE, VTK_PYRAMID, VTK_PENTAGONAL_PRISM = 11, 12, 13, 14, 15
 VTK_QUADRATIC_HEXAHEDRON, VTK_QUADRATIC_WEDGE, VTK_QUADRATIC_PYRAMID = 25, 26, 27
 VTK_TRIQUADRATIC_HEXAHEDRON, VTK_QUADRATIC_LINEAR_WEDGE = 29, 31
@@ -106,7 +106,7 @@ def wedge_count(order):
 
 def read_status(vtk_type, count):
     """What reading a cell of this type and id count gives, as the core does (Cells.h cellLayout
-    for tetrahedra, SplitCells.cpp splitShapeOf for the others): "" (read) or UNSUPPORTED,
+    for tetrahedra, HexahedronCell.cpp hexahedronNodesOf for the others): "" (read) or UNSUPPORTED,
     MALFORMED, ORDER_TOO_HIGH."""
     if vtk_type in READ_TYPES:
         order = {VTK_TETRA: 1 if count == 4 else 0,
@@ -114,13 +114,15 @@ def read_status(vtk_type, count):
         return MALFORMED if order == 0 else ORDER_TOO_HIGH if order > MAX_ORDER else ""
     if vtk_type in SPLIT_FIXED:
         return "" if count == SPLIT_FIXED[vtk_type] else MALFORMED
+    if vtk_type == VTK_PYRAMID:  # read as a collapsed hexahedron (HexahedronCell.h)
+        return "" if count == 5 else MALFORMED
     if vtk_type in (VTK_LAGRANGE_HEXAHEDRON, VTK_BEZIER_HEXAHEDRON):
         order = order_of(count, hexahedron_count)
         return MALFORMED if order == 0 else ORDER_TOO_HIGH if order > MAX_HEX_ORDER else ""
     if vtk_type in (VTK_LAGRANGE_WEDGE, VTK_BEZIER_WEDGE):
         order = order_of(count, wedge_count)  # (VTK's 21-node wedge: malformed)
         return MALFORMED if order == 0 else ORDER_TOO_HIGH if order > MAX_WEDGE_ORDER else ""
-    return UNSUPPORTED  # pyramids and every other type
+    return UNSUPPORTED  # the higher-order pyramids (rational in VTK) and every other type
 
 
 @lru_cache(maxsize=None)

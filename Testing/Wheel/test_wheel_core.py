@@ -12,7 +12,7 @@ from tetdsr import _core
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
 from shared_helpers import lattice  # noqa: E402
 
-VTK_QUADRATIC_TETRA, VTK_TETRA, VTK_PYRAMID, VTK_PENTAGONAL_PRISM = 24, 10, 14, 15
+VTK_QUADRATIC_TETRA, VTK_TETRA, VTK_QUADRATIC_PYRAMID, VTK_PENTAGONAL_PRISM = 24, 10, 27, 15
 
 
 def mesh_arrays(n=2, points_dtype=np.float64, id_dtype=np.int64):
@@ -77,9 +77,10 @@ def test_prepared_mesh_reads_vtk_dtypes_and_tells_what_it_skipped():
                                        field=mesh_arrays()["field"].astype(np.float32))
     assert ready and single.summary["valid"] == valid, (messages.errors, single.summary)
     types = mesh_arrays()["cell_types"].copy()
-    # Types TetDSR does not read, whatever their ids (10 here): a pyramid (which the core's
-    # hexahedron and wedge reading turns away) and a pentagonal prism (which it never sees).
-    types[[3, 7]] = VTK_PYRAMID, VTK_PENTAGONAL_PRISM
+    # Types TetDSR does not read, whatever their ids (10 here): a quadratic pyramid (which the
+    # core's wedge reading turns away: VTK's is rational) and a pentagonal prism (which it never
+    # sees).
+    types[[3, 7]] = VTK_QUADRATIC_PYRAMID, VTK_PENTAGONAL_PRISM
     mesh, ready, messages = prepared(cell_types=types)
     assert ready and mesh.summary["unsupported"] == 2, mesh.summary
     assert mesh.summary["valid"] == valid - 2, mesh.summary

@@ -13,6 +13,7 @@
 
 #include "tetdsr/Camera.h"
 #include "tetdsr/Cells.h"
+#include "tetdsr/HexahedronCell.h"
 #include "tetdsr/HigherOrderTetCell.h"
 
 #include <glm/glm.hpp>
@@ -55,16 +56,33 @@ struct CurvedHigherOrderTetCell : HigherOrderTetCell<P>
   /// barycentric L.
   static glm::dvec3 gradient(const glm::dvec3* nodes, const double* values, const double L[4]);
 
-  /// The nodes its record is made from, and the coefficients it keeps beside it: none (the ray
-  /// test reads the nodes and values from the mesh).
-  static constexpr int kRecordNodes = 0;
-  static constexpr int kRecordCoefficients = 0;
+  /// The nodes its record is made from: all; the numbers it keeps beside it: the collapsed
+  /// cube's forms (HexahedronCell<P, true>'s; pieces of orders above 4 keep none: solved from
+  /// the mesh).
+  static constexpr int kRecordNodes = P <= kMaxHexahedronOrder ? latticeCount(P) : 0;
+  static constexpr int kRecordCoefficients = P <= kMaxHexahedronOrder ? HexahedronCell<P, true>::kRecordCoefficients : 0;
 
-  /// record: only the kind (the cell is solved from the mesh); `cell` keeps its id and value
-  /// range.
-  static void record(const glm::dvec3*, const double*, CellRecord& cell, double* = nullptr)
+  /// record: the map and field as the collapsed cube's tensor forms of degree P, recorded as a
+  /// curved hexahedron's (the ray test is HexahedronCell<P, true>'s); a piece of order above 4
+  /// (a split wedge's) is solved from the mesh on the simplex.
+  static void record(const glm::dvec3* nodes, const double* values, CellRecord& cell, double* coefficients)
   {
-    cell.kind = CellRecord::Kind::Curved;
+    if constexpr (P <= kMaxHexahedronOrder)
+    {
+      glm::dvec3 tensorNodes[tensor::count(P)];
+      double tensorValues[tensor::count(P)];
+      collapsedTetrahedron<P>(
+        [](const double* items, const double L[4]) { return HigherOrderTetCell<P>::interpolate(items, L); },
+        nodes, values, latticeCount(P), tensorNodes, tensorValues);
+      HexahedronCell<P, true>::record(tensorNodes, tensorValues, cell, coefficients);
+    }
+    else
+    {
+      (void)nodes;
+      (void)values;
+      (void)coefficients;
+      cell.kind = CellRecord::Kind::Curved;
+    }
   }
 };
 

@@ -81,12 +81,10 @@ bool CurvedTetCell::intersect(const glm::dvec3 nodes[kCellNodes], const double v
   const IsoValues& isoValues, std::size_t first, std::size_t last, const Ray& ray, double tMin,
   double tLimit, SurfaceHit& hit, bool& certified)
 {
-  double scale, boundLo, boundHi;
-  const BernsteinForm field = scaledFieldForm(values, scale, boundLo, boundHi);
-  double L[4];
-  return isoparametric::intersect(localGeometry(nodes), field, scale, boundLo, boundHi,
-    [&](const glm::dvec3& point) { return contains(nodes, point, L); }, isoValues, first, last,
-    ray, tMin, tLimit, hit, certified);
+  CellRecord cell{};
+  double coefficients[kRecordCoefficients];
+  record(nodes, values, cell, coefficients);
+  return HexahedronCell<2, true>::intersect(cell, ray, isoValues, first, last, tMin, tLimit, hit, certified);
 }
 
 } // namespace tetdsr

@@ -1,11 +1,13 @@
 // The curved (isoparametric) quadratic tetrahedron: VTK_QUADRATIC_TETRA with a mid-edge node off
 // its edge. Its map from barycentric coordinates is quadratic, so a ray's crossing is the common
-// root of three quadratic equations on the reference simplex, solved with Bernstein bounds and
-// certified by Krawczyk's test (CurvedTet.h). The cell seam's steps (Cells.h); the cell's nodes
-// and values are read from the mesh for each step (its record holds only its value range).
+// root of three quadratic equations on the reference cell. Its record holds the map and field as
+// the tensor form of the cube collapsed onto it (collapsedTetrahedron, HexahedronCell.h), where
+// the box solve (Bezier clipping, Krawczyk's test) finds and certifies it; validation, point
+// location and the gradient work on the simplex (CurvedTet.h). The cell seam's steps (Cells.h).
 #pragma once
 
 #include "tetdsr/Cells.h"
+#include "tetdsr/HexahedronCell.h"
 #include "tetdsr/QuadraticTetCell.h"
 
 #include <glm/glm.hpp>
@@ -28,8 +30,9 @@ struct CurvedTetCell
   static bool extent(const glm::dvec3 nodes[kCellNodes], glm::dvec3& lo, glm::dvec3& hi);
 
   /// intersect: the first crossing along the ray, with tMin <= t <= tLimit, of one of the
-  /// iso-values sorted()[first, last). `certified` is false for a hit accepted at the
-  /// subdivision limit without a Krawczyk certificate (a tangent or near-tangent root).
+  /// iso-values sorted()[first, last): the cell recorded, then its record's ray test (the
+  /// scene keeps records; this is the same test for a cell taken as it is). `certified` is false
+  /// for a hit accepted at the subdivision limit without a Krawczyk certificate.
   static bool intersect(const glm::dvec3 nodes[kCellNodes], const double values[kCellNodes],
     const IsoValues& isoValues, std::size_t first, std::size_t last, const Ray& ray, double tMin,
     double tLimit, SurfaceHit& hit, bool& certified);
@@ -59,15 +62,22 @@ struct CurvedTetCell
     return QuadraticTetCell::interpolate(values, L);
   }
 
-  /// The nodes its record is made from: none (the ray test reads them from the mesh).
-  static constexpr int kRecordNodes = 0;
-  static constexpr int kRecordCoefficients = 0;
+  /// The nodes its record is made from: all ten; the numbers it keeps beside it: the collapsed
+  /// cube's forms (HexahedronCell<2, true>'s).
+  static constexpr int kRecordNodes = kCellNodes;
+  static constexpr int kRecordCoefficients = HexahedronCell<2, true>::kRecordCoefficients;
 
-  /// record: only the kind (the cell is solved from the mesh: its nodes and values are read
-  /// for each ray test); `cell` keeps its id and value range.
-  static void record(const glm::dvec3[kCellNodes], const double[kCellNodes], CellRecord& cell, double* = nullptr)
+  /// record: the map and field as the collapsed cube's tensor forms of degree 2, recorded as a
+  /// curved hexahedron's (the ray test is HexahedronCell<2, true>'s).
+  static void record(const glm::dvec3 nodes[kCellNodes], const double values[kCellNodes], CellRecord& cell,
+    double* coefficients)
   {
-    cell.kind = CellRecord::Kind::Curved;
+    glm::dvec3 tensorNodes[tensor::count(2)];
+    double tensorValues[tensor::count(2)];
+    collapsedTetrahedron<2>(
+      [](const double* items, const double L[4]) { return QuadraticTetCell::interpolate(items, L); }, nodes,
+      values, kCellNodes, tensorNodes, tensorValues);
+    HexahedronCell<2, true>::record(tensorNodes, tensorValues, cell, coefficients);
   }
 };
 

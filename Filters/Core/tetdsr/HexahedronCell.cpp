@@ -919,12 +919,7 @@ void toTensorForm(const HexahedronNodes& table, T* items)
       }
       if (!table.bezier)
       {
-        const auto& matrix = tensor::LagrangeToBernstein<P>::get().matrix;
-        double work[N];
-        tensor::transformAxis<P>(lattice[a], 0, matrix, work);
-        tensor::transformAxis<P>(work, 1, matrix, lattice[a]);
-        tensor::transformAxis<P>(lattice[a], 2, matrix, work);
-        std::copy(work, work + N, lattice[a]);
+        tensor::lagrangeToBernstein<P>(lattice[a]);
       }
     }
     for (int k = 0; k < N; ++k)

@@ -87,6 +87,63 @@ std::uint16_t hexahedronNodesOf(int vtkType, long long ids, const HexahedronNode
 template <typename T>
 void toTensorForm(const HexahedronNodes& table, T* items);
 
+/// A tetrahedron's map and field, polynomials of degree P in its barycentric coordinates L, as
+/// the tensor form of degree P of the cube collapsed onto it (Duffy's map): L_3 = w,
+/// L_2 = v (1 - w), L_1 = u (1 - v) (1 - w), L_0 = (1 - u) (1 - v) (1 - w). A monomial
+/// L_0^a L_1^b L_2^c L_3^d becomes (1 - u)^a u^b (1 - v)^(a+b) v^c (1 - w)^(a+b+c) w^d, of degree
+/// at most P per axis; det J = (1 - v) (1 - w)^2 det J_tet. `interpolate(items, L)` is the cell
+/// kind's own (its shape functions on its nodes or control points); `nodes` and `values` in its
+/// kind form (count of them: `count`). Curved tetrahedra are solved in this form
+/// (CurvedTetCell, CurvedHigherOrderTetCell: their record step), by HexahedronCell's box solve.
+template <int P, class Interpolate>
+void collapsedTetrahedron(Interpolate interpolate, const glm::dvec3* nodes, const double* values,
+  int count, glm::dvec3* tensorNodes, double* tensorValues)
+{
+  constexpr int N = tensor::count(P);
+  double coordinate[3][kMaxCellNodes];
+  for (int n = 0; n < count; ++n)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      coordinate[a][n] = nodes[n][a];
+    }
+  }
+  double lattice[4][N];
+  for (int k = 0; k <= P; ++k)
+    for (int j = 0; j <= P; ++j)
+      for (int i = 0; i <= P; ++i)
+      {
+        const double u = static_cast<double>(i) / P, v = static_cast<double>(j) / P, w = static_cast<double>(k) / P;
+        const double L[4] = { (1.0 - u) * (1.0 - v) * (1.0 - w), u * (1.0 - v) * (1.0 - w), v * (1.0 - w), w };
+        const int at = tensor::index(P, i, j, k);
+        for (int a = 0; a < 3; ++a)
+        {
+          lattice[a][at] = interpolate(coordinate[a], L);
+        }
+        lattice[3][at] = interpolate(values, L);
+      }
+  for (auto& form : lattice)
+  {
+    // At a power of two's scale near 1 (exact): the conversion's sums overflow only where the
+    // coefficients themselves do.
+    const double scale = scaleFor(tensor::magnitude(form, N));
+    for (double& value : form)
+    {
+      value *= scale;
+    }
+    tensor::lagrangeToBernstein<P>(form);
+    for (double& value : form)
+    {
+      value /= scale;
+    }
+  }
+  for (int k = 0; k < N; ++k)
+  {
+    tensorNodes[k] = glm::dvec3(lattice[0][k], lattice[1][k], lattice[2][k]);
+    tensorValues[k] = lattice[3][k];
+  }
+}
+
 /// Runs `step` with std::integral_constant<int, P> for a hexahedron's order P = 1..4.
 template <typename Step>
 decltype(auto) forHexahedronOrder(int order, Step&& step)

@@ -321,6 +321,20 @@ struct LagrangeToBernstein
   }
 };
 
+/// Nodal values on the equispaced lattice of degree P made Bernstein coefficients, in place
+/// (LagrangeToBernstein along each axis).
+template <int P>
+inline void lagrangeToBernstein(double* form)
+{
+  constexpr int N = count(P);
+  const auto& matrix = LagrangeToBernstein<P>::get().matrix;
+  double work[N];
+  transformAxis<P>(form, 0, matrix, work);
+  transformAxis<P>(work, 1, matrix, form);
+  transformAxis<P>(form, 2, matrix, work);
+  std::copy(work, work + N, form);
+}
+
 /// The least and largest coefficient.
 inline void range(const double* c, int n, double& lo, double& hi)
 {
