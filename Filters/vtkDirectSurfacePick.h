@@ -48,8 +48,9 @@ public:
   /// The picked grid (the block, for a composite input).
   vtkDataSet* GetDataSet() { return this->DataSet; }
   /// VTK's parametric coordinates of the hit in its cell (tetrahedra: vertex 0 at the origin,
-  /// vertices 1, 2, 3 at r, s, t = 1), when HasParametricCoordinates: not for hexahedra and
-  /// wedges, which are rendered as tetrahedra.
+  /// vertices 1, 2, 3 at r, s, t = 1; hexahedra and VTK_PYRAMID: VTK's (r, s, t)), when
+  /// HasParametricCoordinates: not in a mesh with wedges (straight ones are rendered as
+  /// tetrahedra, and that mesh's cells are then not the input's own).
   vtkGetMacro(HasParametricCoordinates, bool);
   vtkGetVector3Macro(ParametricCoordinates, double);
   /// The iso-value crossed (its index, as given to SetValue), -1 on a cap; the clipping plane of

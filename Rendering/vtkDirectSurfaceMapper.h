@@ -1,10 +1,10 @@
 /**
  * @class   vtkDirectSurfaceMapper
- * @brief   Renders the exact isosurfaces of a higher-order tetrahedral field into a render window.
+ * @brief   Renders the exact isosurfaces of a higher-order finite-element field into a render window.
  *
  * A vtkMapper for a vtkUnstructuredGrid of tetrahedra (VTK_TETRA, VTK_QUADRATIC_TETRA, Lagrange
- * and Bezier tetrahedra of orders 1 to 4; the hexahedra and wedges vtkDirectSurfaceRayCaster
- * reads), or a
+ * and Bezier tetrahedra of orders 1 to 4; the hexahedra, wedges and pyramids
+ * vtkDirectSurfaceRayCaster reads), or a
  * composite dataset of them. On each render it takes the renderer's active camera and the
  * viewport's tiled size and origin, builds one ray per pixel from the inverse of the camera's
  * composite projection (so explicit and tiled projections work), ray casts the exact isosurface

@@ -143,6 +143,30 @@ class MfemQ3(unittest.TestCase):
             self.assertEqual(caster.GetNumberOfUncertifiedHits(), 0, "expected every hit certified")
             self.assertEqual(messages.warnings, [])
 
+    def test_picks_give_vtks_parametric_coordinates(self):
+        # A pick's (r, s, t) through VTK's own map of the cell (vtkLagrangeHexahedron's
+        # EvaluateLocation, its forward map: exact) lands on the picked point.
+        from tetdsr import vtkDirectSurfacePick
+        from vtkmodules.vtkCommonCore import mutable
+        width, height = 64, 48
+        caster, _, depth = cast(self.grid, "u", 0.5, camera_on(self.grid.GetBounds()), (width, height))
+        pick = vtkDirectSurfacePick()
+        checked, worst = 0, 0.0
+        for j in range(0, height, 2):
+            for i in range(0, width, 2):
+                if not np.isfinite(depth[j, i]):
+                    continue
+                self.assertTrue(caster.Pick(i + 0.5, j + 0.5, pick))
+                self.assertTrue(pick.GetHasParametricCoordinates())
+                x = [0.0, 0.0, 0.0]
+                weights = [0.0] * 64
+                self.grid.GetCell(pick.GetCellId()).EvaluateLocation(mutable(0), pick.GetParametricCoordinates(), x, weights)
+                worst = max(worst, float(np.linalg.norm(np.array(x) - pick.GetPosition())))
+                checked += 1
+        print(f"MFEM Q3, picks: {checked} checked, VTK's map at the pick's (r, s, t) within {worst:.3g} of the pick")
+        self.assertGreater(checked, 20)
+        self.assertLess(worst, 1e-12)
+
 
 def contour_depth(grid, array, iso, camera, size):
     """vtkContourFilter's triangles of the same iso-value, rendered by VTK with the same camera:

@@ -148,8 +148,8 @@ class DirectSurfacePick:
 
     position: the hit (world coordinates); normal: unit, along the field's exact gradient
     (towards increasing field) on a surface, the plane's normal on a cap; cell_id: the input's
-    cell; parametric_coordinates: VTK's (r, s, t) in that cell, or None (hexahedra and wedges,
-    which are rendered as tetrahedra); iso_value_index: the iso-value crossed (its index, as given
+    cell; parametric_coordinates: VTK's (r, s, t) in that cell, or None when the mesh has wedges
+    (straight ones are rendered as tetrahedra, so none of that mesh's cells is the input's own); iso_value_index: the iso-value crossed (its index, as given
     to SetValue), -1 on a cap; clipping_plane_id: a cap's plane (its index), -1 on a surface;
     value: the contoured field at the hit (the iso-value, to rounding, on a surface);
     ray_parameter: the distance from the ray's start (the camera, or the camera plane in parallel
