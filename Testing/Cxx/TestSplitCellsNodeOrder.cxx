@@ -4,22 +4,27 @@
 // 1. SplitShape::nodePoints equal the cell's GetParametricCoords (to 1e-15);
 // 2. SplitShape::basis equals the cell's InterpolateFunctions at 200 random parametric points
 //    inside the cell (unit cube, or unit triangle x [0, 1]) (to 1e-12);
-// 3. the pieces tile the parametric cell: each piece's vertices lie in the cell with a positive
+// 3. (wedges) the pieces tile the parametric cell: each piece's vertices lie in the cell with a positive
 //    volume, the volumes sum to the cell's (1 or 1/2), and 1000 random points inside the cell lie
 //    in exactly one piece (away from the pieces' faces);
-// 4. each piece node lies where VTK's (and the core's) tetrahedron order puts it: at the
+// 4. (wedges) each piece node lies where VTK's (and the core's) tetrahedron order puts it: at the
 //    barycentric point tetNodePoint(D, n) of the piece's vertices; a Lagrange piece's new node's
 //    weights are VTK's shape functions there, and a Bezier piece (order above 4), evaluated as a
 //    Bernstein tetrahedron, equals VTK's interpolation of random node values at random points
 //    (to 1e-12).
 // The cell's nodes sit at their parametric coordinates, so its map is the identity: a piece node's
 // position is its weights applied to nodePoints (the cell's own node when it is one).
+// And for every (type, id count) the core reads as a tensor-product cell (tetdsr::hexahedronNodesOf:
+// every hexahedron, wedge and VTK_PYRAMID), the tensor form toTensorForm makes of random node
+// values, evaluated at the image of a random parametric point (a wedge's (r, s, t) is the
+// collapsed cube's (r / (1 - s), s, t)), equals VTK's InterpolateFunctions applied to them there.
 #include "vtkCell.h"
 #include "vtkCellType.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
 #include "vtkUnstructuredGrid.h"
 
+#include "tetdsr/HexahedronCell.h"
 #include "tetdsr/HigherOrderTet.h"
 #include "tetdsr/SplitCells.h"
 
@@ -178,6 +183,18 @@ int checkShape(int type, int ids, const tetdsr::SplitShape& shape, std::mt19937&
     }
   }
   worst.basis = std::max(worst.basis, basisError);
+  if (!shape.wedge)
+  {
+    // Hexahedra are not split (their tensor forms are checked below, in the test's body).
+    if (shape.pieces != 0)
+    {
+      std::cerr << label << ": expected no pieces for a hexahedron, got " << shape.pieces << "\n";
+      ++failures;
+    }
+    std::cout << label << ": " << ids << " nodes, max node difference " << nodeError
+              << ", max basis difference " << basisError << "\n";
+    return failures;
+  }
 
   // 3 and 4. The pieces: a node's position (the identity map), vertices, volumes, lattice.
   auto position = [&](int node) {
@@ -355,6 +372,48 @@ int checkShape(int type, int ids, const tetdsr::SplitShape& shape, std::mt19937&
   return failures;
 }
 
+/// The tensor form of a type's cells against VTK's interpolation (see the header); failures.
+int checkTensorForm(int type, int ids, const tetdsr::HexahedronNodes& table, std::mt19937& random, double& worst)
+{
+  vtkNew<vtkUnstructuredGrid> grid;
+  vtkCell* cell = vtkCellOf(grid, type, ids);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<double> values(static_cast<std::size_t>(ids));
+  for (double& v : values)
+  {
+    v = unit(random);
+  }
+  double form[tetdsr::kMaxCellNodes];
+  std::copy(values.begin(), values.end(), form);
+  tetdsr::toTensorForm(table, form);
+  const bool wedge = table.collapsedAxis == 1;
+  std::vector<double> weights(static_cast<std::size_t>(ids));
+  double error = 0.0;
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    const Point x = randomPoint(wedge, random);
+    cell->InterpolateFunctions(x.data(), weights.data());
+    double theirs = 0.0;
+    for (int n = 0; n < ids; ++n)
+    {
+      theirs += weights[static_cast<std::size_t>(n)] * values[static_cast<std::size_t>(n)];
+    }
+    const double cube[3] = { wedge ? (x[1] < 1.0 ? x[0] / (1.0 - x[1]) : 0.0) : x[0], x[1], x[2] };
+    const double ours = tetdsr::forHexahedronOrder(table.order, [&](auto P) {
+      return tetdsr::tensor::evaluate<decltype(P)::value>(form, cube);
+    });
+    error = std::max(error, std::abs(ours - theirs));
+  }
+  worst = std::max(worst, error);
+  if (!(error < 1e-12))
+  {
+    std::cerr << table.name << " (" << ids << " ids): expected the tensor form to equal VTK's interpolation, "
+              << "got a difference of " << error << "\n";
+    return 1;
+  }
+  return 0;
+}
+
 } // namespace
 
 int TestSplitCellsNodeOrder(int, char*[])
@@ -380,6 +439,31 @@ int TestSplitCellsNodeOrder(int, char*[])
       ++shapes;
       failures += checkShape(type, ids, *shape, random, worst);
     }
+  }
+  // The tensor forms of every type read as a tensor-product cell.
+  int tensorTypes = 0;
+  double tensorWorst = 0.0;
+  for (const int type : { VTK_HEXAHEDRON, VTK_VOXEL, VTK_QUADRATIC_HEXAHEDRON, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON,
+         VTK_TRIQUADRATIC_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON, VTK_BEZIER_HEXAHEDRON, VTK_WEDGE,
+         VTK_QUADRATIC_LINEAR_WEDGE, VTK_QUADRATIC_WEDGE, VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_LAGRANGE_WEDGE,
+         VTK_BEZIER_WEDGE, VTK_PYRAMID })
+  {
+    for (int ids = 1; ids <= 125; ++ids)
+    {
+      const tetdsr::HexahedronNodes* table = nullptr;
+      if (tetdsr::hexahedronNodesOf(type, ids, table) != 0)
+      {
+        continue;
+      }
+      ++tensorTypes;
+      failures += checkTensorForm(type, ids, *table, random, tensorWorst);
+    }
+  }
+  std::cout << tensorTypes << " tensor forms: max difference from VTK's interpolation " << tensorWorst << "\n";
+  if (tensorTypes != 26)
+  {
+    std::cerr << "expected 26 (type, id count) read as tensor-product cells, got " << tensorTypes << "\n";
+    ++failures;
   }
   // The kinds TetDSR documents as read (commit 2ed0cd8) must be among them.
   const int required[][2] = { { VTK_HEXAHEDRON, 8 }, { VTK_VOXEL, 8 }, { VTK_QUADRATIC_HEXAHEDRON, 20 },

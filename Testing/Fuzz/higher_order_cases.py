@@ -37,11 +37,6 @@ SPLIT_FIXED = {VTK_VOXEL: 8, VTK_HEXAHEDRON: 8, VTK_QUADRATIC_HEXAHEDRON: 20,
                VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON: 24, VTK_TRIQUADRATIC_HEXAHEDRON: 27, VTK_WEDGE: 6,
                VTK_QUADRATIC_LINEAR_WEDGE: 12, VTK_QUADRATIC_WEDGE: 15,
                VTK_BIQUADRATIC_QUADRATIC_WEDGE: 18}
-# Their polynomials' total degree (the order of the tetrahedra they are rendered as).
-SPLIT_FIXED_DEGREE = {VTK_VOXEL: 3, VTK_HEXAHEDRON: 3, VTK_QUADRATIC_HEXAHEDRON: 4,
-                      VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON: 5, VTK_TRIQUADRATIC_HEXAHEDRON: 6, VTK_WEDGE: 2,
-                      VTK_QUADRATIC_LINEAR_WEDGE: 3, VTK_QUADRATIC_WEDGE: 3,
-                      VTK_BIQUADRATIC_QUADRATIC_WEDGE: 4}
 # The highest order of Lagrange and Bezier hexahedra ((p + 1)^3 ids) and wedges
 # ((p + 1)^2 (p + 2) / 2 ids) read (order p: total degree 3p and 2p); higher: order too high.
 MAX_HEX_ORDER, MAX_WEDGE_ORDER = 4, 4
@@ -201,28 +196,20 @@ def bend(rng, mesh, amplitude, fraction, vertices_too=False):
 
 
 def curved_pieces(vtk_type, count):
-    """What a curved cell of this type and id count costs a ray, in curved tetrahedra of order 3 or
-    4: 1 for a Lagrange or Bezier tetrahedron of order 3 or 4; for a hexahedron (6 pieces,
-    Kuhn's) or a wedge (3) whose polynomials are of total degree D >= 3, its pieces times
-    (D / 4)^5 (at least 1: a bent hexahedron of order 2, 3, 4 costs about 1 : 8 : 35 per ray,
-    degree 6, 9, 12), else 0."""
+    """What a curved cell of this type and id count costs a ray, in curved cells of order 3 or 4
+    (one box solve each, HexahedronCell.h): 1 for a Lagrange or Bezier tetrahedron, hexahedron or
+    wedge of order 3 or 4, else 0 (lower orders cost a fraction of that)."""
     if read_status(vtk_type, count):
         return 0
     if vtk_type in READ_TYPES:
-        return 1 if vtk_type in (VTK_LAGRANGE_TETRAHEDRON, VTK_BEZIER_TETRAHEDRON) and \
-            order_of(count) in (3, 4) else 0
-    if vtk_type in SPLIT_FIXED:
-        degree = SPLIT_FIXED_DEGREE[vtk_type]
+        order = order_of(count)
     elif vtk_type in (VTK_LAGRANGE_HEXAHEDRON, VTK_BEZIER_HEXAHEDRON):
-        degree = 3 * order_of(count, hexahedron_count)
+        order = order_of(count, hexahedron_count)
+    elif vtk_type in (VTK_LAGRANGE_WEDGE, VTK_BEZIER_WEDGE):
+        order = order_of(count, wedge_count)
     else:
-        degree = 2 * order_of(count, wedge_count)
-    if degree < 3:
         return 0
-    hexahedron = vtk_type in (VTK_VOXEL, VTK_HEXAHEDRON, VTK_QUADRATIC_HEXAHEDRON,
-                              VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON, VTK_TRIQUADRATIC_HEXAHEDRON,
-                              VTK_LAGRANGE_HEXAHEDRON, VTK_BEZIER_HEXAHEDRON)
-    return (6 if hexahedron else 3) * max(1, int(round((degree / 4.0) ** 5)))
+    return 1 if order in (3, 4) else 0
 
 
 def curved_cost_cells(mesh, moved):

@@ -31,26 +31,14 @@ decltype(auto) forKind(CellKind kind, Step&& step)
       return step(CurvedHigherOrderTetCell<3>{});
     case CellKind::CurvedQuarticTet:
       return step(CurvedHigherOrderTetCell<4>{});
-    case CellKind::Tet5:
-      return step(HigherOrderTetCell<5>{});
     case CellKind::Tet6:
       return step(HigherOrderTetCell<6>{});
     case CellKind::Tet8:
       return step(HigherOrderTetCell<8>{});
-    case CellKind::Tet9:
-      return step(HigherOrderTetCell<9>{});
-    case CellKind::Tet12:
-      return step(HigherOrderTetCell<12>{});
-    case CellKind::CurvedTet5:
-      return step(CurvedHigherOrderTetCell<5>{});
     case CellKind::CurvedTet6:
       return step(CurvedHigherOrderTetCell<6>{});
     case CellKind::CurvedTet8:
       return step(CurvedHigherOrderTetCell<8>{});
-    case CellKind::CurvedTet9:
-      return step(CurvedHigherOrderTetCell<9>{});
-    case CellKind::CurvedTet12:
-      return step(CurvedHigherOrderTetCell<12>{});
     case CellKind::Hexahedron1:
       return step(HexahedronCell<1, false>{});
     case CellKind::Hexahedron2:

@@ -66,17 +66,11 @@ enum class CellKind : std::uint8_t
   CurvedCubicTet,         ///< CurvedHigherOrderTetCell<3>
   CurvedQuarticTet,       ///< CurvedHigherOrderTetCell<4>
   /// HigherOrderTetCell<P> and CurvedHigherOrderTetCell<P> of the piece orders (kPieceOrders):
-  /// only pieces of split hexahedra and wedges (SplitCells.h) have them.
-  Tet5,
+  /// only pieces of split wedges (SplitCells.h) have them.
   Tet6,
   Tet8,
-  Tet9,
-  Tet12,
-  CurvedTet5,
   CurvedTet6,
   CurvedTet8,
-  CurvedTet9,
-  CurvedTet12,
   /// HexahedronCell<P, false> and <P, true>: hexahedra of order P per axis, in their own
   /// reference space (HexahedronCell.h).
   Hexahedron1,
@@ -184,16 +178,10 @@ inline CellKind kindOf(const CellLayout& layout, bool curved)
       return curved ? CellKind::CurvedTet : CellKind::QuadraticTet;
     case 3:
       return curved ? CellKind::CurvedCubicTet : CellKind::CubicTet;
-    case 5:
-      return curved ? CellKind::CurvedTet5 : CellKind::Tet5;
     case 6:
       return curved ? CellKind::CurvedTet6 : CellKind::Tet6;
     case 8:
       return curved ? CellKind::CurvedTet8 : CellKind::Tet8;
-    case 9:
-      return curved ? CellKind::CurvedTet9 : CellKind::Tet9;
-    case 12:
-      return curved ? CellKind::CurvedTet12 : CellKind::Tet12;
     default:
       return curved ? CellKind::CurvedQuarticTet : CellKind::QuarticTet;
   }

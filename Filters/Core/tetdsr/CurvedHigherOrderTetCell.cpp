@@ -109,10 +109,7 @@ bool CurvedHigherOrderTetCell<P>::intersect(const glm::dvec3* nodes, const doubl
 
 template struct CurvedHigherOrderTetCell<3>;
 template struct CurvedHigherOrderTetCell<4>;
-template struct CurvedHigherOrderTetCell<5>;
 template struct CurvedHigherOrderTetCell<6>;
 template struct CurvedHigherOrderTetCell<8>;
-template struct CurvedHigherOrderTetCell<9>;
-template struct CurvedHigherOrderTetCell<12>;
 
 } // namespace tetdsr

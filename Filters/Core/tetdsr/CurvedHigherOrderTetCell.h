@@ -88,10 +88,7 @@ struct CurvedHigherOrderTetCell : HigherOrderTetCell<P>
 
 extern template struct CurvedHigherOrderTetCell<3>;
 extern template struct CurvedHigherOrderTetCell<4>;
-extern template struct CurvedHigherOrderTetCell<5>;
 extern template struct CurvedHigherOrderTetCell<6>;
 extern template struct CurvedHigherOrderTetCell<8>;
-extern template struct CurvedHigherOrderTetCell<9>;
-extern template struct CurvedHigherOrderTetCell<12>;
 
 } // namespace tetdsr

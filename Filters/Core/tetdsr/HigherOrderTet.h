@@ -31,19 +31,17 @@ namespace tetdsr
 
 /// The highest order of Lagrange and Bezier tetrahedra the core reads from its input.
 constexpr int kMaxTetOrder = 4;
-/// The orders of the tetrahedra hexahedra and wedges split into (SplitCells.h) beyond those:
-/// the total degrees of their polynomials (5: VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON; 6, 9, 12:
-/// hexahedra of order 2, 3, 4; 6, 8: wedges of order 3, 4). Only such pieces have them.
-constexpr int kPieceOrders[] = { 5, 6, 8, 9, 12 };
-constexpr int kMaxPieceOrder = 12;
+/// The orders of the tetrahedra straight wedges split into (SplitCells.h) beyond those: the total
+/// degrees of their polynomials (6, 8: wedges of order 3, 4). Only such pieces have them.
+constexpr int kPieceOrders[] = { 6, 8 };
+constexpr int kMaxPieceOrder = 8;
 /// The most nodes a cell of the core's kinds has (order kMaxPieceOrder).
 constexpr int kMaxCellNodes = latticeCount(kMaxPieceOrder);
 
 /// Whether the core has cell kinds of this tetrahedron order: 1 to 4, and kPieceOrders.
 constexpr bool isTetOrder(int order)
 {
-  return (order >= 1 && order <= kMaxTetOrder) || order == 5 || order == 6 || order == 8 ||
-    order == 9 || order == 12;
+  return (order >= 1 && order <= kMaxTetOrder) || order == 6 || order == 8;
 }
 
 /// Runs `step` with std::integral_constant<int, P> for a higher order P (3, 4 or a piece order);
@@ -55,16 +53,10 @@ decltype(auto) forHigherOrder(int order, Step&& step)
   {
     case 3:
       return step(std::integral_constant<int, 3>{});
-    case 5:
-      return step(std::integral_constant<int, 5>{});
     case 6:
       return step(std::integral_constant<int, 6>{});
     case 8:
       return step(std::integral_constant<int, 8>{});
-    case 9:
-      return step(std::integral_constant<int, 9>{});
-    case 12:
-      return step(std::integral_constant<int, 12>{});
     default:
       break;
   }

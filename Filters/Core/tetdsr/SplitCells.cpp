@@ -31,34 +31,16 @@ constexpr int kWedgeEdges[9][2] = { { 0, 1 }, { 1, 2 }, { 2, 0 }, { 3, 4 }, { 4,
   { 0, 3 }, { 1, 4 }, { 2, 5 } };
 constexpr int kWedgeQuads[3][4] = { { 0, 1, 4, 3 }, { 1, 2, 5, 4 }, { 2, 0, 3, 5 } };
 
-/// The pieces' corners: Kuhn's six tetrahedra of the cube (from (0,0,0) to (1,1,1) along the
-/// axes in each order), the wedge's three; each ordered for a positive volume.
-std::vector<std::array<Corner, 4>> pieceCorners(bool wedge)
+/// The pieces' corners: the wedge's three tetrahedra, each ordered for a positive volume.
+std::vector<std::array<Corner, 4>> pieceCorners()
 {
   std::vector<std::array<Corner, 4>> pieces;
-  if (wedge)
+  // The triangle (0, 1, 2) under corner 3, then the pyramid (1, 2, 5, 4; 3) halved.
+  constexpr int kPieces[3][4] = { { 0, 1, 2, 3 }, { 1, 2, 5, 3 }, { 1, 5, 4, 3 } };
+  for (const auto& piece : kPieces)
   {
-    // The triangle (0, 1, 2) under corner 3, then the pyramid (1, 2, 5, 4; 3) halved.
-    constexpr int kPieces[3][4] = { { 0, 1, 2, 3 }, { 1, 2, 5, 3 }, { 1, 5, 4, 3 } };
-    for (const auto& piece : kPieces)
-    {
-      pieces.push_back({ kWedgeCorners[piece[0]], kWedgeCorners[piece[1]],
-        kWedgeCorners[piece[2]], kWedgeCorners[piece[3]] });
-    }
-  }
-  else
-  {
-    int axes[3] = { 0, 1, 2 };
-    do
-    {
-      std::array<Corner, 4> piece{};
-      for (int step = 0; step < 3; ++step)
-      {
-        piece[step + 1] = piece[step];
-        piece[step + 1][axes[step]] = 1;
-      }
-      pieces.push_back(piece);
-    } while (std::next_permutation(axes, axes + 3));
+    pieces.push_back({ kWedgeCorners[piece[0]], kWedgeCorners[piece[1]], kWedgeCorners[piece[2]],
+      kWedgeCorners[piece[3]] });
   }
   for (auto& piece : pieces)
   {
@@ -253,10 +235,14 @@ SplitShape makeShape(const char* name, bool wedge, std::vector<Point> nodePoints
   {
     shape.degree = (wedge ? 2 : 3) * order;
   }
+  if (!wedge)
+  {
+    return shape; // (hexahedra are not split: their nodes and basis serve HexahedronCell.h's tables)
+  }
   const int D = shape.degree;
   shape.pieceNodes = latticeCount(D);
   shape.bezierPieces = D > kMaxTetOrder;
-  const auto corners = pieceCorners(wedge);
+  const auto corners = pieceCorners();
   shape.pieces = static_cast<int>(corners.size());
   // The cell's node at a parametric point, or -1. A Bezier cell's values are the polynomials'
   // only at its corners (its other nodes are control points).

@@ -18,9 +18,8 @@
 //
 // The cell's shape functions come from its nodes (VTK order, checked against VTK's own cells by
 // Testing/Cxx/TestSplitCellsNodeOrder) and its polynomial space: the nodal basis (the inverse of
-// the space's Vandermonde matrix at the nodes), or for a Bezier cell its Bernstein basis. The
-// split of hexahedra (6 Kuhn tetrahedra, degree 3p) is kept for that test and for their node
-// tables; no mesh is split that way.
+// the space's Vandermonde matrix at the nodes), or for a Bezier cell its Bernstein basis.
+// Hexahedra's shapes (their nodes and basis, no pieces) serve HexahedronCell.h's node tables.
 #pragma once
 
 #include "tetdsr/Scene.h"
@@ -79,7 +78,7 @@ struct SplitShape
   int order = 1;          ///< p of the Lagrange and Bezier bases
   int nodes = 0;          ///< the cell's node count
   int degree = 0;         ///< D: the total degree of its polynomials, the pieces' order
-  int pieces = 0;         ///< tetrahedra per cell: 6 (hexahedra), 3 (wedges)
+  int pieces = 0;         ///< tetrahedra per cell: 3 (wedges); 0 (hexahedra: not split)
   int pieceNodes = 0;     ///< latticeCount(degree)
   /// Pieces of order 2 to 4 are Lagrange tetrahedra (nodes: the cell's map and field at their
   /// lattice points, shared between pieces); above, Bezier tetrahedra (their Bernstein
