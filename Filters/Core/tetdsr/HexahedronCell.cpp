@@ -85,6 +85,19 @@ HexahedronNodes wedgeTable(int vtkType, const SplitShape& shape)
   return table;
 }
 
+/// A Lagrange or Bezier wedge's table of order `Order`, built on first use (a thread-safe static).
+template <bool Bezier, int Order>
+const HexahedronNodes& higherOrderWedgeTable()
+{
+  static const HexahedronNodes table = [] {
+    const int type = Bezier ? kVtkBezierWedge : kVtkLagrangeWedge;
+    const SplitShape* shape = nullptr;
+    splitShapeOf(type, (Order + 1) * (Order + 1) * (Order + 2) / 2, shape);
+    return wedgeTable(type, *shape);
+  }();
+  return table;
+}
+
 /// The wedge tables, each built once (thread-safe statics) from the split's shapes.
 const HexahedronNodes* wedgeTableOf(int vtkType, long long ids, std::uint16_t& status)
 {
@@ -119,16 +132,16 @@ const HexahedronNodes* wedgeTableOf(int vtkType, long long ids, std::uint16_t& s
     }
     default:
     {
-      // Lagrange and Bezier wedges of orders 1 to 4 (the order from the shape).
-      static const HexahedronNodes lagrange[4] = { make(kVtkLagrangeWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkLagrangeWedge, 6, s); return s; }()),
-        make(kVtkLagrangeWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkLagrangeWedge, 18, s); return s; }()),
-        make(kVtkLagrangeWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkLagrangeWedge, 40, s); return s; }()),
-        make(kVtkLagrangeWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkLagrangeWedge, 75, s); return s; }()) };
-      static const HexahedronNodes bezier[4] = { make(kVtkBezierWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkBezierWedge, 6, s); return s; }()),
-        make(kVtkBezierWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkBezierWedge, 18, s); return s; }()),
-        make(kVtkBezierWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkBezierWedge, 40, s); return s; }()),
-        make(kVtkBezierWedge, &*[] { const SplitShape* s = nullptr; splitShapeOf(kVtkBezierWedge, 75, s); return s; }()) };
-      return &(vtkType == kVtkBezierWedge ? bezier : lagrange)[shape->order - 1];
+      // Lagrange and Bezier wedges of orders 1 to 4 (the order from the shape), each built on
+      // first use.
+      using Builder = const HexahedronNodes& (*)();
+      static constexpr Builder kBuilders[2][4] = {
+        { higherOrderWedgeTable<false, 1>, higherOrderWedgeTable<false, 2>, higherOrderWedgeTable<false, 3>,
+          higherOrderWedgeTable<false, 4> },
+        { higherOrderWedgeTable<true, 1>, higherOrderWedgeTable<true, 2>, higherOrderWedgeTable<true, 3>,
+          higherOrderWedgeTable<true, 4> }
+      };
+      return &kBuilders[vtkType == kVtkBezierWedge][shape->order - 1]();
     }
   }
 }
@@ -1190,6 +1203,10 @@ bool solveOnUnitBox(const double* const equations[3], const double* objective, d
   if (pieces)
   {
     *pieces = visited;
+  }
+  if (visited > limits.maxPieces && found)
+  {
+    root.certified = false; // boxes left unexplored might hold a nearer root
   }
   return found;
 }
