@@ -84,14 +84,11 @@ def test_prepared_mesh_reads_vtk_dtypes_and_tells_what_it_skipped():
     mesh, ready, messages = prepared(cell_types=types)
     assert ready and mesh.summary["unsupported"] == 2, mesh.summary
     assert mesh.summary["valid"] == valid - 2, mesh.summary
-    assert messages.warnings == ["Skipped 2 cells of a type TetDSR does not read (it reads VTK_TETRA, "
-                                 "VTK_QUADRATIC_TETRA, VTK_LAGRANGE_TETRAHEDRON or VTK_BEZIER_TETRAHEDRON "
-                                 "of order 1 to 4; VTK_HEXAHEDRON, VTK_VOXEL, VTK_QUADRATIC_HEXAHEDRON, "
-                                 "VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON, VTK_TRIQUADRATIC_HEXAHEDRON, "
-                                 "VTK_LAGRANGE_HEXAHEDRON or VTK_BEZIER_HEXAHEDRON of order 1 to 4; VTK_WEDGE, "
-                                 "VTK_QUADRATIC_WEDGE, VTK_QUADRATIC_LINEAR_WEDGE, "
-                                 "VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_LAGRANGE_WEDGE or VTK_BEZIER_WEDGE "
-                                 "of order 1 to 4)."], messages.warnings
+    # (The list of types read is the core's: MeshInput.cpp's, tested word for word in TestMeshInput.)
+    assert len(messages.warnings) == 1, messages.warnings
+    assert messages.warnings[0].startswith("Skipped 2 cells of a type TetDSR does not read (it reads VTK_TETRA, "
+                                           "VTK_QUADRATIC_TETRA,"), messages.warnings
+    assert messages.warnings[0].endswith("VTK_BEZIER_WEDGE of order 1 to 4; VTK_PYRAMID)."), messages.warnings
     _, ready, messages = prepared(field=np.zeros(5))
     assert not ready and messages.errors[-1].endswith("'r2' has 5 tuples for 125 points."), messages.errors
     short = reference.point_values(np.zeros((4, 3)), "speed", 1, "colour array", messages)
