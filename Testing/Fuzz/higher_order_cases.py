@@ -117,7 +117,7 @@ def read_status(vtk_type, count):
     if vtk_type in (VTK_LAGRANGE_WEDGE, VTK_BEZIER_WEDGE):
         order = order_of(count, wedge_count)  # (VTK's 21-node wedge: malformed)
         return MALFORMED if order == 0 else ORDER_TOO_HIGH if order > MAX_WEDGE_ORDER else ""
-    return UNSUPPORTED  # the higher-order pyramids (rational in VTK) and every other type
+    return UNSUPPORTED  # the higher-order pyramids (not read) and every other type
 
 
 @lru_cache(maxsize=None)

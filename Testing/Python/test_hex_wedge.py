@@ -523,7 +523,7 @@ class Refusals(unittest.TestCase):
         good = hw.grid(N, VTK_HEXAHEDRON, 8, {"f": scalar.value})
         reference = outputs(caster_for(good, [scalar.iso], cam))
         # Lagrange hexahedra and Bezier wedges of order 5 (216 and 126 ids: VTK reads the order
-        # from the count), a quadratic pyramid (VTK's map is rational), a hexahedron of 7 ids.
+        # from the count), a quadratic pyramid (a type not read), a hexahedron of 7 ids.
         bad = with_extra_cells(good, 216, [(VTK_LAGRANGE_HEXAHEDRON, 216), (VTK_BEZIER_WEDGE, 126),
                                            (VTK_QUADRATIC_PYRAMID, 13), (VTK_HEXAHEDRON, 7)])
         caster = caster_for(bad, [scalar.iso], cam)

@@ -78,8 +78,7 @@ def test_prepared_mesh_reads_vtk_dtypes_and_tells_what_it_skipped():
     assert ready and single.summary["valid"] == valid, (messages.errors, single.summary)
     types = mesh_arrays()["cell_types"].copy()
     # Types TetDSR does not read, whatever their ids (10 here): a quadratic pyramid (which the
-    # core's wedge reading turns away: VTK's is rational) and a pentagonal prism (which it never
-    # sees).
+    # core's split turns away) and a pentagonal prism (which it never sees).
     types[[3, 7]] = VTK_QUADRATIC_PYRAMID, VTK_PENTAGONAL_PRISM
     mesh, ready, messages = prepared(cell_types=types)
     assert ready and mesh.summary["unsupported"] == 2, mesh.summary

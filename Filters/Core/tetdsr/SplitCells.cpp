@@ -812,8 +812,8 @@ std::uint16_t splitShapeOf(int vtkType, long long ids, const SplitShape*& shape)
       return 0;
     }
     default:
-      return kUnsupported; // higher-order pyramids: VTK's are rational, not read (VTK_PYRAMID is
-                           // read as a collapsed hexahedron, HexahedronCell.h)
+      return kUnsupported; // higher-order pyramids, not read (VTK_PYRAMID is read as a collapsed
+                           // hexahedron, HexahedronCell.h)
   }
 }
 
