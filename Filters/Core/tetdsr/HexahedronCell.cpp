@@ -259,6 +259,20 @@ struct LocalGeometry
   }
 };
 
+/// The three forms X_a - target_a of a map's control points (`control[a]`, local units): their
+/// common root is target's preimage.
+template <int P>
+void pointEquations(const double* const control[3], const glm::dvec3& target, double eq[3][tensor::count(P)])
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    for (int k = 0; k < tensor::count(P); ++k)
+    {
+      eq[a][k] = control[a][k] - target[a];
+    }
+  }
+}
+
 bool invert3(const double a[3][3], double inverse[3][3])
 {
   const double c00 = a[1][1] * a[2][2] - a[1][2] * a[2][1];
@@ -620,7 +634,7 @@ void halvePoly(const Poly& p, int axis, Poly& left, Poly& right)
 /// change).
 int determinantSign(const Poly& det)
 {
-  const double pad = 1e-12 * tensor::magnitude(det.c.data(), static_cast<int>(det.c.size()));
+  const double pad = 1e-12 * bernstein::magnitude(det.c.data(), static_cast<int>(det.c.size()));
   int sign = 0;
   std::vector<std::pair<Poly, int>> stack;
   stack.emplace_back(det, 0);
@@ -634,7 +648,7 @@ int determinantSign(const Poly& det)
       return 0;
     }
     double lo, hi;
-    tensor::range(piece.c.data(), static_cast<int>(piece.c.size()), lo, hi);
+    bernstein::range(piece.c.data(), static_cast<int>(piece.c.size()), lo, hi);
     if (lo > pad || hi < -pad)
     {
       const int pieceSign = lo > pad ? 1 : -1;
@@ -998,7 +1012,7 @@ bool solveOnUnitBox(const double* const equations[3], const double* objective, d
   double pad[4];
   for (int f = 0; f < forms; ++f)
   {
-    pad[f] = (64.0 + 16.0 * P) * kEpsilon * tensor::magnitude(f < 3 ? equations[f] : objective, N);
+    pad[f] = (64.0 + 16.0 * P) * kEpsilon * bernstein::magnitude(f < 3 ? equations[f] : objective, N);
   }
   std::vector<Box<P>>& stack = boxStack<P>();
   stack.clear();
@@ -1042,7 +1056,7 @@ bool solveOnUnitBox(const double* const equations[3], const double* objective, d
     for (int e = 0; e < 3 && !excluded; ++e)
     {
       double cLo, cHi;
-      tensor::range(box.c[e], N, cLo, cHi);
+      bernstein::range(box.c[e], N, cLo, cHi);
       excluded = cLo > pad[e] || cHi < -pad[e];
     }
     if (excluded)
@@ -1102,7 +1116,7 @@ bool solveOnUnitBox(const double* const equations[3], const double* objective, d
     if (objective)
     {
       double dLo, dHi;
-      tensor::range(box.c[3], N, dLo, dHi);
+      bernstein::range(box.c[3], N, dLo, dHi);
       if (dLo > best + pad[3] || dHi < lo - pad[3])
       {
         continue;
@@ -1193,8 +1207,8 @@ bool solveOnUnitBox(const double* const equations[3], const double* objective, d
     if (objective)
     {
       double lo0, hi0, lo1, hi1;
-      tensor::range(halves[0].c[3], N, lo0, hi0);
-      tensor::range(halves[1].c[3], N, lo1, hi1);
+      bernstein::range(halves[0].c[3], N, lo0, hi0);
+      bernstein::range(halves[1].c[3], N, lo1, hi1);
       nearer = lo1 < lo0 ? 1 : 0;
     }
     stack.push_back(halves[1 - nearer]);
@@ -1362,7 +1376,7 @@ bool HexahedronCell<P, Curved>::intersect(const CellRecord& cell, const Ray& ray
   const double lo = tMin * s - tCentre;
   const double hi = tLimit * s - tCentre;
   double fieldLo, fieldHi;
-  tensor::range(field, kNodes, fieldLo, fieldHi);
+  bernstein::range(field, kNodes, fieldLo, fieldHi);
   const bool constant = constantToRounding(fieldLo, fieldHi, kMaxPieceOrder);
 
   if constexpr (!Curved)
@@ -1510,15 +1524,9 @@ bool HexahedronCell<P, Curved>::intersect(const CellRecord& cell, const Ray& ray
       };
       const bool startInside = std::isfinite(lo) && [&] {
         // Whether the ray's start lies in the cell: the map's equations at that point.
-        const glm::dvec3 start = o + lo * d;
+        const double* control[3] = { view.control(0), view.control(1), view.control(2) };
         double eq[3][kNodes];
-        for (int k = 0; k < kNodes; ++k)
-        {
-          for (int a = 0; a < 3; ++a)
-          {
-            eq[a][k] = view.control(a)[k] - start[a];
-          }
-        }
+        pointEquations<P>(control, o + lo * d, eq);
         const double* equations[3] = { eq[0], eq[1], eq[2] };
         BoxRoot inside;
         return solveOnUnitBox<P>(equations, nullptr, 0.0, 0.0, inside);
@@ -1583,15 +1591,9 @@ template <int P, bool Curved>
 bool HexahedronCell<P, Curved>::contains(const glm::dvec3* nodes, const glm::dvec3& point, double L[4])
 {
   const LocalGeometry<P> g = LocalGeometry<P>::fromNodes(nodes);
-  const glm::dvec3 target = (point - g.origin) * g.scale;
+  const double* control[3] = { g.control[0], g.control[1], g.control[2] };
   double eq[3][kNodes];
-  for (int a = 0; a < 3; ++a)
-  {
-    for (int k = 0; k < kNodes; ++k)
-    {
-      eq[a][k] = g.control[a][k] - target[a];
-    }
-  }
+  pointEquations<P>(control, (point - g.origin) * g.scale, eq);
   const double* equations[3] = { eq[0], eq[1], eq[2] };
   BoxRoot root;
   if (!solveOnCube<P>(equations, nullptr, 0.0, 0.0, kBarycentricTolerance, root))
@@ -1611,15 +1613,9 @@ void HexahedronCell<P, Curved>::coordinates(const glm::dvec3* nodes, const glm::
     return;
   }
   const LocalGeometry<P> g = LocalGeometry<P>::fromNodes(nodes);
-  const glm::dvec3 target = (point - g.origin) * g.scale;
+  const double* control[3] = { g.control[0], g.control[1], g.control[2] };
   double eq[3][kNodes];
-  for (int a = 0; a < 3; ++a)
-  {
-    for (int k = 0; k < kNodes; ++k)
-    {
-      eq[a][k] = g.control[a][k] - target[a];
-    }
-  }
+  pointEquations<P>(control, (point - g.origin) * g.scale, eq);
   const double* equations[3] = { eq[0], eq[1], eq[2] };
   double x[3] = { 0.5, 0.5, 0.5 };
   L[0] = 0.0;

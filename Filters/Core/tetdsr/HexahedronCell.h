@@ -126,7 +126,7 @@ void collapsedTetrahedron(Interpolate interpolate, const glm::dvec3* nodes, cons
   {
     // At a power of two's scale near 1 (exact): the conversion's sums overflow only where the
     // coefficients themselves do.
-    const double scale = scaleFor(tensor::magnitude(form, N));
+    const double scale = scaleFor(bernstein::magnitude(form, N));
     for (double& value : form)
     {
       value *= scale;
@@ -185,7 +185,7 @@ struct HexahedronCell
 
   static void valueBound(const double values[], const TransverseTest&, double& lo, double& hi)
   {
-    tensor::range(values, kNodes, lo, hi);
+    bernstein::range(values, kNodes, lo, hi);
   }
 
   /// extent: the control points' box (the cell lies in their convex hull).

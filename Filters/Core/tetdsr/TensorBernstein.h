@@ -7,7 +7,12 @@
 // f on a sub-box has coefficients from de Casteljau's algorithm along each axis; its derivative
 // along r is P sum (c_(i+1)jk - c_ijk) B_i^(P-1)(r) B_j(s) B_k(t); a product of univariate
 // Bernstein polynomials is B_m^P B_n^Q = C(P, m) C(Q, n) / C(P + Q, m + n) B_(m+n)^(P+Q).
+//
+// The least and largest coefficient and the largest magnitude are bernstein::range and
+// bernstein::magnitude (TetBernstein.h): a form's coefficients are a plain array.
 #pragma once
+
+#include "tetdsr/TetBernstein.h"
 
 #include <algorithm>
 #include <array>
@@ -333,28 +338,6 @@ inline void lagrangeToBernstein(double* form)
   transformAxis<P>(work, 1, matrix, form);
   transformAxis<P>(form, 2, matrix, work);
   std::copy(work, work + N, form);
-}
-
-/// The least and largest coefficient.
-inline void range(const double* c, int n, double& lo, double& hi)
-{
-  lo = hi = c[0];
-  for (int k = 1; k < n; ++k)
-  {
-    lo = std::min(lo, c[k]);
-    hi = std::max(hi, c[k]);
-  }
-}
-
-/// The largest magnitude of the coefficients.
-inline double magnitude(const double* c, int n)
-{
-  double largest = 0.0;
-  for (int k = 0; k < n; ++k)
-  {
-    largest = std::max(largest, std::abs(c[k]));
-  }
-  return largest;
 }
 
 } // namespace tensor
