@@ -98,6 +98,15 @@ const HexahedronNodes& higherOrderWedgeTable()
   return table;
 }
 
+/// The table of a wedge type of fixed node count, built once from its one shape (a thread-safe
+/// static).
+template <int Type>
+const HexahedronNodes& fixedWedgeTable(const SplitShape& shape)
+{
+  static const HexahedronNodes table = wedgeTable(Type, shape);
+  return table;
+}
+
 /// The wedge tables, each built once (thread-safe statics) from the split's shapes.
 const HexahedronNodes* wedgeTableOf(int vtkType, long long ids, std::uint16_t& status)
 {
@@ -107,29 +116,16 @@ const HexahedronNodes* wedgeTableOf(int vtkType, long long ids, std::uint16_t& s
   {
     return nullptr;
   }
-  auto make = [](int type, const SplitShape* s) { return wedgeTable(type, *s); };
   switch (vtkType)
   {
     case kVtkWedge:
-    {
-      static const HexahedronNodes table = make(kVtkWedge, shape);
-      return &table;
-    }
+      return &fixedWedgeTable<kVtkWedge>(*shape);
     case kVtkQuadraticLinearWedge:
-    {
-      static const HexahedronNodes table = make(kVtkQuadraticLinearWedge, shape);
-      return &table;
-    }
+      return &fixedWedgeTable<kVtkQuadraticLinearWedge>(*shape);
     case kVtkQuadraticWedge:
-    {
-      static const HexahedronNodes table = make(kVtkQuadraticWedge, shape);
-      return &table;
-    }
+      return &fixedWedgeTable<kVtkQuadraticWedge>(*shape);
     case kVtkBiquadraticQuadraticWedge:
-    {
-      static const HexahedronNodes table = make(kVtkBiquadraticQuadraticWedge, shape);
-      return &table;
-    }
+      return &fixedWedgeTable<kVtkBiquadraticQuadraticWedge>(*shape);
     default:
     {
       // Lagrange and Bezier wedges of orders 1 to 4 (the order from the shape), each built on
