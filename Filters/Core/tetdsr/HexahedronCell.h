@@ -258,6 +258,11 @@ template <int P>
 bool solveOnUnitBox(const double* const equations[3], const double* objective, double lo, double hi,
   BoxRoot& root, const BoxSolveLimits& limits = {}, int* pieces = nullptr);
 
+/// Newton's method on three tensor forms of degree P from x (the forms' unit coordinates): true
+/// if it converges (steps down to rounding) to a finite x; the caller checks where it landed.
+template <int P>
+bool newtonOnBox(const double* const equations[3], double x[3]);
+
 /// A form on the unit cube made a form on the cube widened by `tolerance` on every side, in
 /// that cube's unit coordinates w (x = -tolerance + w (1 + 2 tolerance)).
 template <int P>
