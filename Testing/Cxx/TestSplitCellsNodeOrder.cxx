@@ -15,9 +15,10 @@
 // The cell's nodes sit at their parametric coordinates, so its map is the identity: a piece node's
 // position is its weights applied to nodePoints (the cell's own node when it is one).
 // And for every (type, id count) the core reads as a tensor-product cell (tetdsr::hexahedronNodesOf:
-// every hexahedron, wedge and VTK_PYRAMID), the tensor form toTensorForm makes of random node
+// every hexahedron, wedge and pyramid), the tensor form toTensorForm makes of random node
 // values, evaluated at the image of a random parametric point (a wedge's (r, s, t) is the
-// collapsed cube's (r / (1 - s), s, t)), equals VTK's InterpolateFunctions applied to them there.
+// collapsed cube's (r / (1 - s), s, t)), equals VTK's InterpolateFunctions applied to them there,
+// and its nodes' points are VTK's parametric coordinates (tetdsr::parametricPoint).
 #include "vtkCell.h"
 #include "vtkCellType.h"
 #include "vtkNew.h"
@@ -391,23 +392,48 @@ int checkTensorForm(int type, int ids, const tetdsr::HexahedronNodes& table, std
   double error = 0.0;
   for (int trial = 0; trial < 200; ++trial)
   {
-    const Point x = randomPoint(wedge, random);
+    // A random point of VTK's parametric cell, and the cube's point there: a wedge's (r, s, t) is
+    // the collapsed cube's (r / (1 - s), s, t); the triquadratic pyramid's parametric cell is the
+    // pyramid with base [0, 1]^2 at t = 1/2 and apex (1/2, 1/2, 1), the cube's (u, v, w) at
+    // (1/2 + (u - 1/2) (1 - w), 1/2 + (v - 1/2) (1 - w), (1 + w) / 2).
+    Point x = randomPoint(wedge, random);
+    double cube[3] = { wedge ? (x[1] < 1.0 ? x[0] / (1.0 - x[1]) : 0.0) : x[0], x[1], x[2] };
+    if (type == VTK_TRIQUADRATIC_PYRAMID)
+    {
+      x = { 0.5 + (cube[0] - 0.5) * (1.0 - cube[2]), 0.5 + (cube[1] - 0.5) * (1.0 - cube[2]), 0.5 * (1.0 + cube[2]) };
+    }
     cell->InterpolateFunctions(x.data(), weights.data());
     double theirs = 0.0;
     for (int n = 0; n < ids; ++n)
     {
       theirs += weights[static_cast<std::size_t>(n)] * values[static_cast<std::size_t>(n)];
     }
-    const double cube[3] = { wedge ? (x[1] < 1.0 ? x[0] / (1.0 - x[1]) : 0.0) : x[0], x[1], x[2] };
     const double ours = tetdsr::forHexahedronOrder(table.order, [&](auto P) {
       return tetdsr::tensor::evaluate<decltype(P)::value>(form, cube);
     });
     error = std::max(error, std::abs(ours - theirs));
   }
+  // Each node's point in the cube is where VTK puts the node (tetdsr::parametricPoint), but on
+  // the collapsed face, where every point of the cube is the same point of the cell.
+  const double* theirPoints = cell->GetParametricCoords();
+  for (int n = 0; n < ids; ++n)
+  {
+    const auto& at = table.nodePoints[static_cast<std::size_t>(n)];
+    if (table.collapsedAxis >= 0 && at[static_cast<std::size_t>(table.collapsedAxis)] == 1.0)
+    {
+      continue;
+    }
+    double parametric[3];
+    tetdsr::parametricPoint(table, at.data(), parametric);
+    for (int a = 0; a < 3; ++a)
+    {
+      error = std::max(error, std::abs(parametric[a] - theirPoints[3 * n + a]));
+    }
+  }
   worst = std::max(worst, error);
   if (!(error < 1e-12))
   {
-    std::cerr << table.name << " (" << ids << " ids): expected the tensor form to equal VTK's interpolation, "
+    std::cerr << table.name << " (" << ids << " ids): expected the tensor form and its nodes' points to equal VTK's, "
               << "got a difference of " << error << "\n";
     return 1;
   }
@@ -446,7 +472,7 @@ int TestSplitCellsNodeOrder(int, char*[])
   for (const int type : { VTK_HEXAHEDRON, VTK_VOXEL, VTK_QUADRATIC_HEXAHEDRON, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON,
          VTK_TRIQUADRATIC_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON, VTK_BEZIER_HEXAHEDRON, VTK_WEDGE,
          VTK_QUADRATIC_LINEAR_WEDGE, VTK_QUADRATIC_WEDGE, VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_LAGRANGE_WEDGE,
-         VTK_BEZIER_WEDGE, VTK_PYRAMID })
+         VTK_BEZIER_WEDGE, VTK_PYRAMID, VTK_QUADRATIC_PYRAMID, VTK_TRIQUADRATIC_PYRAMID })
   {
     for (int ids = 1; ids <= 125; ++ids)
     {
@@ -460,9 +486,9 @@ int TestSplitCellsNodeOrder(int, char*[])
     }
   }
   std::cout << tensorTypes << " tensor forms: max difference from VTK's interpolation " << tensorWorst << "\n";
-  if (tensorTypes != 26)
+  if (tensorTypes != 28)
   {
-    std::cerr << "expected 26 (type, id count) read as tensor-product cells, got " << tensorTypes << "\n";
+    std::cerr << "expected 28 (type, id count) read as tensor-product cells, got " << tensorTypes << "\n";
     ++failures;
   }
   // The kinds TetDSR documents as read (commit 2ed0cd8) must be among them.

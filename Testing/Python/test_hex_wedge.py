@@ -14,7 +14,7 @@ from vtkmodules.vtkCommonDataModel import (
     VTK_BEZIER_HEXAHEDRON, VTK_BEZIER_WEDGE, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON,
     VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON, VTK_LAGRANGE_WEDGE, VTK_PYRAMID,
     VTK_QUADRATIC_HEXAHEDRON, VTK_QUADRATIC_LINEAR_WEDGE, VTK_QUADRATIC_PYRAMID, VTK_QUADRATIC_TETRA, VTK_QUADRATIC_WEDGE,
-    VTK_TRIQUADRATIC_HEXAHEDRON, VTK_VOXEL, VTK_WEDGE, vtkPlane, vtkUnstructuredGrid)
+    VTK_TRIQUADRATIC_HEXAHEDRON, VTK_TRIQUADRATIC_PYRAMID, VTK_VOXEL, VTK_WEDGE, vtkPlane, vtkUnstructuredGrid)
 
 import hex_wedge_grids as hw
 import higher_order_grids as hog
@@ -415,7 +415,8 @@ class VtkConvention(unittest.TestCase):
         from vtkmodules.vtkCommonTransforms import vtkTransform
         cases = [(VTK_HEXAHEDRON, 1), (VTK_QUADRATIC_HEXAHEDRON, 2),
                  (VTK_LAGRANGE_HEXAHEDRON, 3), (VTK_BEZIER_HEXAHEDRON, 2), (VTK_WEDGE, 1), (VTK_QUADRATIC_WEDGE, 2),
-                 (VTK_LAGRANGE_WEDGE, 3), (VTK_BEZIER_WEDGE, 2), (VTK_PYRAMID, 1)]
+                 (VTK_LAGRANGE_WEDGE, 3), (VTK_BEZIER_WEDGE, 2), (VTK_PYRAMID, 1), (VTK_QUADRATIC_PYRAMID, 2),
+                 (VTK_TRIQUADRATIC_PYRAMID, 2)]
         for vtk_type, order in cases:
             with self.subTest(vtk_type=vtk_type):
                 source = vtkCellTypeSource()
@@ -453,15 +454,26 @@ class VtkConvention(unittest.TestCase):
                                      f"got {caster.GetNumberOfInvertedCells()}")
 
 
-class Pyramids(unittest.TestCase):
-    """VTK_PYRAMID (a collapsed trilinear hexahedron) holds any linear field exactly, straight or
-    curved: vtkCellTypeSource's pyramids filling the unit cube, bent by hw.bulge, with the plane's
-    field, against the plane; and beside hexahedra and tetrahedra in one mesh."""
+# The products of two different coordinates (and linear terms): in the space of every
+# VTK_QUADRATIC_PYRAMID of vtkCellTypeSource's cube (which holds z^2 and x y, x z, y z for a
+# pyramid along z, but not x^2 or y^2: measured with its InterpolateFunctions), so its straight
+# cells hold it exactly. A hyperboloid.
+MIXED = analytic(lambda a, b, c: (a + 0.1) * (b - 0.05) + (b + 0.02) * (c - 0.1) + 0.7 * c * a,
+                 lambda a, b, c: (b - 0.05 + 0.7 * c, a + 0.1 + c - 0.1, b + 0.02 + 0.7 * a), 0.01, 2)
 
-    def pyramids(self, warp):
+
+class Pyramids(unittest.TestCase):
+    """VTK_PYRAMID (a collapsed trilinear hexahedron), VTK_QUADRATIC_PYRAMID (a collapsed
+    triquadratic one) and VTK_TRIQUADRATIC_PYRAMID (rational; a collapsed cube of degree 3 in
+    HexahedronTables.cpp's coordinates) hold any linear field exactly, straight or curved: vtkCellTypeSource's
+    pyramids filling the unit cube, bent by hw.bulge, with the plane's field, against the plane;
+    straight quadratic pyramids also hold MIXED, against its quadric."""
+
+    def pyramids(self, vtk_type, warp, field=None):
         from vtkmodules.vtkFiltersSources import vtkCellTypeSource
+        field = field or PLANE
         source = vtkCellTypeSource()
-        source.SetCellType(VTK_PYRAMID)
+        source.SetCellType(vtk_type)
         source.SetBlocksDimensions(2, 2, 2)
         source.Update()
         mesh = vtkUnstructuredGrid()
@@ -470,7 +482,7 @@ class Pyramids(unittest.TestCase):
         x = warp(x) if warp is not None else x
         points = numpy_to_vtk(np.ascontiguousarray(x), deep=1)
         mesh.GetPoints().SetData(points)
-        for name, values in (("f", PLANE.value(x)), ("colour", linear_colour(x))):
+        for name, values in (("f", field.value(x)), ("colour", linear_colour(x))):
             array = numpy_to_vtk(np.ascontiguousarray(values), deep=1)
             array.SetName(name)
             mesh.GetPointData().AddArray(array)
@@ -482,22 +494,32 @@ class Pyramids(unittest.TestCase):
         w, h = 80, 60
         origins, directions = hog.pixel_rays(cam.GetPosition(), cam.GetFocalPoint(), cam.GetViewUp(),
                                              cam.GetViewAngle(), w, h)
-        t, grazing = hog.first_crossing(PLANE, origins, directions)
-        for label, warp in (("straight", None), ("curved", hw.bulge())):
-            with self.subTest(shape=label):
-                mesh = self.pyramids(warp)
+        truths = {}
+        for name, vtk_type, label, warp, field in (
+                ("VTK_PYRAMID", VTK_PYRAMID, "straight", None, PLANE),
+                ("VTK_PYRAMID", VTK_PYRAMID, "curved", hw.bulge(), PLANE),
+                ("VTK_QUADRATIC_PYRAMID", VTK_QUADRATIC_PYRAMID, "straight", None, PLANE),
+                ("VTK_QUADRATIC_PYRAMID", VTK_QUADRATIC_PYRAMID, "curved", hw.bulge(), PLANE),
+                ("VTK_QUADRATIC_PYRAMID", VTK_QUADRATIC_PYRAMID, "straight, mixed products", None, MIXED),
+                ("VTK_TRIQUADRATIC_PYRAMID", VTK_TRIQUADRATIC_PYRAMID, "straight", None, PLANE),
+                ("VTK_TRIQUADRATIC_PYRAMID", VTK_TRIQUADRATIC_PYRAMID, "curved", hw.bulge(), PLANE)):
+            with self.subTest(type=name, shape=label):
+                if id(field) not in truths:
+                    truths[id(field)] = hog.first_crossing(field, origins, directions)
+                t, grazing = truths[id(field)]
+                mesh = self.pyramids(vtk_type, warp, field)
 
                 def configure(c):
                     c.SetImageSize(w, h)
                     c.ColorByArrayOn()
                     c.SetInputArrayToProcess(1, 0, 0, 0, "colour")
 
-                caster = caster_for(mesh, [PLANE.iso], cam, configure)
+                caster = caster_for(mesh, [field.iso], cam, configure)
                 messages = Messages(caster)
                 out = outputs(caster)
-                result = compare(out, t, grazing, origins, directions, PLANE)
+                result = compare(out, t, grazing, origins, directions, field)
                 cells = mesh.GetNumberOfCells()
-                print(f"VTK_PYRAMID {label}: {cells} cells, {caster.GetNumberOfRenderedCells()} rendered, "
+                print(f"{name} {label}: {cells} cells, {caster.GetNumberOfRenderedCells()} rendered, "
                       f"{caster.GetNumberOfInvertedCells()} inverted, {result['pixels']} pixels, "
                       f"{result['missed']} missed, {result['false']} false, depth {result['depth']:.3g}, "
                       f"normal {result['angle']:.3g} rad")

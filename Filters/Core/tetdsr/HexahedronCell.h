@@ -72,10 +72,23 @@ struct HexahedronNodes
   std::vector<int> lattice;
   /// count(order) x nodes: the nodal values at lattice point k are sum_n weights[k][n] node[n].
   std::vector<double> weights;
+  /// How the cube's point maps to VTK's parametric point: the same (hexahedra, VTK_PYRAMID,
+  /// VTK_QUADRATIC_PYRAMID), (u (1 - v), v, t) (wedges), or VTK_TRIQUADRATIC_PYRAMID's pyramid
+  /// (1/2 + (u - 1/2) (1 - w), 1/2 + (v - 1/2) (1 - w), (1 + w) / 2).
+  enum class Parametric : std::uint8_t
+  {
+    Cube,
+    Wedge,
+    CentredPyramid
+  };
+  Parametric parametric = Parametric::Cube;
   /// Each node's point in the tensor form's cube (VTK's parametric point for hexahedra; (u, v,
   /// t) for collapsed cells).
   std::vector<std::array<double, 3>> nodePoints;
 };
+
+/// VTK's parametric point of a point of a table's cube (HexahedronNodes::parametric).
+void parametricPoint(const HexahedronNodes& table, const double cube[3], double parametric[3]);
 
 /// The node table of a hexahedron type with `ids` node ids (CellLayout's hexahedron part); 0 if
 /// read, else kMalformed (an id count that does not fit the type) or kOrderTooHigh.

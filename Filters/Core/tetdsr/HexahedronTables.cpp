@@ -64,6 +64,7 @@ HexahedronNodes wedgeTable(int vtkType, const SplitShape& shape)
   table.collapsedAxis = 1;
   table.collapsedPower = 1;
   table.mirrored = mirroredType(vtkType);
+  table.parametric = HexahedronNodes::Parametric::Wedge;
   const int P = shape.order;
   const int N = tensor::count(P);
   table.weights.resize(static_cast<std::size_t>(N * shape.nodes));
@@ -162,6 +163,131 @@ HexahedronNodes pyramidTable()
   return table;
 }
 
+/// VTK_QUADRATIC_PYRAMID's table. Its shape functions are of degree 2 per axis in VTK's
+/// parametric (r, s, t), the cube whose face t = 1 is collapsed onto the apex (measured against
+/// vtkQuadraticPyramid's interpolation: TestSplitCellsNodeOrder), so they are given by their
+/// values at the 27 lattice points: a node's own where the cell has one (the apex on all of
+/// t = 1), else those of the cell's faces and centre: the 8-node quadrilateral's at the base's
+/// centre (1/2 each mid-side node, -1/4 each corner), the 6-node triangle's at the middle of a
+/// side face (1/2 each slanted mid-edge node, 1/4 the base's mid-edge node, -1/8 each base
+/// corner), and at the centre 1/4 each mid-edge node and -1/4 each base corner.
+HexahedronNodes quadraticPyramidTable()
+{
+  HexahedronNodes table;
+  table.name = "VTK_QUADRATIC_PYRAMID";
+  table.order = 2;
+  table.nodes = 13;
+  table.collapsedAxis = 2;
+  table.collapsedPower = 2;
+  table.weights.assign(static_cast<std::size_t>(27 * 13), 0.0);
+  // The base's nodes at lattice (i, j) (-1: its centre), and the slanted edges' mid-edge nodes
+  // over its corners.
+  const int base[3][3] = { { 0, 8, 3 }, { 5, -1, 7 }, { 1, 6, 2 } };
+  auto slanted = [&](int i, int j) { return 9 + base[i][j]; }; // (over corner node c: 9 + c)
+  for (int k = 0; k <= 2; ++k)
+    for (int j = 0; j <= 2; ++j)
+      for (int i = 0; i <= 2; ++i)
+      {
+        double* w = table.weights.data() + static_cast<std::size_t>(tensor::index(2, i, j, k) * 13);
+        const bool corner = i != 1 && j != 1;
+        if (k == 2)
+        {
+          w[4] = 1.0;
+        }
+        else if (k == 0 && base[i][j] >= 0)
+        {
+          w[base[i][j]] = 1.0;
+        }
+        else if (corner)
+        {
+          w[slanted(i, j)] = 1.0;
+        }
+        else if (i == 1 && j == 1)
+        {
+          for (int c = 0; c < 4; ++c)
+          {
+            w[c] = -0.25;
+            w[5 + c] = k == 0 ? 0.5 : 0.25;
+            w[9 + c] = k == 0 ? 0.0 : 0.25;
+          }
+        }
+        else
+        {
+          // The middle of a side face's line through its mid-edge nodes: the face's two base
+          // corners, its base mid-edge node and the slanted edges over the corners.
+          const int a[2] = { i == 1 ? 0 : i, j == 1 ? 0 : j }, b[2] = { i == 1 ? 2 : i, j == 1 ? 2 : j };
+          w[base[a[0]][a[1]]] = w[base[b[0]][b[1]]] = -0.125;
+          w[base[i][j]] = 0.25;
+          w[slanted(a[0], a[1])] = w[slanted(b[0], b[1])] = 0.5;
+        }
+      }
+  table.nodePoints = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 }, { 0.5, 0.5, 1 }, { 0.5, 0, 0 },
+    { 1, 0.5, 0 }, { 0.5, 1, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 1, 0, 0.5 }, { 1, 1, 0.5 }, { 0, 1, 0.5 } };
+  return table;
+}
+
+/// VTK_TRIQUADRATIC_PYRAMID's shape functions (Browning's rational pyramid of 19 nodes, as VTK
+/// 9.2 has it) at a point of the cube collapsed onto it: VTK's parametric point is
+/// (1/2 + U z / 2, 1/2 + V z / 2, 1 - z / 2) with U = 2u - 1, V = 2v - 1, z = 1 - w (its base at
+/// w = 0, its apex at w = 1). Composed with that map, the rational functions are polynomials of
+/// degree 2 in u and v and 3 in w (derived from their formulas; TestSplitCellsNodeOrder checks
+/// them against vtkTriQuadraticPyramid's interpolation). Per corner or edge, (a, b) are the signs
+/// of its U and V (0 along the edge's own direction).
+void triquadraticPyramidBasis(const double x[3], double* weights)
+{
+  const double U = 2.0 * x[0] - 1.0, V = 2.0 * x[1] - 1.0, z = 1.0 - x[2];
+  const double UU = (U * U - 1.0), VV = (V * V - 1.0); // (vanish on the base's sides)
+  const double corner[4][2] = { { -1, -1 }, { 1, -1 }, { 1, 1 }, { -1, 1 } };
+  for (int c = 0; c < 4; ++c)
+  {
+    const double a = corner[c][0], b = corner[c][1];
+    const double side = (U + a) * (V + b), slant = b * U + a * V;
+    // The base's corners, and the mid-edge nodes of the slanted edges over them.
+    weights[c] = z * side * (2.0 * U * V * (3.0 * z * z - 3.0 * z + 1.0) - slant * (3.0 * z - 2.0) * (z - 1.0)) / 8.0;
+    weights[9 + c] = -z * (z - 1.0) * side * (2.0 * U * V * (3.0 * z - 1.0) - slant * (3.0 * z - 2.0)) / 2.0;
+  }
+  // The base's mid-edge nodes (edges v = 0, u = 1, v = 1, u = 0) and the side faces' centres.
+  const double edge[4][2] = { { 0, -1 }, { 1, 0 }, { 0, 1 }, { -1, 0 } };
+  for (int e = 0; e < 4; ++e)
+  {
+    const double a = edge[e][0], b = edge[e][1];
+    const double across = a == 0.0 ? UU * V * (V + b) : VV * U * (U + a);
+    weights[5 + e] = -across * z * z * (3.0 * z - 2.0) / 2.0;
+    weights[14 + e] = 27.0 * across * z * z * (z - 1.0) / 8.0;
+  }
+  weights[4] = (z - 1.0) *
+    (18.0 * U * U * V * V * z * z - 8.0 * U * U * V * V * z - 9.0 * (U * U + V * V) * z * z +
+      8.0 * (U * U + V * V) * z + 16.0 * z - 12.0) / 12.0;
+  weights[13] = z * UU * VV * (4.0 * z - 3.0);
+  weights[18] = -16.0 * z * (z - 1.0) * UU * VV / 3.0;
+}
+
+/// VTK_TRIQUADRATIC_PYRAMID's table: triquadraticPyramidBasis at the lattice points of order 3.
+HexahedronNodes triquadraticPyramidTable()
+{
+  HexahedronNodes table;
+  table.name = "VTK_TRIQUADRATIC_PYRAMID";
+  table.order = 3;
+  table.nodes = 19;
+  table.collapsedAxis = 2;
+  table.collapsedPower = 2;
+  table.parametric = HexahedronNodes::Parametric::CentredPyramid;
+  table.weights.resize(static_cast<std::size_t>(64 * 19));
+  for (int k = 0; k <= 3; ++k)
+    for (int j = 0; j <= 3; ++j)
+      for (int i = 0; i <= 3; ++i)
+      {
+        const double x[3] = { i / 3.0, j / 3.0, k / 3.0 };
+        triquadraticPyramidBasis(x, table.weights.data() + static_cast<std::size_t>(tensor::index(3, i, j, k) * 19));
+      }
+  const double third = 1.0 / 3.0;
+  table.nodePoints = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 }, { 0.5, 0.5, 1 }, { 0.5, 0, 0 },
+    { 1, 0.5, 0 }, { 0.5, 1, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 1, 0, 0.5 }, { 1, 1, 0.5 }, { 0, 1, 0.5 },
+    { 0.5, 0.5, 0 }, { 0.5, 0, third }, { 1, 0.5, third }, { 0.5, 1, third }, { 0, 0.5, third },
+    { 0.5, 0.5, 0.25 } };
+  return table;
+}
+
 template <bool Bezier, int Order>
 const HexahedronNodes& higherOrderTable()
 {
@@ -197,6 +323,8 @@ bool isTensorProductType(int vtkType)
     case kVtkLagrangeWedge:
     case kVtkBezierWedge:
     case kVtkPyramid:
+    case kVtkQuadraticPyramid:
+    case kVtkTriquadraticPyramid:
     case kVtkVoxel:
     case kVtkHexahedron:
     case kVtkQuadraticHexahedron:
@@ -274,6 +402,18 @@ std::uint16_t hexahedronNodesOf(int vtkType, long long ids, const HexahedronNode
       table = &pyramid;
       return ids == 5 ? 0 : kMalformed;
     }
+    case kVtkQuadraticPyramid:
+    {
+      static const HexahedronNodes pyramid = quadraticPyramidTable();
+      table = &pyramid;
+      return ids == 13 ? 0 : kMalformed;
+    }
+    case kVtkTriquadraticPyramid:
+    {
+      static const HexahedronNodes pyramid = triquadraticPyramidTable();
+      table = &pyramid;
+      return ids == 19 ? 0 : kMalformed;
+    }
     case kVtkWedge:
     case kVtkQuadraticLinearWedge:
     case kVtkQuadraticWedge:
@@ -302,6 +442,26 @@ std::uint16_t hexahedronLayout(int vtkType, long long ids, CellLayout& layout)
     layout.hexahedron = table;
   }
   return status;
+}
+
+void parametricPoint(const HexahedronNodes& table, const double cube[3], double parametric[3])
+{
+  switch (table.parametric)
+  {
+    case HexahedronNodes::Parametric::Cube:
+      std::copy(cube, cube + 3, parametric);
+      return;
+    case HexahedronNodes::Parametric::Wedge:
+      parametric[0] = cube[0] * (1.0 - cube[1]);
+      parametric[1] = cube[1];
+      parametric[2] = cube[2];
+      return;
+    case HexahedronNodes::Parametric::CentredPyramid:
+      parametric[0] = 0.5 + (cube[0] - 0.5) * (1.0 - cube[2]);
+      parametric[1] = 0.5 + (cube[1] - 0.5) * (1.0 - cube[2]);
+      parametric[2] = 0.5 * (1.0 + cube[2]);
+      return;
+  }
 }
 
 template <typename T>

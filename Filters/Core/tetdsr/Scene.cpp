@@ -771,9 +771,14 @@ bool Scene::parametricCoordinates(NodeId cellId, const glm::dvec3& point, double
   }
   double L[4];
   cellCoordinates(cellId, point, L);
-  for (int k = 0; k < 3; ++k)
+  CellLayout layout;
+  if (layoutOf(cellId, layout) && layout.hexahedron)
   {
-    pcoords[k] = L[k + 1];
+    parametricPoint(*layout.hexahedron, L + 1, pcoords); // (VTK's, from the tensor form's cube)
+  }
+  else
+  {
+    std::copy(L + 1, L + 4, pcoords);
   }
   return std::isfinite(L[0] + L[1] + L[2] + L[3]);
 }

@@ -736,10 +736,8 @@ bool isSplitType(int vtkType)
   {
     case kVtkWedge:
     case kVtkQuadraticWedge:
-    case kVtkQuadraticPyramid:
     case kVtkQuadraticLinearWedge:
     case kVtkBiquadraticQuadraticWedge:
-    case kVtkTriquadraticPyramid:
     case kVtkLagrangeWedge:
     case kVtkLagrangePyramid:
     case kVtkBezierWedge:
