@@ -5,9 +5,12 @@
  * vtkDirectSurfaceRayCaster renders isosurfaces of a point scalar field on a
  * vtkUnstructuredGrid of tetrahedra (VTK_TETRA, VTK_QUADRATIC_TETRA, and
  * VTK_LAGRANGE_TETRAHEDRON / VTK_BEZIER_TETRAHEDRON of orders 1 to 4), hexahedra (VTK_HEXAHEDRON,
- * VTK_VOXEL, the 20-, 24- and 27-node ones, Lagrange and Bezier of orders 1 to 4), wedges
- * (VTK_WEDGE, the 12-, 15- and 18-node ones, Lagrange and Bezier of orders 1 to 4) and
- * VTK_PYRAMID, straight or curved, each solved in its own reference space, mixed freely, by direct
+ * VTK_VOXEL, VTK_QUADRATIC_HEXAHEDRON, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON,
+ * VTK_TRIQUADRATIC_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON / VTK_BEZIER_HEXAHEDRON of orders 1 to 4),
+ * wedges (VTK_WEDGE, VTK_QUADRATIC_LINEAR_WEDGE, VTK_QUADRATIC_WEDGE,
+ * VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_LAGRANGE_WEDGE / VTK_BEZIER_WEDGE of orders 1 to 4) and
+ * pyramids (VTK_PYRAMID, VTK_QUADRATIC_PYRAMID, VTK_TRIQUADRATIC_PYRAMID), straight or curved,
+ * each solved in its own reference space, mixed freely, by direct
  * surface rendering (Simpson, "An efficient, high quality method for rendering irregular,
  * quadratic, volume data"): one ray per pixel, the field along the ray inside each straight cell
  * taken exactly (in closed form as a quadratic for order 2, its first root with the stable
@@ -338,7 +341,8 @@ public:
   /**
    * What the last preprocessing found: cells rendered, inverted (rendered), curved (rendered
    * as the isoparametric image of the reference cell), of order 3 or 4 (rendered: Lagrange and
-   * Bezier tetrahedra of 20 and 35 nodes, hexahedra and wedges of order 3 or 4 per axis), and
+   * Bezier tetrahedra of 20 and 35 nodes, hexahedra and wedges of order 3 or 4 per axis, and
+   * VTK_TRIQUADRATIC_PYRAMID, of degree 3 along its axis in its reference cube), and
    * skipped for: tangled curved cells (the Jacobian
    * determinant changes sign inside), flat or needle-like shape or repeated node ids
    * (degenerate), NaN/Inf values or coordinates, node ids out of range, an unsupported cell

@@ -2,9 +2,13 @@
  * @class   vtkDirectSurfaceMapper
  * @brief   Renders the exact isosurfaces of a higher-order finite-element field into a render window.
  *
- * A vtkMapper for a vtkUnstructuredGrid of tetrahedra (VTK_TETRA, VTK_QUADRATIC_TETRA, Lagrange
- * and Bezier tetrahedra of orders 1 to 4; the hexahedra, wedges and pyramids
- * vtkDirectSurfaceRayCaster reads), or a
+ * A vtkMapper for a vtkUnstructuredGrid of tetrahedra (VTK_TETRA, VTK_QUADRATIC_TETRA,
+ * VTK_LAGRANGE_TETRAHEDRON / VTK_BEZIER_TETRAHEDRON of orders 1 to 4), hexahedra (VTK_HEXAHEDRON,
+ * VTK_VOXEL, VTK_QUADRATIC_HEXAHEDRON, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON,
+ * VTK_TRIQUADRATIC_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON / VTK_BEZIER_HEXAHEDRON of orders 1 to 4),
+ * wedges (VTK_WEDGE, VTK_QUADRATIC_LINEAR_WEDGE, VTK_QUADRATIC_WEDGE,
+ * VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_LAGRANGE_WEDGE / VTK_BEZIER_WEDGE of orders 1 to 4) and
+ * pyramids (VTK_PYRAMID, VTK_QUADRATIC_PYRAMID, VTK_TRIQUADRATIC_PYRAMID), or a
  * composite dataset of them. On each render it takes the renderer's active camera and the
  * viewport's tiled size and origin, builds one ray per pixel from the inverse of the camera's
  * composite projection (so explicit and tiled projections work), ray casts the exact isosurface

@@ -47,7 +47,7 @@ import numpy as np
 
 import higher_order_cases as ho
 
-VTK_TETRA, VTK_HEXAHEDRON, VTK_QUADRATIC_PYRAMID, VTK_PENTAGONAL_PRISM, VTK_QUADRATIC_TETRA = 10, 12, 27, 15, 24
+VTK_TETRA, VTK_HEXAHEDRON, VTK_HEXAGONAL_PRISM, VTK_PENTAGONAL_PRISM, VTK_QUADRATIC_TETRA = 10, 12, 16, 15, 24
 MID_EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
 ALLOWED = (TypeError, ValueError, RuntimeError, MemoryError, OverflowError)
 DTYPES = [np.bool_, np.float16, np.float32, np.float64, np.int8, np.uint8, np.int16, np.uint16,
@@ -480,9 +480,9 @@ def run_filter(case):
             ca = vtkCellArray()
             ca.SetData(numpy_to_vtkIdTypeArray(np.arange(0, cells.size + 1, 10), deep=1),
                        numpy_to_vtkIdTypeArray(cells.ravel().copy(), deep=1))
-            # "unread": every cell (10 ids) of a type not read (a quadratic pyramid, a pentagonal prism) or
+            # "unread": every cell (10 ids) of a type not read (a hexagonal or pentagonal prism) or
             # of an id count its type is not read with (a hexahedron): refused.
-            unread = pick(rng, [VTK_QUADRATIC_PYRAMID, VTK_PENTAGONAL_PRISM, VTK_HEXAHEDRON])
+            unread = pick(rng, [VTK_HEXAGONAL_PRISM, VTK_PENTAGONAL_PRISM, VTK_HEXAHEDRON])
             types = np.full(len(cells), unread if what == "unread" else VTK_QUADRATIC_TETRA,
                             np.uint8)
             if what == "unread":

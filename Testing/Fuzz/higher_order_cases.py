@@ -24,7 +24,8 @@ VTK_TETRA, VTK_QUADRATIC_TETRA = 10, 24
 VTK_LAGRANGE_TETRAHEDRON, VTK_BEZIER_TETRAHEDRON = 71, 78
 READ_TYPES = (VTK_TETRA, VTK_QUADRATIC_TETRA, VTK_LAGRANGE_TETRAHEDRON, VTK_BEZIER_TETRAHEDRON)
 MAX_ORDER = 4
-# Hexahedra, wedges and pyramids (VTK_PYRAMID read, the higher-order ones not).
+# Hexahedra, wedges and pyramids (VTK_PYRAMID, VTK_QUADRATIC_PYRAMID, VTK_TRIQUADRATIC_PYRAMID read;
+# the Lagrange and Bezier pyramids not: VTK 9.2 has no cell class of them).
 VTK_VOXEL, VTK_HEXAHEDRON, VTK_WEDGE, VTK_PYRAMID, VTK_PENTAGONAL_PRISM = 11, 12, 13, 14, 15
 VTK_QUADRATIC_HEXAHEDRON, VTK_QUADRATIC_WEDGE, VTK_QUADRATIC_PYRAMID = 25, 26, 27
 VTK_TRIQUADRATIC_HEXAHEDRON, VTK_QUADRATIC_LINEAR_WEDGE = 29, 31
@@ -41,6 +42,7 @@ SPLIT_FIXED = {VTK_VOXEL: 8, VTK_HEXAHEDRON: 8, VTK_QUADRATIC_HEXAHEDRON: 20,
 # ((p + 1)^2 (p + 2) / 2 ids) read (order p: total degree 3p and 2p); higher: order too high.
 MAX_HEX_ORDER, MAX_WEDGE_ORDER = 4, 4
 BEZIER_TYPES = (VTK_BEZIER_TETRAHEDRON, VTK_BEZIER_HEXAHEDRON, VTK_BEZIER_WEDGE)
+PYRAMID_NODES = {VTK_PYRAMID: 5, VTK_QUADRATIC_PYRAMID: 13, VTK_TRIQUADRATIC_PYRAMID: 19}
 PYRAMIDS = (VTK_PYRAMID, VTK_QUADRATIC_PYRAMID, VTK_TRIQUADRATIC_PYRAMID, VTK_LAGRANGE_PYRAMID,
             VTK_BEZIER_PYRAMID)
 # Every type the core reads, and the id counts worth trying on the hexahedra, wedges and
@@ -109,8 +111,8 @@ def read_status(vtk_type, count):
         return MALFORMED if order == 0 else ORDER_TOO_HIGH if order > MAX_ORDER else ""
     if vtk_type in SPLIT_FIXED:
         return "" if count == SPLIT_FIXED[vtk_type] else MALFORMED
-    if vtk_type == VTK_PYRAMID:  # read as a collapsed hexahedron (HexahedronCell.h)
-        return "" if count == 5 else MALFORMED
+    if vtk_type in PYRAMID_NODES:  # read as collapsed hexahedra (HexahedronCell.h)
+        return "" if count == PYRAMID_NODES[vtk_type] else MALFORMED
     if vtk_type in (VTK_LAGRANGE_HEXAHEDRON, VTK_BEZIER_HEXAHEDRON):
         order = order_of(count, hexahedron_count)
         return MALFORMED if order == 0 else ORDER_TOO_HIGH if order > MAX_HEX_ORDER else ""

@@ -11,7 +11,7 @@ import unittest
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkCommand, vtkDoubleArray
-from vtkmodules.vtkCommonDataModel import (VTK_PENTAGONAL_PRISM, VTK_QUADRATIC_PYRAMID, VTK_TETRA, vtkPlane,
+from vtkmodules.vtkCommonDataModel import (VTK_HEXAGONAL_PRISM, VTK_PENTAGONAL_PRISM, VTK_TETRA, vtkPlane,
                                            vtkUnstructuredGrid)
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction
@@ -410,11 +410,11 @@ class BadInput(unittest.TestCase):
     def test_other_cell_types_skipped_and_linear_tets_rendered(self):
         mesh = self.mesh()
         base = mesh.GetNumberOfPoints()
-        for p in range(10):  # a quadratic pyramid and a pentagonal prism far away (types TetDSR does not
+        for p in range(12):  # a hexagonal and a pentagonal prism far away (types TetDSR does not
             # read), and a linear tet
             mesh.GetPoints().InsertNextPoint(5 + (p & 1), 5 + ((p >> 1) & 1), 5 + (p >> 2))
             mesh.GetPointData().GetArray("sphere").InsertNextValue(-1.0)
-        mesh.InsertNextCell(VTK_QUADRATIC_PYRAMID, 5, [base + k for k in (0, 1, 3, 2, 4)])
+        mesh.InsertNextCell(VTK_HEXAGONAL_PRISM, 12, [base + k for k in range(12)])
         mesh.InsertNextCell(VTK_PENTAGONAL_PRISM, 10, [base + k for k in range(10)])
         mesh.InsertNextCell(VTK_TETRA, 4, [base, base + 1, base + 2, base + 4])
         caster, messages = self.run_filter(mesh)

@@ -12,7 +12,8 @@ import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import (
     VTK_BEZIER_HEXAHEDRON, VTK_BEZIER_WEDGE, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON,
-    VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON, VTK_LAGRANGE_WEDGE, VTK_PYRAMID,
+    VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON, VTK_LAGRANGE_PYRAMID, VTK_LAGRANGE_WEDGE,
+    VTK_PYRAMID,
     VTK_QUADRATIC_HEXAHEDRON, VTK_QUADRATIC_LINEAR_WEDGE, VTK_QUADRATIC_PYRAMID, VTK_QUADRATIC_TETRA, VTK_QUADRATIC_WEDGE,
     VTK_TRIQUADRATIC_HEXAHEDRON, VTK_TRIQUADRATIC_PYRAMID, VTK_VOXEL, VTK_WEDGE, vtkPlane, vtkUnstructuredGrid)
 
@@ -545,9 +546,10 @@ class Refusals(unittest.TestCase):
         good = hw.grid(N, VTK_HEXAHEDRON, 8, {"f": scalar.value})
         reference = outputs(caster_for(good, [scalar.iso], cam))
         # Lagrange hexahedra and Bezier wedges of order 5 (216 and 126 ids: VTK reads the order
-        # from the count), a quadratic pyramid (a type not read), a hexahedron of 7 ids.
+        # from the count), a Lagrange pyramid (a type not read: VTK 9.2 has no cell class of it),
+        # a hexahedron of 7 ids.
         bad = with_extra_cells(good, 216, [(VTK_LAGRANGE_HEXAHEDRON, 216), (VTK_BEZIER_WEDGE, 126),
-                                           (VTK_QUADRATIC_PYRAMID, 13), (VTK_HEXAHEDRON, 7)])
+                                           (VTK_LAGRANGE_PYRAMID, 14), (VTK_HEXAHEDRON, 7)])
         caster = caster_for(bad, [scalar.iso], cam)
         messages = Messages(caster)
         out = outputs(caster)
@@ -560,6 +562,7 @@ class Refusals(unittest.TestCase):
         text = " ".join(messages.warnings)
         self.assertIn("Skipped 2 cells of an order TetDSR does not read", text)
         self.assertIn("Skipped 1 cells of a type TetDSR does not read", text)
+        self.assertIn("not VTK_LAGRANGE_PYRAMID or VTK_BEZIER_PYRAMID: VTK 9.2 has no cell class of the type", text)
         self.assertIn("Skipped 1 malformed cells: a number of node ids that does not fit the type", text)
         self.assertIn("8 for VTK_HEXAHEDRON", text)
         self.assertEqual(messages.errors, [])

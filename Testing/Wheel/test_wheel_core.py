@@ -12,7 +12,7 @@ from tetdsr import _core
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
 from shared_helpers import lattice  # noqa: E402
 
-VTK_QUADRATIC_TETRA, VTK_TETRA, VTK_QUADRATIC_PYRAMID, VTK_PENTAGONAL_PRISM = 24, 10, 27, 15
+VTK_QUADRATIC_TETRA, VTK_TETRA, VTK_HEXAGONAL_PRISM, VTK_PENTAGONAL_PRISM = 24, 10, 16, 15
 
 
 def mesh_arrays(n=2, points_dtype=np.float64, id_dtype=np.int64):
@@ -77,9 +77,8 @@ def test_prepared_mesh_reads_vtk_dtypes_and_tells_what_it_skipped():
                                        field=mesh_arrays()["field"].astype(np.float32))
     assert ready and single.summary["valid"] == valid, (messages.errors, single.summary)
     types = mesh_arrays()["cell_types"].copy()
-    # Types TetDSR does not read, whatever their ids (10 here): a quadratic pyramid (which the
-    # core's split turns away) and a pentagonal prism (which it never sees).
-    types[[3, 7]] = VTK_QUADRATIC_PYRAMID, VTK_PENTAGONAL_PRISM
+    # Types TetDSR does not read, whatever their ids (10 here): a hexagonal and a pentagonal prism.
+    types[[3, 7]] = VTK_HEXAGONAL_PRISM, VTK_PENTAGONAL_PRISM
     mesh, ready, messages = prepared(cell_types=types)
     assert ready and mesh.summary["unsupported"] == 2, mesh.summary
     assert mesh.summary["valid"] == valid - 2, mesh.summary
@@ -87,7 +86,8 @@ def test_prepared_mesh_reads_vtk_dtypes_and_tells_what_it_skipped():
     assert len(messages.warnings) == 1, messages.warnings
     assert messages.warnings[0].startswith("Skipped 2 cells of a type TetDSR does not read (it reads VTK_TETRA, "
                                            "VTK_QUADRATIC_TETRA,"), messages.warnings
-    assert messages.warnings[0].endswith("VTK_BEZIER_WEDGE of order 1 to 4; VTK_PYRAMID)."), messages.warnings
+    assert messages.warnings[0].endswith("VTK_TRIQUADRATIC_PYRAMID; not VTK_LAGRANGE_PYRAMID or VTK_BEZIER_PYRAMID: "
+                                         "VTK 9.2 has no cell class of the type)."), messages.warnings
     _, ready, messages = prepared(field=np.zeros(5))
     assert not ready and messages.errors[-1].endswith("'r2' has 5 tuples for 125 points."), messages.errors
     short = reference.point_values(np.zeros((4, 3)), "speed", 1, "colour array", messages)

@@ -1057,8 +1057,14 @@ void BindImages(nb::module_& m)
 
 NB_MODULE(_core, m)
 {
-  m.doc() = "The VTK-free TetDSR core: meshes of 10- and 4-node tetrahedra, the settings every "
-            "face shares with their checks and messages, and ray-cast images.";
+  m.doc() = "The VTK-free TetDSR core: meshes of tetrahedra (VTK_TETRA, VTK_QUADRATIC_TETRA, "
+            "VTK_LAGRANGE_TETRAHEDRON, VTK_BEZIER_TETRAHEDRON), hexahedra (VTK_HEXAHEDRON, VTK_VOXEL, "
+            "VTK_QUADRATIC_HEXAHEDRON, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON, VTK_TRIQUADRATIC_HEXAHEDRON, "
+            "VTK_LAGRANGE_HEXAHEDRON, VTK_BEZIER_HEXAHEDRON), wedges (VTK_WEDGE, VTK_QUADRATIC_LINEAR_WEDGE, "
+            "VTK_QUADRATIC_WEDGE, VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_LAGRANGE_WEDGE, VTK_BEZIER_WEDGE) and "
+            "pyramids (VTK_PYRAMID, VTK_QUADRATIC_PYRAMID, VTK_TRIQUADRATIC_PYRAMID), Lagrange and Bezier "
+            "cells of orders 1 to 4; the settings every face shares with their checks and messages; and "
+            "ray-cast images.";
   // ParaView finalizes Python while its proxies still hold Python algorithms (and so meshes):
   // nanobind would list those as leaks at every pvpython exit.
   nb::set_leak_warnings(false);

@@ -12,8 +12,8 @@
 //   coordinates a point's barycentric coordinates, outside the cell too (the map's extension)
 //   interpolate a point array at barycentric coordinates (the cell's shape functions)
 //   gradient    the field's exact gradient at barycentric coordinates
-// The kinds (adding one: a file with these steps, a CellKind, a case in forKind (CellKinds.h),
-// in kindOf and, for a new VTK type, in cellLayout below):
+// The kinds (adding one: a file with these steps, a CellKind, a case in forKind (CellKinds.h) and
+// in kindOf; a new VTK type is a row of kCellTypes, CellTypes.h):
 //   LinearTetCell.h          order 1 (VTK_TETRA, and Lagrange or Bezier tetrahedra of 4 nodes):
 //                            rendered as the exact quadratic it is
 //   QuadraticTetCell.h       order 2 (VTK_QUADRATIC_TETRA, Lagrange or Bezier of 10 nodes) with
@@ -27,6 +27,7 @@
 #pragma once
 
 #include "tetdsr/Camera.h"
+#include "tetdsr/CellTypes.h"
 #include "tetdsr/HigherOrderTet.h"
 #include "tetdsr/QuadraticTet.h"
 
@@ -45,15 +46,6 @@ namespace tetdsr
 /// Point and cell ids: 64-bit, the same type as VTK's vtkIdType, so VTK's connectivity can be
 /// viewed without a copy.
 using NodeId = long long;
-
-/// VTK's codes (vtkCellType.h) of the cell types the core reads.
-enum VtkCellType : int
-{
-  kVtkTetra = 10,
-  kVtkQuadraticTetra = 24,
-  kVtkLagrangeTetrahedron = 71,
-  kVtkBezierTetrahedron = 78
-};
 
 /// The kinds of cell, as validation classifies them.
 enum class CellKind : std::uint8_t
@@ -119,47 +111,38 @@ struct CellLayout
   const HexahedronNodes* hexahedron = nullptr;
 };
 
-/// Whether a VTK type is one the core reads as a tensor-product cell (HexahedronCell.h): every
-/// hexahedron, VTK_PYRAMID, and the wedges a split mesh keeps (curved ones: SplitCells.h).
-bool isTensorProductType(int vtkType);
-/// cellLayout for a hexahedron type (HexahedronCell.cpp).
-std::uint16_t hexahedronLayout(int vtkType, long long ids, CellLayout& layout);
+/// cellLayout for a type read as a tensor-product cell (HexahedronTables.cpp): every hexahedron,
+/// wedge and pyramid type of kCellTypes.
+std::uint16_t hexahedronLayout(const CellType& type, long long ids, CellLayout& layout);
 
 /// The layout of a cell of VTK type `vtkType` with `ids` node ids; 0 (kValid) if it can be read,
-/// else the status saying why not: kUnsupported (a type the core does not read), kMalformed (an
-/// id count that does not fit the type), kOrderTooHigh.
-/// `maxOrder` is kMaxTetOrder for an input's cells; a split mesh (SplitCells.h), whose Bezier
-/// tetrahedra above that order are the pieces of hexahedra and wedges, reads kPieceOrders too.
+/// else the status saying why not: kUnsupported (a type kCellTypes does not read), kMalformed (an
+/// id count that fits no order of the type), kOrderTooHigh.
+/// `maxOrder` is the table's for an input's tetrahedra; a split mesh (SplitCells.h), whose Bezier
+/// tetrahedra above that order are the pieces of wedges, reads kPieceOrders too.
 inline std::uint16_t cellLayout(int vtkType, long long ids, CellLayout& layout,
   int maxOrder = kMaxTetOrder)
 {
-  switch (vtkType)
+  const CellType* type = cellTypeOf(vtkType);
+  if (!isRead(type))
   {
-    case kVtkTetra:
-      layout = { 1, false, 4 };
-      return ids == 4 ? 0 : kMalformed;
-    case kVtkQuadraticTetra:
-      layout = { 2, false, 10 };
-      return ids == 10 ? 0 : kMalformed;
-    case kVtkLagrangeTetrahedron:
-    case kVtkBezierTetrahedron:
-    {
-      // VTK tells the order of these from the number of ids (vtkHigherOrderTetra).
-      const int order = tetOrderOf(ids);
-      if (order == 0)
-      {
-        return kMalformed;
-      }
-      if (order > maxOrder || !isTetOrder(order))
-      {
-        return kOrderTooHigh;
-      }
-      layout = { order, vtkType == kVtkBezierTetrahedron, latticeCount(order) };
-      return 0;
-    }
-    default:
-      return isTensorProductType(vtkType) ? hexahedronLayout(vtkType, ids, layout) : kUnsupported;
+    return kUnsupported;
   }
+  if (type->shape != CellShape::Tetrahedron)
+  {
+    return hexahedronLayout(*type, ids, layout);
+  }
+  const int order = orderOf(*type, ids);
+  if (order == 0)
+  {
+    return kMalformed;
+  }
+  if (order > maxOrder || !isTetOrder(order))
+  {
+    return kOrderTooHigh;
+  }
+  layout = { order, type->bezier, latticeCount(order) };
+  return 0;
 }
 
 /// The kind of a valid cell of this layout, curved or not.
@@ -182,7 +165,7 @@ inline CellKind kindOf(const CellLayout& layout, bool curved)
       return curved ? CellKind::CurvedTet6 : CellKind::Tet6;
     case 8:
       return curved ? CellKind::CurvedTet8 : CellKind::Tet8;
-    default:
+    default: // 4: cellLayout reads no other order (TestCellTypes: every cell read gets its own)
       return curved ? CellKind::CurvedQuarticTet : CellKind::QuarticTet;
   }
 }

@@ -42,7 +42,7 @@ namespace tetdsr
 {
 
 /// The highest order per axis of the hexahedra the core reads.
-constexpr int kMaxHexahedronOrder = 4;
+constexpr int kMaxHexahedronOrder = kMaxReadOrder;
 
 /// How a cell type's nodes (VTK's order) become its tensor form: a permutation onto the lattice
 /// of its order when its nodes are the lattice's (Lagrange, Bezier, VTK_HEXAHEDRON, VTK_VOXEL, 27
@@ -66,7 +66,7 @@ struct HexahedronNodes
   int collapsedAxis = -1;
   int collapsedPower = 0;
   /// VTK orders the type's nodes so that a well-formed cell's map reverses the parametric
-  /// orientation (SplitCells.h's mirroredType): its inversion is the reverse of its map's sign.
+  /// orientation (kCellTypes' CellType::mirrored): its inversion is the reverse of its map's sign.
   bool mirrored = false;
   /// Per node, its lattice index (tensor::index); empty when `weights` is used.
   std::vector<int> lattice;
@@ -169,7 +169,8 @@ decltype(auto) forHexahedronOrder(int order, Step&& step)
       return step(std::integral_constant<int, 2>{});
     case 3:
       return step(std::integral_constant<int, 3>{});
-    default:
+    default: // 4: no table has another order (kMaxHexahedronOrder; TestCellTypes checks each)
+      static_assert(kMaxHexahedronOrder == 4, "a case per order");
       return step(std::integral_constant<int, 4>{});
   }
 }

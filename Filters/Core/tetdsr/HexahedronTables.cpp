@@ -58,12 +58,12 @@ HexahedronNodes basisTable(const SplitShape& shape)
 HexahedronNodes wedgeTable(int vtkType, const SplitShape& shape)
 {
   HexahedronNodes table;
-  table.name = shape.name;
+  table.name = cellTypeOf(vtkType)->name; // (a Lagrange wedge of order 1 or 2 has VTK_WEDGE's or the 18-node shape)
   table.order = shape.order;
   table.nodes = shape.nodes;
   table.collapsedAxis = 1;
   table.collapsedPower = 1;
-  table.mirrored = mirroredType(vtkType);
+  table.mirrored = cellTypeOf(vtkType)->mirrored;
   table.parametric = HexahedronNodes::Parametric::Wedge;
   const int P = shape.order;
   const int N = tensor::count(P);
@@ -312,34 +312,22 @@ const HexahedronNodes& splitShapeTable(int vtkType, int nodes)
 } // namespace
 
 
-bool isTensorProductType(int vtkType)
-{
-  switch (vtkType)
-  {
-    case kVtkWedge:
-    case kVtkQuadraticLinearWedge:
-    case kVtkQuadraticWedge:
-    case kVtkBiquadraticQuadraticWedge:
-    case kVtkLagrangeWedge:
-    case kVtkBezierWedge:
-    case kVtkPyramid:
-    case kVtkQuadraticPyramid:
-    case kVtkTriquadraticPyramid:
-    case kVtkVoxel:
-    case kVtkHexahedron:
-    case kVtkQuadraticHexahedron:
-    case kVtkBiquadraticQuadraticHexahedron:
-    case kVtkTriquadraticHexahedron:
-    case kVtkLagrangeHexahedron:
-    case kVtkBezierHexahedron:
-      return true;
-    default:
-      return false;
-  }
-}
-
 std::uint16_t hexahedronNodesOf(int vtkType, long long ids, const HexahedronNodes*& table)
 {
+  const CellType* type = cellTypeOf(vtkType);
+  if (!isRead(type) || type->shape == CellShape::Tetrahedron)
+  {
+    return kUnsupported;
+  }
+  const int order = orderOf(*type, ids);
+  if (order == 0)
+  {
+    return kMalformed;
+  }
+  if (order > type->maxOrder)
+  {
+    return kOrderTooHigh;
+  }
   static const HexahedronNodes hexahedron = latticeTable("VTK_HEXAHEDRON", 1, false, hexahedronNodePoints(1));
   static const HexahedronNodes voxel = latticeTable("VTK_VOXEL", 1, false,
     { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 1, 1, 0 }, { 0, 0, 1 }, { 1, 0, 1 }, { 0, 1, 1 }, { 1, 1, 1 } });
@@ -349,95 +337,64 @@ std::uint16_t hexahedronNodesOf(int vtkType, long long ids, const HexahedronNode
   {
     case kVtkHexahedron:
       table = &hexahedron;
-      return ids == 8 ? 0 : kMalformed;
+      return 0;
     case kVtkVoxel:
       table = &voxel;
-      return ids == 8 ? 0 : kMalformed;
-    case kVtkQuadraticHexahedron:
-      if (ids != 20)
-        return kMalformed;
-      table = &splitShapeTable(vtkType, 20);
       return 0;
+    case kVtkQuadraticHexahedron:
     case kVtkBiquadraticQuadraticHexahedron:
-      if (ids != 24)
-        return kMalformed;
-      table = &splitShapeTable(vtkType, 24);
+      table = &splitShapeTable(vtkType, static_cast<int>(ids));
       return 0;
     case kVtkTriquadraticHexahedron:
       table = &triquadratic;
-      return ids == 27 ? 0 : kMalformed;
+      return 0;
     case kVtkLagrangeHexahedron:
     case kVtkBezierHexahedron:
     {
-      // VTK reads the order of these from the id count, a cube number (p + 1)^3.
-      int order = 0;
-      for (int p = 1; p <= 1 << 17; ++p)
-      {
-        const long long n = static_cast<long long>(p + 1) * (p + 1) * (p + 1);
-        if (n >= ids)
-        {
-          order = n == ids ? p : 0;
-          break;
-        }
-      }
-      if (order == 0)
-      {
-        return kMalformed;
-      }
-      if (order > kMaxHexahedronOrder)
-      {
-        return kOrderTooHigh;
-      }
       using Builder = const HexahedronNodes& (*)();
-      static constexpr Builder kBuilders[2][4] = {
+      static constexpr Builder kBuilders[2][kMaxHexahedronOrder] = {
         { higherOrderTable<false, 1>, higherOrderTable<false, 2>, higherOrderTable<false, 3>, higherOrderTable<false, 4> },
         { higherOrderTable<true, 1>, higherOrderTable<true, 2>, higherOrderTable<true, 3>, higherOrderTable<true, 4> }
       };
-      table = &kBuilders[vtkType == kVtkBezierHexahedron][order - 1]();
+      table = &kBuilders[type->bezier][order - 1]();
       return 0;
     }
     case kVtkPyramid:
     {
       static const HexahedronNodes pyramid = pyramidTable();
       table = &pyramid;
-      return ids == 5 ? 0 : kMalformed;
+      return 0;
     }
     case kVtkQuadraticPyramid:
     {
       static const HexahedronNodes pyramid = quadraticPyramidTable();
       table = &pyramid;
-      return ids == 13 ? 0 : kMalformed;
+      return 0;
     }
     case kVtkTriquadraticPyramid:
     {
       static const HexahedronNodes pyramid = triquadraticPyramidTable();
       table = &pyramid;
-      return ids == 19 ? 0 : kMalformed;
+      return 0;
     }
-    case kVtkWedge:
-    case kVtkQuadraticLinearWedge:
-    case kVtkQuadraticWedge:
-    case kVtkBiquadraticQuadraticWedge:
-    case kVtkLagrangeWedge:
-    case kVtkBezierWedge:
+    default:
     {
+      // The wedges (kCellTypes' rows of that shape).
       std::uint16_t status = 0;
       table = wedgeTableOf(vtkType, ids, status);
       return status;
     }
-    default:
-      return kUnsupported;
   }
 }
 
-std::uint16_t hexahedronLayout(int vtkType, long long ids, CellLayout& layout)
+std::uint16_t hexahedronLayout(const CellType& type, long long ids, CellLayout& layout)
 {
   const HexahedronNodes* table = nullptr;
-  const std::uint16_t status = hexahedronNodesOf(vtkType, ids, table);
+  const std::uint16_t status = hexahedronNodesOf(type.vtkType, ids, table);
   if (status == 0)
   {
     layout.order = table->order;
-    layout.bezier = table->bezier;
+    layout.bezier = type.bezier; // (its ids' rational weights are checked; table->bezier: its form's)
     layout.nodes = table->nodes;
     layout.hexahedron = table;
   }

@@ -18,6 +18,7 @@
 // arrays have them).
 #pragma once
 
+#include "tetdsr/CellTypes.h"
 #include "tetdsr/TetBernstein.h"
 
 #include <algorithm>
@@ -30,7 +31,7 @@ namespace tetdsr
 {
 
 /// The highest order of Lagrange and Bezier tetrahedra the core reads from its input.
-constexpr int kMaxTetOrder = 4;
+constexpr int kMaxTetOrder = kMaxReadOrder;
 /// The orders of the tetrahedra straight wedges split into (SplitCells.h) beyond those: the total
 /// degrees of their polynomials (6, 8: wedges of order 3, 4). Only such pieces have them.
 constexpr int kPieceOrders[] = { 6, 8 };

@@ -169,14 +169,6 @@ bool checkArrays(const MeshArrays& arrays, NodeId numberOfCells, Messages& messa
   return true;
 }
 
-/// The cell types the core reads, as messages list them.
-constexpr const char* kReadTypes =
-  "VTK_TETRA, VTK_QUADRATIC_TETRA, VTK_LAGRANGE_TETRAHEDRON or VTK_BEZIER_TETRAHEDRON of order 1 "
-  "to 4; VTK_HEXAHEDRON, VTK_VOXEL, VTK_QUADRATIC_HEXAHEDRON, VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON, "
-  "VTK_TRIQUADRATIC_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON or VTK_BEZIER_HEXAHEDRON of order 1 to 4; "
-  "VTK_WEDGE, VTK_QUADRATIC_WEDGE, VTK_QUADRATIC_LINEAR_WEDGE, VTK_BIQUADRATIC_QUADRATIC_WEDGE, "
-  "VTK_LAGRANGE_WEDGE or VTK_BEZIER_WEDGE of order 1 to 4; VTK_PYRAMID";
-
 /// The warnings for every kind of cell the scene skipped, then whether any cell is left.
 bool describeSkipped(const PreprocessSummary& summary, NodeId numberOfCells, NodeId numberOfPoints,
   const std::string& fieldName, Messages& messages)
@@ -184,7 +176,7 @@ bool describeSkipped(const PreprocessSummary& summary, NodeId numberOfCells, Nod
   if (summary.unsupportedCells + summary.malformedCells + summary.orderTooHighCells == numberOfCells)
   {
     messages.errors.push_back(text("No cell can be rendered: none of the ", numberOfCells,
-      " input cells is a well-formed cell of a type TetDSR reads (", kReadTypes, "): ",
+      " input cells is a well-formed cell of a type TetDSR reads (", readTypesText(), "): ",
       summary.unsupportedCells, " of another type, ", summary.orderTooHighCells,
       " of an order it does not read, ", summary.malformedCells, " malformed."));
     return false;
@@ -193,27 +185,20 @@ bool describeSkipped(const PreprocessSummary& summary, NodeId numberOfCells, Nod
   if (summary.unsupportedCells > 0)
   {
     warnings.push_back(text("Skipped ", summary.unsupportedCells,
-      " cells of a type TetDSR does not read (it reads ", kReadTypes, ")."));
+      " cells of a type TetDSR does not read (it reads ", readTypesText(), "; not ", refusedTypesText(),
+      ")."));
   }
   if (summary.orderTooHighCells > 0)
   {
     warnings.push_back(text("Skipped ", summary.orderTooHighCells,
-      " cells of an order TetDSR does not read: Lagrange or Bezier tetrahedra of order above ",
-      kMaxTetOrder, " (more than ", latticeCount(kMaxTetOrder), " nodes), hexahedra of order above ",
-      kMaxSplitOrder, " (more than ", (kMaxSplitOrder + 1) * (kMaxSplitOrder + 1) * (kMaxSplitOrder + 1),
-      " nodes), wedges of order above ", kMaxSplitOrder, " (more than ",
-      (kMaxSplitOrder + 1) * (kMaxSplitOrder + 1) * (kMaxSplitOrder + 2) / 2, " nodes)."));
+      " cells of an order TetDSR does not read: ", orderLimitsText(), "."));
   }
   if (summary.malformedCells > 0)
   {
     warnings.push_back(text("Skipped ", summary.malformedCells,
-      " malformed cells: a number of node ids that does not fit the type (4 for VTK_TETRA, 10 "
-      "for VTK_QUADRATIC_TETRA, a tetrahedral number 4, 10, 20, 35, ... for Lagrange and Bezier "
-      "tetrahedra, 8 for VTK_HEXAHEDRON, 20 for VTK_QUADRATIC_HEXAHEDRON, a cube number for "
-      "Lagrange and Bezier hexahedra, 6 for VTK_WEDGE, 15 for VTK_QUADRATIC_WEDGE, 6, 18, 40, "
-      "... for Lagrange and Bezier wedges; VTK's 15-node Lagrange tetrahedron and 21-node "
-      "Lagrange wedge, with extra face and body nodes, are not read), or offsets out of order or "
-      "past the end of the connectivity array."));
+      " malformed cells: a number of node ids that does not fit the type (", nodeCountsText(),
+      "; VTK's 15-node Lagrange tetrahedron and 21-node Lagrange wedge, with extra face and body "
+      "nodes, are not read), or offsets out of order or past the end of the connectivity array."));
   }
   if (summary.rationalCells > 0)
   {

@@ -56,7 +56,7 @@ struct MeshView
   /// order, whatever its pieces' total degree), 0 for one kept as it is
   const std::uint8_t* sourceOrders = nullptr;
   /// per input cell: 1 for a type whose VTK node order reverses the parametric orientation
-  /// (mirroredType, SplitCells.h): its pieces' inversion is the reverse of the cell's
+  /// (kCellTypes' CellType::mirrored): its pieces' inversion is the reverse of the cell's
   const std::uint8_t* sourceMirrored = nullptr;
   NodeId numberOfSourceCells = 0;
 };
@@ -119,8 +119,7 @@ struct PreprocessSummary
   /// a number of ids that does not match the type, or offsets out of order or past the end of
   /// the connectivity
   NodeId malformedCells = 0;
-  /// a Lagrange or Bezier tetrahedron of order above kMaxTetOrder, hexahedron or wedge of order
-  /// above kMaxSplitOrder
+  /// a Lagrange or Bezier cell of order above kCellTypes' highest
   NodeId orderTooHighCells = 0;
   NodeId rationalCells = 0; ///< a Bezier tetrahedron whose rational weights differ within it
   /// valid, of order 3 or more (HigherOrderTetCell, CurvedHigherOrderTetCell; a hexahedron or

@@ -599,34 +599,6 @@ double bernstein1D(int p, int i, double x)
   return binomial(p, i) * std::pow(x, i) * std::pow(1.0 - x, p - i);
 }
 
-/// (p + 1)^3 == ids for some p >= 1, or 0.
-int cubeOrder(long long ids)
-{
-  for (int p = 1; p <= 1 << 17; ++p)
-  {
-    const long long n = static_cast<long long>(p + 1) * (p + 1) * (p + 1);
-    if (n >= ids)
-    {
-      return n == ids ? p : 0;
-    }
-  }
-  return 0;
-}
-
-/// (p + 1)^2 (p + 2) / 2 == ids for some p >= 1 (VTK's Lagrange and Bezier wedges), or 0.
-int wedgeOrder(long long ids)
-{
-  for (int p = 1; p <= 1 << 17; ++p)
-  {
-    const long long n = static_cast<long long>(p + 1) * (p + 1) * (p + 2) / 2;
-    if (n >= ids)
-    {
-      return n == ids ? p : 0;
-    }
-  }
-  return 0;
-}
-
 /// Whether a cell's map is affine (every node where the affine map through its frame nodes puts
 /// it, within the rounding a straight tetrahedron's nodes are allowed: QuadraticTetCell's
 /// tolerance for the frame's tetrahedron), and that map: origin frame[0], axes frame[1..3].
@@ -716,15 +688,6 @@ void SplitShape::basis(const double parametric[3], double* weights) const
   }
 }
 
-bool mirroredType(int vtkType)
-{
-  // vtkWedge and its quadratic relatives: the triangle (0, 1, 2)'s right-hand normal points away
-  // from (3, 4, 5) (VTK's documentation; vtkCellTypeSource builds them so), the reverse of the
-  // parametric cell's (r, s, t) orientation. VTK's Lagrange and Bezier wedges are not mirrored.
-  return vtkType == kVtkWedge || vtkType == kVtkQuadraticWedge || vtkType == kVtkQuadraticLinearWedge ||
-    vtkType == kVtkBiquadraticQuadraticWedge;
-}
-
 std::vector<std::array<double, 3>> hexahedronNodePoints(int order)
 {
   return hexahedronNodes(order);
@@ -732,87 +695,68 @@ std::vector<std::array<double, 3>> hexahedronNodePoints(int order)
 
 bool isSplitType(int vtkType)
 {
-  switch (vtkType)
-  {
-    case kVtkWedge:
-    case kVtkQuadraticWedge:
-    case kVtkQuadraticLinearWedge:
-    case kVtkBiquadraticQuadraticWedge:
-    case kVtkLagrangeWedge:
-    case kVtkLagrangePyramid:
-    case kVtkBezierWedge:
-    case kVtkBezierPyramid:
-      return true;
-    default:
-      return false;
-  }
+  const CellType* type = cellTypeOf(vtkType);
+  return type && type->solver == CellSolver::SplitOrTensorForm;
 }
 
 std::uint16_t splitShapeOf(int vtkType, long long ids, const SplitShape*& shape)
 {
-  auto fixed = [&](const SplitShape& s) -> std::uint16_t {
-    shape = &s;
-    return ids == s.nodes ? 0 : kMalformed;
-  };
+  const CellType* type = cellTypeOf(vtkType);
+  if (!isRead(type) || (type->shape != CellShape::Hexahedron && type->shape != CellShape::Wedge))
+  {
+    return kUnsupported;
+  }
+  const int order = orderOf(*type, ids);
+  if (order == 0)
+  {
+    return kMalformed;
+  }
+  if (order > type->maxOrder)
+  {
+    return kOrderTooHigh;
+  }
+  const bool bezier = type->bezier;
   switch (vtkType)
   {
     case kVtkVoxel:
-      return ids == 8 ? fixed(voxelShape()) : kMalformed;
+      shape = &voxelShape();
+      break;
     case kVtkHexahedron:
-      return ids == 8 ? fixed(hexahedronShape()) : kMalformed;
+      shape = &hexahedronShape();
+      break;
     case kVtkQuadraticHexahedron:
-      return ids == 20 ? fixed(hexahedron20Shape()) : kMalformed;
+      shape = &hexahedron20Shape();
+      break;
     case kVtkBiquadraticQuadraticHexahedron:
-      return ids == 24 ? fixed(hexahedron24Shape()) : kMalformed;
+      shape = &hexahedron24Shape();
+      break;
     case kVtkTriquadraticHexahedron:
-      return ids == 27 ? fixed(higherOrderShape(false, false, 2)) : kMalformed;
+      shape = &higherOrderShape(false, false, 2);
+      break;
     case kVtkWedge:
-      return ids == 6 ? fixed(wedgeShape()) : kMalformed;
+      shape = &wedgeShape();
+      break;
     case kVtkQuadraticLinearWedge:
-      return ids == 12 ? fixed(wedge12Shape()) : kMalformed;
+      shape = &wedge12Shape();
+      break;
     case kVtkQuadraticWedge:
-      return ids == 15 ? fixed(wedge15Shape()) : kMalformed;
+      shape = &wedge15Shape();
+      break;
     case kVtkBiquadraticQuadraticWedge:
-      return ids == 18 ? fixed(wedge18Shape()) : kMalformed;
+      shape = &wedge18Shape();
+      break;
     case kVtkLagrangeHexahedron:
     case kVtkBezierHexahedron:
-    {
-      // VTK reads the order of these from the id count (a cube number); order p is of total
-      // degree 3p.
-      const int order = cubeOrder(ids);
-      if (order == 0)
-      {
-        return kMalformed;
-      }
-      if (order > kMaxSplitOrder)
-      {
-        return kOrderTooHigh;
-      }
-      shape = order == 1 ? &hexahedronShape() : &higherOrderShape(false, vtkType == kVtkBezierHexahedron, order);
-      return 0;
-    }
-    case kVtkLagrangeWedge:
-    case kVtkBezierWedge:
-    {
-      // Order p is of total degree 2p (VTK's 21-node wedge is not read).
-      const int order = wedgeOrder(ids);
-      if (order == 0)
-      {
-        return kMalformed;
-      }
-      if (order > kMaxSplitOrder)
-      {
-        return kOrderTooHigh;
-      }
-      shape = order == 1 ? &wedgeShape()
-        : order == 2 && vtkType == kVtkLagrangeWedge ? &wedge18Shape()
-                                                     : &higherOrderShape(true, vtkType == kVtkBezierWedge, order);
-      return 0;
-    }
+      // (Order p is of total degree 3p.)
+      shape = order == 1 ? &hexahedronShape() : &higherOrderShape(false, bezier, order);
+      break;
     default:
-      return kUnsupported; // higher-order pyramids, not read (VTK_PYRAMID is read as a collapsed
-                           // hexahedron, HexahedronCell.h)
+      // Lagrange and Bezier wedges: order p is of total degree 2p.
+      shape = order == 1 ? &wedgeShape()
+        : order == 2 && !bezier ? &wedge18Shape()
+                                : &higherOrderShape(true, bezier, order);
   }
+  return 0;
 }
 
 struct SplitMesh::Arrays
@@ -915,7 +859,7 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
     if (status == 0)
     {
       status = checkNodeIds(input, input.connectivity + begin, shape->nodes,
-        type == kVtkBezierHexahedron || type == kVtkBezierWedge);
+        cellTypeOf(type)->bezier);
     }
     if (status != 0)
     {
@@ -933,7 +877,7 @@ bool SplitMesh::split(const MeshView& input, const ParallelFor& parallelFor, std
       continue;
     }
     out.Shape[c] = shape;
-    out.SourceMirrored[c] = mirroredType(type);
+    out.SourceMirrored[c] = cellTypeOf(type)->mirrored;
     out.IdsAt[c] = copiedIds;
     copiedIds += shape->nodes;
     pieces += shape->pieces;

@@ -33,28 +33,6 @@
 namespace tetdsr
 {
 
-/// VTK's codes (vtkCellType.h) of hexahedra, wedges and pyramids.
-enum VtkSplitCellType : int
-{
-  kVtkVoxel = 11,
-  kVtkHexahedron = 12,
-  kVtkWedge = 13,
-  kVtkPyramid = 14,
-  kVtkQuadraticHexahedron = 25,
-  kVtkQuadraticWedge = 26,
-  kVtkQuadraticPyramid = 27,
-  kVtkTriquadraticHexahedron = 29,
-  kVtkQuadraticLinearWedge = 31,
-  kVtkBiquadraticQuadraticWedge = 32,
-  kVtkBiquadraticQuadraticHexahedron = 33,
-  kVtkTriquadraticPyramid = 37,
-  kVtkLagrangeHexahedron = 72,
-  kVtkLagrangeWedge = 73,
-  kVtkLagrangePyramid = 74,
-  kVtkBezierHexahedron = 79,
-  kVtkBezierWedge = 80,
-  kVtkBezierPyramid = 81
-};
 
 /// How one kind of hexahedron or wedge (a VTK type and node count) is split into tetrahedra.
 struct SplitShape
@@ -111,18 +89,9 @@ struct SplitShape
   std::vector<double> inverseVandermonde;
 };
 
-/// The highest order of Lagrange and Bezier hexahedra and wedges the split reads (total degree
-/// 12 and 8: the pieces' orders are kPieceOrders).
-constexpr int kMaxSplitOrder = 4;
-
-/// Whether a VTK type is a wedge or pyramid (read or refused by the split; hexahedra are read
-/// as themselves: HexahedronCell.h).
+/// Whether a VTK type is one the split reads (kCellTypes' CellSolver::SplitOrTensorForm: the
+/// wedges; every other cell is kept as it is, for the scene to read or refuse).
 bool isSplitType(int vtkType);
-
-/// Whether VTK orders a type's nodes so that a well-formed cell's map from parametric space
-/// reverses orientation (VTK_WEDGE and its quadratic relatives): such a cell is inverted when
-/// its map is positive.
-bool mirroredType(int vtkType);
 
 /// The parametric points (r, s, t) of the nodes of VTK's Lagrange and Bezier hexahedron of order
 /// p, in VTK's order (vtkHigherOrderHexahedron; order 1 is VTK_HEXAHEDRON's, order 2
@@ -130,8 +99,8 @@ bool mirroredType(int vtkType);
 std::vector<std::array<double, 3>> hexahedronNodePoints(int order);
 
 /// The shape of a cell of a hexahedron or wedge type with `ids` node ids; 0 if it is read, else
-/// the status saying why not (kMalformed: an id count that does not fit the type; kOrderTooHigh:
-/// a Lagrange or Bezier cell of order above kMaxSplitOrder; kUnsupported: pyramids).
+/// the status saying why not (kMalformed: an id count that fits no order of the type (kCellTypes'
+/// rule); kOrderTooHigh: above the table's highest order; kUnsupported: other types).
 std::uint16_t splitShapeOf(int vtkType, long long ids, const SplitShape*& shape);
 
 /// A mesh whose hexahedra and wedges are split into tetrahedra (the other cells kept as they

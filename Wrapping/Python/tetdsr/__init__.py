@@ -1,4 +1,11 @@
-"""TetDSR: exact isosurfaces of higher-order tetrahedral fields by ray casting (the pip build).
+"""TetDSR: exact isosurfaces of higher-order finite-element fields by ray casting (the pip build).
+
+It reads tetrahedra (VTK_TETRA, VTK_QUADRATIC_TETRA, VTK_LAGRANGE_TETRAHEDRON,
+VTK_BEZIER_TETRAHEDRON), hexahedra (VTK_HEXAHEDRON, VTK_VOXEL, VTK_QUADRATIC_HEXAHEDRON,
+VTK_BIQUADRATIC_QUADRATIC_HEXAHEDRON, VTK_TRIQUADRATIC_HEXAHEDRON, VTK_LAGRANGE_HEXAHEDRON,
+VTK_BEZIER_HEXAHEDRON), wedges (VTK_WEDGE, VTK_QUADRATIC_LINEAR_WEDGE, VTK_QUADRATIC_WEDGE,
+VTK_BIQUADRATIC_QUADRATIC_WEDGE, VTK_LAGRANGE_WEDGE, VTK_BEZIER_WEDGE) and pyramids (VTK_PYRAMID,
+VTK_QUADRATIC_PYRAMID, VTK_TRIQUADRATIC_PYRAMID); Lagrange and Bezier cells of orders 1 to 4.
 
 `tetdsr._core` is the VTK-free core. The VTK faces are imported on first use, so that
 `import tetdsr` needs no VTK:

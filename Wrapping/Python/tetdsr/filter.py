@@ -177,7 +177,9 @@ class DirectSurfacePick:
 
 
 class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
-    """Ray casts the exact isosurface of a higher-order tetrahedral field into an image.
+    """Ray casts the exact isosurface of a higher-order finite-element field (tetrahedra,
+    hexahedra, wedges and pyramids of orders 1 to 4, the types the core's table reads) into an
+    image.
 
     The interface of the C++ vtkDirectSurfaceRayCaster: input array 0 is the field
     (SetInputArrayToProcess, default the active point scalars), iso-values as vtkContourFilter

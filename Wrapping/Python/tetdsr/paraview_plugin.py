@@ -20,8 +20,9 @@ from tetdsr.filter import vtkDirectSurfaceRayCaster
 @smdomain.datatype(dataTypes=["vtkUnstructuredGrid"], composite_data_supported=False)
 @smdomain.xml('<InputArrayDomain name="inputs_array" attribute_type="point" number_of_components="1"/>')
 class DirectSurfaceRayCastPython(vtkDirectSurfaceRayCaster):
-    """Ray casts the exact isosurface of a higher-order tetrahedral field into an image (the wheel's
-    filter; camera and clipping planes as properties)."""
+    """Ray casts the exact isosurface of a higher-order finite-element field (tetrahedra,
+    hexahedra, wedges and pyramids of orders 1 to 4) into an image (the wheel's filter; camera and
+    clipping planes as properties)."""
 
     def __init__(self):
         vtkDirectSurfaceRayCaster.__init__(self)

@@ -77,8 +77,8 @@ def _checked_grid(grid):
             "empty" if grid.GetNumberOfCells() == 0 else f"{grid.GetNumberOfCells()} cells") +
             "): pass one pyvista.UnstructuredGrid (e.g. multiblock.combine())")
     if not isinstance(grid, vtkUnstructuredGrid):
-        raise TypeError(f"add_isosurface: grid must be a pyvista.UnstructuredGrid of quadratic "
-                        f"tetrahedra, got {type(grid).__name__}")
+        raise TypeError(f"add_isosurface: grid must be a pyvista.UnstructuredGrid, "
+                        f"got {type(grid).__name__}")
     if grid.GetNumberOfCells() == 0 or grid.GetNumberOfPoints() == 0:
         raise ValueError(f"add_isosurface: the grid is empty ({grid.GetNumberOfPoints()} points, "
                          f"{grid.GetNumberOfCells()} cells)")
@@ -453,8 +453,9 @@ def add_isosurface(plotter, grid, value, scalars=None, *, color="white", colors=
                    capping=None, ambient=0.1, diffuse=0.7, specular=0.2, specular_power=30.0,
                    normal_mode="exact", threads=0, interactive_scale=0.25):
     """Adds the exact isosurface(s) `value` (a number or a list) of the point array `scalars`
-    (default: the active scalars) of `grid` (a pyvista.UnstructuredGrid of tetrahedra of orders 1
-    to 4: linear, quadratic, Lagrange, Bezier) to `plotter`, seen with its camera at its
+    (default: the active scalars) of `grid` (a pyvista.UnstructuredGrid of tetrahedra, hexahedra,
+    wedges and pyramids of orders 1 to 4: linear, quadratic, Lagrange, Bezier) to `plotter`, seen
+    with its camera at its
     renderer's size. Returns a DirectSurface.
 
     color / colors: the surfaces' colour, or one per iso-value; opacities: one per iso-value
