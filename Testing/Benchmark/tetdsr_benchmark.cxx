@@ -23,7 +23,7 @@
 //   (the core alone on one thread: an orbit of 2-degree steps, each frame cast in full and again
 //   with the last frame's hits reprojected as hints; CPU seconds per frame and whether the images
 //   agree; prints a Markdown table)
-//   tetdsr-benchmark --kinds <image size> <lattice n>
+//   tetdsr-benchmark --kinds <image size> <lattice n> [rows: e.g. "order 4 straight"]
 //   (the lattice's cubes as hexahedra, or two wedges each, of every kind TetDSR reads, straight
 //   and bent: the same columns per cell kind; prints a Markdown table)
 #include "vtkActor.h"
@@ -603,10 +603,11 @@ vtkSmartPointer<vtkUnstructuredGrid> MakeKindMesh(int n, int type, int nodes, bo
 }
 } // namespace
 
-/// Per hexahedron and wedge kind, straight and bent: as Orders.
-int Kinds(int size, int n)
+/// Per hexahedron and wedge kind, straight and bent: as Orders. `only`: the rows whose name
+/// and shape ("VTK_LAGRANGE_WEDGE order 4 straight") contain it (empty: all).
+int Kinds(int size, int n, const std::string& only)
 {
-  std::printf("| cells | type | nodes/cell | shape | solved as: itself, or split into tetrahedra (order) | mesh MB | preprocess s | kept MB | image | first frame s | camera move s | M rays/s | contour s | triangles |\n"
+  std::printf("| cells | type | nodes/cell | shape | solved as | mesh MB | preprocess s | kept MB | image | first frame s | camera move s | M rays/s | contour s | triangles |\n"
               "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   struct Row
   {
@@ -631,22 +632,25 @@ int Kinds(int size, int n)
   {
     for (const Row& row : rows)
     {
-      vtkSmartPointer<vtkUnstructuredGrid> mesh = MakeKindMesh(n, row.type, row.nodes, curved);
-      // Hexahedra are solved as themselves (order p per axis); straight wedges are split into
-      // tetrahedra of total degree D, curved ones solved as themselves (collapsed hexahedra).
-      const tetdsr::SplitShape* shape = nullptr;
-      const bool split = tetdsr::splitShapeOf(row.type, row.nodes, shape) == 0 && shape->wedge && !curved;
-      const int image = curved ? size / 2 : size;
-      char solvedAs[32];
-      if (split)
+      if ((std::string(row.name) + (curved ? " curved" : " straight")).find(only) == std::string::npos)
       {
-        std::snprintf(solvedAs, sizeof solvedAs, "%d (%d)", shape->pieces, shape->degree);
+        continue;
+      }
+      vtkSmartPointer<vtkUnstructuredGrid> mesh = MakeKindMesh(n, row.type, row.nodes, curved);
+      // Every cell is solved as itself: hexahedra in their cube (order p per axis), straight
+      // wedges triangle x segment, curved ones as collapsed hexahedra.
+      const tetdsr::HexahedronNodes* table = nullptr;
+      tetdsr::hexahedronNodesOf(row.type, row.nodes, table);
+      const bool wedge = table->collapsedAxis == 1;
+      const int image = curved ? size / 2 : size;
+      char solvedAs[48];
+      if (wedge && !curved)
+      {
+        std::snprintf(solvedAs, sizeof solvedAs, "itself (P%d x P%d)", table->order, table->order);
       }
       else
       {
-        const tetdsr::HexahedronNodes* table = nullptr;
-        tetdsr::hexahedronNodesOf(row.type, row.nodes, table);
-        std::snprintf(solvedAs, sizeof solvedAs, "itself (Q%d%s)", table->order, shape->wedge ? ", collapsed" : "");
+        std::snprintf(solvedAs, sizeof solvedAs, "itself (Q%d%s)", table->order, wedge ? ", collapsed" : "");
       }
       const WaveTimings t = TimeWave(mesh, image);
       // (M rays/s to 3 significant digits: bent cells of high degree reach only tens of rays/s.)
@@ -830,9 +834,9 @@ int main(int argc, char* argv[])
   {
     return AppearanceOptions(std::atoi(argv[2]), std::atoi(argv[3]));
   }
-  if (argc == 4 && std::string(argv[1]) == "--kinds")
+  if ((argc == 4 || argc == 5) && std::string(argv[1]) == "--kinds")
   {
-    return Kinds(std::atoi(argv[2]), std::atoi(argv[3]));
+    return Kinds(std::atoi(argv[2]), std::atoi(argv[3]), argc == 5 ? argv[4] : "");
   }
   if (argc == 4 && std::string(argv[1]) == "--orders")
   {

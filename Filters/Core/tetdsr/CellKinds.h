@@ -8,6 +8,7 @@
 #include "tetdsr/HigherOrderTetCell.h"
 #include "tetdsr/LinearTetCell.h"
 #include "tetdsr/QuadraticTetCell.h"
+#include "tetdsr/WedgeCell.h"
 
 namespace tetdsr
 {
@@ -55,6 +56,14 @@ decltype(auto) forKind(CellKind kind, Step&& step)
       return step(HexahedronCell<3, true>{});
     case CellKind::CurvedHexahedron4:
       return step(HexahedronCell<4, true>{});
+    case CellKind::Wedge1:
+      return step(WedgeCell<1>{});
+    case CellKind::Wedge2:
+      return step(WedgeCell<2>{});
+    case CellKind::Wedge3:
+      return step(WedgeCell<3>{});
+    case CellKind::Wedge4:
+      return step(WedgeCell<4>{});
     case CellKind::QuadraticTet:
       break;
   }

@@ -66,10 +66,9 @@ enum class NodeRule : std::uint8_t
 /// How the core solves a type's cells.
 enum class CellSolver : std::uint8_t
 {
-  Tetrahedron,       ///< a tetrahedron kind of its order, straight or curved (Cells.h)
-  TensorForm,        ///< in its own reference cube (HexahedronCell.h)
-  SplitOrTensorForm, ///< straight: split into straight tetrahedra (SplitCells.h); curved: TensorForm
-  None               ///< not read (CellType::refusal says why)
+  Tetrahedron, ///< a tetrahedron kind of its order, straight or curved (Cells.h)
+  TensorForm,  ///< in its own reference cube (HexahedronCell.h; straight wedges: WedgeCell.h)
+  None         ///< not read (CellType::refusal says why)
 };
 
 struct CellType
@@ -107,12 +106,12 @@ inline constexpr CellType kCellTypes[] = {
   { kVtkTriquadraticHexahedron, "VTK_TRIQUADRATIC_HEXAHEDRON", CellShape::Hexahedron, NodeRule::Fixed, 27, 2, 2, false, false, CellSolver::TensorForm, nullptr },
   { kVtkLagrangeHexahedron, "VTK_LAGRANGE_HEXAHEDRON", CellShape::Hexahedron, NodeRule::Cubic, 0, 0, kMaxReadOrder, false, false, CellSolver::TensorForm, nullptr },
   { kVtkBezierHexahedron, "VTK_BEZIER_HEXAHEDRON", CellShape::Hexahedron, NodeRule::Cubic, 0, 0, kMaxReadOrder, true, false, CellSolver::TensorForm, nullptr },
-  { kVtkWedge, "VTK_WEDGE", CellShape::Wedge, NodeRule::Fixed, 6, 1, 1, false, true, CellSolver::SplitOrTensorForm, nullptr },
-  { kVtkQuadraticLinearWedge, "VTK_QUADRATIC_LINEAR_WEDGE", CellShape::Wedge, NodeRule::Fixed, 12, 2, 2, false, true, CellSolver::SplitOrTensorForm, nullptr },
-  { kVtkQuadraticWedge, "VTK_QUADRATIC_WEDGE", CellShape::Wedge, NodeRule::Fixed, 15, 2, 2, false, true, CellSolver::SplitOrTensorForm, nullptr },
-  { kVtkBiquadraticQuadraticWedge, "VTK_BIQUADRATIC_QUADRATIC_WEDGE", CellShape::Wedge, NodeRule::Fixed, 18, 2, 2, false, true, CellSolver::SplitOrTensorForm, nullptr },
-  { kVtkLagrangeWedge, "VTK_LAGRANGE_WEDGE", CellShape::Wedge, NodeRule::Prismatic, 0, 0, kMaxReadOrder, false, false, CellSolver::SplitOrTensorForm, nullptr },
-  { kVtkBezierWedge, "VTK_BEZIER_WEDGE", CellShape::Wedge, NodeRule::Prismatic, 0, 0, kMaxReadOrder, true, false, CellSolver::SplitOrTensorForm, nullptr },
+  { kVtkWedge, "VTK_WEDGE", CellShape::Wedge, NodeRule::Fixed, 6, 1, 1, false, true, CellSolver::TensorForm, nullptr },
+  { kVtkQuadraticLinearWedge, "VTK_QUADRATIC_LINEAR_WEDGE", CellShape::Wedge, NodeRule::Fixed, 12, 2, 2, false, true, CellSolver::TensorForm, nullptr },
+  { kVtkQuadraticWedge, "VTK_QUADRATIC_WEDGE", CellShape::Wedge, NodeRule::Fixed, 15, 2, 2, false, true, CellSolver::TensorForm, nullptr },
+  { kVtkBiquadraticQuadraticWedge, "VTK_BIQUADRATIC_QUADRATIC_WEDGE", CellShape::Wedge, NodeRule::Fixed, 18, 2, 2, false, true, CellSolver::TensorForm, nullptr },
+  { kVtkLagrangeWedge, "VTK_LAGRANGE_WEDGE", CellShape::Wedge, NodeRule::Prismatic, 0, 0, kMaxReadOrder, false, false, CellSolver::TensorForm, nullptr },
+  { kVtkBezierWedge, "VTK_BEZIER_WEDGE", CellShape::Wedge, NodeRule::Prismatic, 0, 0, kMaxReadOrder, true, false, CellSolver::TensorForm, nullptr },
   { kVtkPyramid, "VTK_PYRAMID", CellShape::Pyramid, NodeRule::Fixed, 5, 1, 1, false, false, CellSolver::TensorForm, nullptr },
   { kVtkQuadraticPyramid, "VTK_QUADRATIC_PYRAMID", CellShape::Pyramid, NodeRule::Fixed, 13, 2, 2, false, false, CellSolver::TensorForm, nullptr },
   { kVtkTriquadraticPyramid, "VTK_TRIQUADRATIC_PYRAMID", CellShape::Pyramid, NodeRule::Fixed, 19, 2, 2, false, false, CellSolver::TensorForm, nullptr },

@@ -72,10 +72,15 @@ enum class CellKind : std::uint8_t
   CurvedHexahedron1,
   CurvedHexahedron2,
   CurvedHexahedron3,
-  CurvedHexahedron4
+  CurvedHexahedron4,
+  /// WedgeCell<P>: straight wedges of order P per axis, triangle x segment (WedgeCell.h).
+  Wedge1,
+  Wedge2,
+  Wedge3,
+  Wedge4
 };
 
-/// Whether a kind is one of the hexahedra's.
+/// Whether a kind is one of the hexahedra's (and the wedges' and pyramids' read as such).
 inline bool isHexahedronKind(CellKind kind)
 {
   return kind >= CellKind::Hexahedron1;
@@ -109,6 +114,8 @@ struct CellLayout
   int nodes = 0; ///< latticeCount(order); a hexahedron's: its type's id count
   /// A hexahedron's node table (HexahedronCell.h); null for tetrahedra.
   const HexahedronNodes* hexahedron = nullptr;
+  /// A wedge's (its straight cells are WedgeCell kinds).
+  bool wedge = false;
 };
 
 /// cellLayout for a type read as a tensor-product cell (HexahedronTables.cpp): every hexahedron,
@@ -150,8 +157,10 @@ inline CellKind kindOf(const CellLayout& layout, bool curved)
 {
   if (layout.hexahedron)
   {
-    return static_cast<CellKind>(static_cast<int>(curved ? CellKind::CurvedHexahedron1 : CellKind::Hexahedron1) +
-      (layout.order - 1));
+    const CellKind first = curved ? CellKind::CurvedHexahedron1
+      : layout.wedge              ? CellKind::Wedge1
+                                  : CellKind::Hexahedron1;
+    return static_cast<CellKind>(static_cast<int>(first) + (layout.order - 1));
   }
   switch (layout.order)
   {
@@ -249,6 +258,7 @@ struct alignas(64) CellRecord
     Curved,    ///< isoparametric: solved from the mesh (CurvedTetCell, CurvedHigherOrderTetCell)
     HigherOrder, ///< straight, order 3 or 4 (HigherOrderTetCell): the field read from the mesh
     Hexahedron,  ///< a straight hexahedron (HexahedronCell): its forms kept beside the record
+    Wedge,       ///< a straight wedge (WedgeCell): its field's triangle x segment form, the same
     CurvedHexahedron, ///< a curved hexahedron (HexahedronCell), the same
     Empty      ///< never hit (not a valid cell)
   };

@@ -360,19 +360,6 @@ void fieldOnSegment(const double* field, const double a[3], const double b[3], d
   }
 }
 
-/// The hit's world gradient from the field's (scaled) parametric gradient and the local Jacobian.
-glm::dvec3 worldGradient(const glm::dmat3& jacobian, const double parametric[3], double geometryScale,
-  double fieldScale)
-{
-  const glm::dmat3 inverse = glm::inverse(glm::transpose(jacobian));
-  const glm::dvec3 local = inverse * glm::dvec3(parametric[0], parametric[1], parametric[2]);
-  if (!isFinite(local))
-  {
-    return glm::dvec3(0.0);
-  }
-  // grad_x f = s grad_X f (X = (x - origin) s); unscaled exactly unless that overflows.
-  return unscaledGradient(local * geometryScale, fieldScale);
-}
 } // namespace
 
 // ---- The cell seam's steps ---------------------------------------------------------------------
@@ -399,12 +386,18 @@ std::uint16_t HexahedronCell<P, Curved>::validateForm(
   {
     return flags;
   }
+  curvedTolerance *= table.roundingGrowth;
+  // Where an affine map puts the control points: a hexahedron's lattice, or a wedge's (its r =
+  // u (1 - v) has the Bernstein coefficients (i / P)(1 - j / P)). A pyramid is never straight
+  // here (its collapsed face is off the lattice): its affine ones are solved as curved.
+  const bool wedge = table.collapsedAxis == 1;
   bool curved = false;
   for (int k = 0; k <= P && !curved; ++k)
     for (int j = 0; j <= P && !curved; ++j)
       for (int i = 0; i <= P && !curved; ++i)
       {
-        const glm::dvec3 expected = frame[0] + (static_cast<double>(i) / P) * (frame[1] - frame[0]) +
+        const double r = (static_cast<double>(i) / P) * (wedge ? 1.0 - static_cast<double>(j) / P : 1.0);
+        const glm::dvec3 expected = frame[0] + r * (frame[1] - frame[0]) +
           (static_cast<double>(j) / P) * (frame[2] - frame[0]) + (static_cast<double>(k) / P) * (frame[3] - frame[0]);
         curved = QuadraticTetCell::offItsPlace(nodes[tensor::index(P, i, j, k)], expected, curvedTolerance);
       }
@@ -606,7 +599,7 @@ bool HexahedronCell<P, Curved>::intersect(const CellRecord& cell, const Ray& ray
     hit.t = (tCentre + T) / s;
     hit.regionEnd = hit.t;
     hit.cellId = cell.cellId;
-    hit.gradient = worldGradient(jacobian, parametric, s, cell.scale);
+    hit.gradient = referenceToWorldGradient(jacobian, parametric, s, cell.scale);
     return true;
   }
   else
@@ -718,7 +711,7 @@ bool HexahedronCell<P, Curved>::intersect(const CellRecord& cell, const Ray& ray
     hit.t = (tCentre + root.value) / s;
     hit.regionEnd = hit.t;
     hit.cellId = cell.cellId;
-    hit.gradient = worldGradient(jacobian, parametric, s, cell.scale);
+    hit.gradient = referenceToWorldGradient(jacobian, parametric, s, cell.scale);
     return true;
   }
 }
@@ -780,7 +773,7 @@ glm::dvec3 HexahedronCell<P, Curved>::gradient(const glm::dvec3* nodes, const do
   }
   double parametric[3];
   tensor::evaluate<P>(c, x, parametric);
-  return worldGradient(jacobian, parametric, g.scale, scale);
+  return referenceToWorldGradient(jacobian, parametric, g.scale, scale);
 }
 
 template struct HexahedronCell<1, false>;

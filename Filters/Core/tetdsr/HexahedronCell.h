@@ -82,6 +82,10 @@ struct HexahedronNodes
     CentredPyramid
   };
   Parametric parametric = Parametric::Cube;
+  /// How much the tensor form's making (the weights' largest absolute row sum, times the Lagrange
+  /// to Bernstein conversion's infinity norm per axis) can grow the nodes' rounding: a straight
+  /// cell's control points lie within that many of its roundings of their affine places.
+  double roundingGrowth = 1.0;
   /// Each node's point in the tensor form's cube (VTK's parametric point for hexahedra; (u, v,
   /// t) for collapsed cells).
   std::vector<std::array<double, 3>> nodePoints;
@@ -232,6 +236,22 @@ struct HexahedronCell
   /// gradient: J^-T grad_(r,s,t) f at the parametric point L[1..3] (zero where J is singular).
   static glm::dvec3 gradient(const glm::dvec3* nodes, const double* values, const double L[4]);
 };
+
+/// A hit's world gradient from the field's (scaled) gradient in a cell's reference coordinates and
+/// the map's Jacobian there (local units: X = (x - origin) geometryScale; the field scaled by
+/// fieldScale); zero where the Jacobian is singular.
+inline glm::dvec3 referenceToWorldGradient(const glm::dmat3& jacobian, const double parametric[3],
+  double geometryScale, double fieldScale)
+{
+  const glm::dmat3 inverse = glm::inverse(glm::transpose(jacobian));
+  const glm::dvec3 local = inverse * glm::dvec3(parametric[0], parametric[1], parametric[2]);
+  if (!isFinite(local))
+  {
+    return glm::dvec3(0.0);
+  }
+  // grad_x f = s grad_X f (X = (x - origin) s); unscaled exactly unless that overflows.
+  return unscaledGradient(local * geometryScale, fieldScale);
+}
 
 /// The most numbers any kind's record keeps beside it (a curved tetrahedron of the highest piece
 /// order's coefficients, an order-4 hexahedron's forms).

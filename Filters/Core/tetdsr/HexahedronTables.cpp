@@ -16,6 +16,48 @@ namespace
 {
 using Point = std::array<double, 3>;
 
+/// The table with its roundingGrowth: the weights' largest absolute row sum (1 for a lattice
+/// permutation), times the Lagrange to Bernstein conversion's infinity norm per axis (cubed; 1
+/// for Bezier tables).
+HexahedronNodes withRoundingGrowth(HexahedronNodes table)
+{
+  double rows = 1.0;
+  if (!table.weights.empty())
+  {
+    rows = 0.0;
+    for (std::size_t k = 0; k < table.weights.size(); k += static_cast<std::size_t>(table.nodes))
+    {
+      double sum = 0.0;
+      for (int n = 0; n < table.nodes; ++n)
+      {
+        sum += std::abs(table.weights[k + static_cast<std::size_t>(n)]);
+      }
+      rows = std::max(rows, sum);
+    }
+  }
+  double conversion = 1.0;
+  if (!table.bezier)
+  {
+    forHexahedronOrder(table.order, [&](auto order) {
+      constexpr int P = decltype(order)::value;
+      const auto& matrix = tensor::LagrangeToBernstein<P>::get().matrix;
+      double norm = 0.0;
+      for (int m = 0; m <= P; ++m)
+      {
+        double sum = 0.0;
+        for (int i = 0; i <= P; ++i)
+        {
+          sum += std::abs(matrix[i][m]);
+        }
+        norm = std::max(norm, sum);
+      }
+      conversion = norm * norm * norm;
+    });
+  }
+  table.roundingGrowth = rows * conversion;
+  return table;
+}
+
 /// A table whose nodes are lattice points of its order: each node's lattice index.
 HexahedronNodes latticeTable(const char* name, int order, bool bezier, std::vector<Point> points)
 {
@@ -30,7 +72,7 @@ HexahedronNodes latticeTable(const char* name, int order, bool bezier, std::vect
       static_cast<int>(std::lround(p[1] * order)), static_cast<int>(std::lround(p[2] * order))));
   }
   table.nodePoints = std::move(points);
-  return table;
+  return withRoundingGrowth(std::move(table));
 }
 
 /// A table whose space is a part of Q2 given by a split shape's nodal basis (20 and 24 nodes):
@@ -50,7 +92,7 @@ HexahedronNodes basisTable(const SplitShape& shape)
         const double x[3] = { i / 2.0, j / 2.0, k / 2.0 };
         shape.basis(x, table.weights.data() + static_cast<std::size_t>(tensor::index(2, i, j, k) * shape.nodes));
       }
-  return table;
+  return withRoundingGrowth(std::move(table));
 }
 
 /// A wedge type's table: its shape functions (SplitShape::basis) at the lattice points' images
@@ -81,7 +123,7 @@ HexahedronNodes wedgeTable(int vtkType, const SplitShape& shape)
     // (The collapsed vertex's u is any: its middle.)
     table.nodePoints.push_back({ r[1] < 1.0 ? r[0] / (1.0 - r[1]) : 0.5, r[1], r[2] });
   }
-  return table;
+  return withRoundingGrowth(std::move(table));
 }
 
 /// A Lagrange or Bezier wedge's table of order `Order`, built on first use (a thread-safe static).
@@ -160,7 +202,7 @@ HexahedronNodes pyramidTable()
       table.weights[static_cast<std::size_t>(tensor::index(1, i, j, 1) * 5 + 4)] = 1.0;
     }
   table.nodePoints = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 }, { 0.5, 0.5, 1 } };
-  return table;
+  return withRoundingGrowth(std::move(table));
 }
 
 /// VTK_QUADRATIC_PYRAMID's table. Its shape functions are of degree 2 per axis in VTK's
@@ -223,7 +265,7 @@ HexahedronNodes quadraticPyramidTable()
       }
   table.nodePoints = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 }, { 0.5, 0.5, 1 }, { 0.5, 0, 0 },
     { 1, 0.5, 0 }, { 0.5, 1, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 1, 0, 0.5 }, { 1, 1, 0.5 }, { 0, 1, 0.5 } };
-  return table;
+  return withRoundingGrowth(std::move(table));
 }
 
 /// VTK_TRIQUADRATIC_PYRAMID's shape functions (Browning's rational pyramid of 19 nodes, as VTK
@@ -285,7 +327,7 @@ HexahedronNodes triquadraticPyramidTable()
     { 1, 0.5, 0 }, { 0.5, 1, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 1, 0, 0.5 }, { 1, 1, 0.5 }, { 0, 1, 0.5 },
     { 0.5, 0.5, 0 }, { 0.5, 0, third }, { 1, 0.5, third }, { 0.5, 1, third }, { 0, 0.5, third },
     { 0.5, 0.5, 0.25 } };
-  return table;
+  return withRoundingGrowth(std::move(table));
 }
 
 template <bool Bezier, int Order>
@@ -397,6 +439,7 @@ std::uint16_t hexahedronLayout(const CellType& type, long long ids, CellLayout& 
     layout.bezier = type.bezier; // (its ids' rational weights are checked; table->bezier: its form's)
     layout.nodes = table->nodes;
     layout.hexahedron = table;
+    layout.wedge = type.shape == CellShape::Wedge;
   }
   return status;
 }

@@ -9,6 +9,7 @@
 #include "tetdsr/HigherOrderTet.h"
 #include "tetdsr/HigherOrderTetCell.h"
 #include "tetdsr/QuadraticTetCell.h"
+#include "tetdsr/WedgeCell.h"
 
 #include <glm/glm.hpp>
 
@@ -372,6 +373,18 @@ inline bool Scene::intersectCell(const CellRecord& cell, const Ray& ray, const I
                         cell, ray, isoValues, first, last, tMin, tLimit, hit, certified)
                     : HexahedronCell<decltype(P)::value, false>::intersect(
                         cell, ray, isoValues, first, last, tMin, tLimit, hit, certified);
+    });
+    if (found)
+    {
+      countUncertified(certified);
+    }
+    return found;
+  }
+  if (cell.kind == CellRecord::Kind::Wedge)
+  {
+    bool certified = true;
+    const bool found = forHexahedronOrder(cell.order, [&](auto P) {
+      return WedgeCell<decltype(P)::value>::intersect(cell, ray, isoValues, first, last, tMin, tLimit, hit, certified);
     });
     if (found)
     {

@@ -98,9 +98,10 @@ SurfaceIndex::CellFaces SurfaceIndex::facesOf(const Scene& scene, const CellReco
     return faces;
   }
   if (record.kind == CellRecord::Kind::Curved || record.kind == CellRecord::Kind::Hexahedron ||
-    record.kind == CellRecord::Kind::CurvedHexahedron)
+    record.kind == CellRecord::Kind::CurvedHexahedron || record.kind == CellRecord::Kind::Wedge)
   {
-    // (No four planes bound them: a curved cell, a hexahedron's six faces.) No culling.
+    // (No four planes bound them: a curved cell, a hexahedron's six faces, a wedge's five.) No
+    // culling.
     faces.d = Float4{ 1.0f, 1.0f, 1.0f, 1.0f };
     return faces;
   }
