@@ -71,10 +71,11 @@ struct CurvedHigherOrderTetCell : HigherOrderTetCell<P>
     {
       glm::dvec3 tensorNodes[tensor::count(P)];
       double tensorValues[tensor::count(P)];
-      collapsedTetrahedron<P>(
+      const double fieldScale = collapsedTetrahedron<P>(
         [](const double* items, const double L[4]) { return HigherOrderTetCell<P>::interpolate(items, L); },
         nodes, values, latticeCount(P), tensorNodes, tensorValues);
       HexahedronCell<P, true>::record(tensorNodes, tensorValues, cell, coefficients);
+      cell.scale *= fieldScale;
     }
     else
     {

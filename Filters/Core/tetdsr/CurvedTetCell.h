@@ -74,10 +74,11 @@ struct CurvedTetCell
   {
     glm::dvec3 tensorNodes[tensor::count(2)];
     double tensorValues[tensor::count(2)];
-    collapsedTetrahedron<2>(
+    const double fieldScale = collapsedTetrahedron<2>(
       [](const double* items, const double L[4]) { return QuadraticTetCell::interpolate(items, L); }, nodes,
       values, kCellNodes, tensorNodes, tensorValues);
     HexahedronCell<2, true>::record(tensorNodes, tensorValues, cell, coefficients);
+    cell.scale *= fieldScale;
   }
 };
 

@@ -112,18 +112,26 @@ void toTensorForm(const HexahedronNodes& table, T* items);
 /// kind's own (its shape functions on its nodes or control points); `nodes` and `values` in its
 /// kind form (count of them: `count`). Curved tetrahedra are solved in this form
 /// (CurvedTetCell, CurvedHigherOrderTetCell: their record step), by HexahedronCell's box solve.
+/// Returns the power of two the tensor values are scaled by (unitScale of `values`): the record
+/// made from them multiplies its CellRecord::scale by it.
 template <int P, class Interpolate>
-void collapsedTetrahedron(Interpolate interpolate, const glm::dvec3* nodes, const double* values,
+double collapsedTetrahedron(Interpolate interpolate, const glm::dvec3* nodes, const double* values,
   int count, glm::dvec3* tensorNodes, double* tensorValues)
 {
   constexpr int N = tensor::count(P);
   double coordinate[3][kMaxCellNodes];
+  // The field at a power of two's scale near 1 (exact) from the start: its interpolation and
+  // conversion overflow nowhere, even for nodal values near the top of double range (whose
+  // Bernstein coefficients may lie beyond it); the tensor values stay at that scale.
+  const double fieldScale = unitScale(values, count);
+  double field[kMaxCellNodes];
   for (int n = 0; n < count; ++n)
   {
     for (int a = 0; a < 3; ++a)
     {
       coordinate[a][n] = nodes[n][a];
     }
+    field[n] = values[n] * fieldScale;
   }
   double lattice[4][N];
   for (int k = 0; k <= P; ++k)
@@ -137,28 +145,31 @@ void collapsedTetrahedron(Interpolate interpolate, const glm::dvec3* nodes, cons
         {
           lattice[a][at] = interpolate(coordinate[a], L);
         }
-        lattice[3][at] = interpolate(values, L);
+        lattice[3][at] = interpolate(field, L);
       }
-  for (auto& form : lattice)
+  for (int a = 0; a < 3; ++a)
   {
+    double* form = lattice[a];
     // At a power of two's scale near 1 (exact): the conversion's sums overflow only where the
-    // coefficients themselves do.
+    // coefficients themselves do (coordinates: far inside double range, kMaxCellSize).
     const double scale = scaleFor(bernstein::magnitude(form, N));
-    for (double& value : form)
+    for (int k = 0; k < N; ++k)
     {
-      value *= scale;
+      form[k] *= scale;
     }
     tensor::lagrangeToBernstein<P>(form);
-    for (double& value : form)
+    for (int k = 0; k < N; ++k)
     {
-      value /= scale;
+      form[k] /= scale;
     }
   }
+  tensor::lagrangeToBernstein<P>(lattice[3]);
   for (int k = 0; k < N; ++k)
   {
     tensorNodes[k] = glm::dvec3(lattice[0][k], lattice[1][k], lattice[2][k]);
     tensorValues[k] = lattice[3][k];
   }
+  return fieldScale;
 }
 
 /// Runs `step` with std::integral_constant<int, P> for a hexahedron's order P = 1..4.
