@@ -413,7 +413,7 @@ void FillPick(const Pick& pick, vtkUnstructuredGrid* grid, PreparedMesh& prepare
     interpolated->SetNumberOfTuples(1);
     for (int c = 0; c < components; ++c)
     {
-      interpolated->SetValue(c, scene->interpolate(pick.sceneCell, pick.point, values, components, c));
+      interpolated->SetValue(c, scene->interpolate(pick.cellId, pick.point, values, components, c));
     }
     result->GetPointData()->AddArray(interpolated);
   }

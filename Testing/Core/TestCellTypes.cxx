@@ -38,12 +38,6 @@ int kindOrder(tetdsr::CellKind kind)
     case CellKind::QuarticTet:
     case CellKind::CurvedQuarticTet:
       return 4;
-    case CellKind::Tet6:
-    case CellKind::CurvedTet6:
-      return 6;
-    case CellKind::Tet8:
-    case CellKind::CurvedTet8:
-      return 8;
     default:
     {
       // Hexahedron1..4, CurvedHexahedron1..4, Wedge1..4.

@@ -1,19 +1,9 @@
 // VTK is the authority for the node order, parametric coordinates and shape functions of its
-// hexahedra and wedges. For every (type, id count) the core's split reads (tetdsr::splitShapeOf
-// returns 0), against VTK's own cell of that type and count:
+// hexahedra, wedges and pyramids. For every (type, id count) whose shape the core builds
+// (tetdsr::splitShapeOf returns 0), against VTK's own cell of that type and count:
 // 1. SplitShape::nodePoints equal the cell's GetParametricCoords (to 1e-15);
 // 2. SplitShape::basis equals the cell's InterpolateFunctions at 200 random parametric points
-//    inside the cell (unit cube, or unit triangle x [0, 1]) (to 1e-12);
-// 3. (wedges) the pieces tile the parametric cell: each piece's vertices lie in the cell with a positive
-//    volume, the volumes sum to the cell's (1 or 1/2), and 1000 random points inside the cell lie
-//    in exactly one piece (away from the pieces' faces);
-// 4. (wedges) each piece node lies where VTK's (and the core's) tetrahedron order puts it: at the
-//    barycentric point tetNodePoint(D, n) of the piece's vertices; a Lagrange piece's new node's
-//    weights are VTK's shape functions there, and a Bezier piece (order above 4), evaluated as a
-//    Bernstein tetrahedron, equals VTK's interpolation of random node values at random points
-//    (to 1e-12).
-// The cell's nodes sit at their parametric coordinates, so its map is the identity: a piece node's
-// position is its weights applied to nodePoints (the cell's own node when it is one).
+//    inside the cell (unit cube, or unit triangle x [0, 1]) (to 1e-12).
 // And for every (type, id count) the core reads as a tensor-product cell (tetdsr::hexahedronNodesOf:
 // every hexahedron, wedge and pyramid), the tensor form toTensorForm makes of random node
 // values, evaluated at the image of a random parametric point (a wedge's (r, s, t) is the
@@ -101,28 +91,9 @@ Point randomPoint(bool wedge, std::mt19937& random)
   return x;
 }
 
-/// The Bernstein tetrahedron of order D with coefficients c (VTK's node order) at L.
-double bernstein(int D, const std::vector<double>& c, const std::array<double, 4>& L)
-{
-  double sum = 0.0;
-  for (std::size_t n = 0; n < c.size(); ++n)
-  {
-    double node[4];
-    tetdsr::tetNodePoint(D, static_cast<int>(n), node);
-    double term = std::tgamma(D + 1.0);
-    for (int k = 0; k < 4; ++k)
-    {
-      const int alpha = static_cast<int>(std::lround(node[k] * D));
-      term *= std::pow(L[static_cast<std::size_t>(k)], alpha) / std::tgamma(alpha + 1.0);
-    }
-    sum += c[n] * term;
-  }
-  return sum;
-}
-
 struct Worst
 {
-  double nodes = 0.0, basis = 0.0, lattice = 0.0, pieces = 0.0;
+  double nodes = 0.0, basis = 0.0;
 };
 
 /// Checks one shape; returns the number of failed expectations.
@@ -184,192 +155,8 @@ int checkShape(int type, int ids, const tetdsr::SplitShape& shape, std::mt19937&
     }
   }
   worst.basis = std::max(worst.basis, basisError);
-  if (!shape.wedge)
-  {
-    // Hexahedra are not split (their tensor forms are checked below, in the test's body).
-    if (shape.pieces != 0)
-    {
-      std::cerr << label << ": expected no pieces for a hexahedron, got " << shape.pieces << "\n";
-      ++failures;
-    }
-    std::cout << label << ": " << ids << " nodes, max node difference " << nodeError
-              << ", max basis difference " << basisError << "\n";
-    return failures;
-  }
-
-  // 3 and 4. The pieces: a node's position (the identity map), vertices, volumes, lattice.
-  auto position = [&](int node) {
-    if (node >= 0)
-    {
-      return shape.nodePoints[static_cast<std::size_t>(node)];
-    }
-    const double* w = shape.newWeights.data() + static_cast<std::size_t>(-1 - node) * static_cast<std::size_t>(ids);
-    Point x{ 0.0, 0.0, 0.0 };
-    for (int j = 0; j < ids; ++j)
-    {
-      for (int a = 0; a < 3; ++a)
-      {
-        x[static_cast<std::size_t>(a)] += w[j] * shape.nodePoints[static_cast<std::size_t>(j)][static_cast<std::size_t>(a)];
-      }
-    }
-    return x;
-  };
-  const int D = shape.degree;
-  std::vector<std::array<Point, 4>> vertices(static_cast<std::size_t>(shape.pieces));
-  double volume = 0.0, latticeError = 0.0;
-  std::uniform_real_distribution<double> value(-1.0, 1.0);
-  std::vector<double> nodeValues(static_cast<std::size_t>(ids));
-  for (double& v : nodeValues)
-  {
-    v = value(random);
-  }
-  for (int k = 0; k < shape.pieces; ++k)
-  {
-    const int* nodes = shape.pieceNode.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(shape.pieceNodes);
-    auto& v = vertices[static_cast<std::size_t>(k)];
-    for (int i = 0; i < 4; ++i)
-    {
-      v[static_cast<std::size_t>(i)] = position(nodes[i]);
-      if (!insideCell(v[static_cast<std::size_t>(i)], shape.wedge, 1e-15))
-      {
-        std::cerr << label << " piece " << k << ": expected its vertex " << i << " inside the cell\n";
-        ++failures;
-      }
-    }
-    const double six = sixVolume(v[0], v[1], v[2], v[3]);
-    if (!(six > 0.0))
-    {
-      std::cerr << label << " piece " << k << ": expected a positive volume, got " << six / 6 << "\n";
-      ++failures;
-    }
-    volume += six / 6.0;
-    std::vector<double> coefficients(static_cast<std::size_t>(shape.pieceNodes));
-    for (int n = 0; n < shape.pieceNodes; ++n)
-    {
-      double L[4];
-      tetdsr::tetNodePoint(D, n, L);
-      Point expected{ 0.0, 0.0, 0.0 };
-      for (int i = 0; i < 4; ++i)
-      {
-        for (int a = 0; a < 3; ++a)
-        {
-          expected[static_cast<std::size_t>(a)] += L[i] * v[static_cast<std::size_t>(i)][static_cast<std::size_t>(a)];
-        }
-      }
-      const Point got = position(nodes[n]);
-      double error = 0.0;
-      for (int a = 0; a < 3; ++a)
-      {
-        error = std::max(error, std::abs(got[static_cast<std::size_t>(a)] - expected[static_cast<std::size_t>(a)]));
-      }
-      latticeError = std::max(latticeError, error);
-      // A Bezier piece's nodes are made by conversion weights (row sums up to
-      // SplitShape::kMaxCoefficientWeight): their rounding reaches 3.7e-12 at order 12.
-      if (!(error <= (shape.bezierPieces ? 1e-11 : 1e-13)))
-      {
-        std::cerr << label << " piece " << k << " node " << n << ": expected at (" << expected[0] << ", "
-                  << expected[1] << ", " << expected[2] << ") (tetNodePoint of the piece's vertices), got ("
-                  << got[0] << ", " << got[1] << ", " << got[2] << ")\n";
-        ++failures;
-      }
-      // The node's value from random node values: a Lagrange piece's is VTK's interpolation at
-      // the node; a Bezier piece's are Bernstein coefficients, checked below.
-      const double* w = nodes[n] >= 0 ? nullptr
-                                      : shape.newWeights.data() + static_cast<std::size_t>(-1 - nodes[n]) * static_cast<std::size_t>(ids);
-      double c = 0.0;
-      for (int j = 0; j < ids; ++j)
-      {
-        c += (w ? w[j] : (j == nodes[n] ? 1.0 : 0.0)) * nodeValues[static_cast<std::size_t>(j)];
-      }
-      coefficients[static_cast<std::size_t>(n)] = c;
-      if (!shape.bezierPieces)
-      {
-        cell->InterpolateFunctions(expected.data(), theirs.data());
-        double vtkValue = 0.0;
-        for (int j = 0; j < ids; ++j)
-        {
-          vtkValue += theirs[static_cast<std::size_t>(j)] * nodeValues[static_cast<std::size_t>(j)];
-        }
-        worst.basis = std::max(worst.basis, std::abs(c - vtkValue));
-        if (!(std::abs(c - vtkValue) <= 1e-12))
-        {
-          std::cerr << label << " piece " << k << " node " << n << ": expected the value " << vtkValue
-                    << " (VTK's interpolation there), got " << c << " (SplitShape::newWeights)\n";
-          ++failures;
-        }
-      }
-    }
-    if (shape.bezierPieces)
-    {
-      for (int sample = 0; sample < 20; ++sample)
-      {
-        std::array<double, 4> L{};
-        double sum = 0.0;
-        for (double& l : L)
-        {
-          l = -std::log(std::uniform_real_distribution<double>(1e-12, 1.0)(random));
-          sum += l;
-        }
-        Point x{ 0.0, 0.0, 0.0 };
-        for (int i = 0; i < 4; ++i)
-        {
-          L[static_cast<std::size_t>(i)] /= sum;
-          for (int a = 0; a < 3; ++a)
-          {
-            x[static_cast<std::size_t>(a)] += L[static_cast<std::size_t>(i)] * v[static_cast<std::size_t>(i)][static_cast<std::size_t>(a)];
-          }
-        }
-        cell->InterpolateFunctions(x.data(), theirs.data());
-        double vtkValue = 0.0;
-        for (int j = 0; j < ids; ++j)
-        {
-          vtkValue += theirs[static_cast<std::size_t>(j)] * nodeValues[static_cast<std::size_t>(j)];
-        }
-        const double got = bernstein(D, coefficients, L);
-        worst.basis = std::max(worst.basis, std::abs(got - vtkValue));
-        if (!(std::abs(got - vtkValue) <= 1e-12))
-        {
-          std::cerr << label << " Bezier piece " << k << ": expected " << vtkValue << " (VTK's "
-                    << "interpolation), got " << got << " (the piece's Bernstein form)\n";
-          ++failures;
-          break;
-        }
-      }
-    }
-  }
-  worst.lattice = std::max(worst.lattice, latticeError);
-  const double cellVolume = shape.wedge ? 0.5 : 1.0;
-  worst.pieces = std::max(worst.pieces, std::abs(volume - cellVolume));
-  if (!(std::abs(volume - cellVolume) <= 1e-14))
-  {
-    std::cerr << label << ": expected the pieces' volumes to sum to " << cellVolume << ", got " << volume << "\n";
-    ++failures;
-  }
-  int uncovered = 0, overlapped = 0;
-  for (int sample = 0; sample < 1000; ++sample)
-  {
-    const Point x = randomPoint(shape.wedge, random);
-    int in = 0, clearlyIn = 0;
-    for (const auto& v : vertices)
-    {
-      const auto L = barycentric(v, x);
-      in += *std::min_element(L.begin(), L.end()) > -1e-12;
-      clearlyIn += *std::min_element(L.begin(), L.end()) > 1e-9;
-    }
-    uncovered += in == 0;
-    overlapped += clearlyIn > 1;
-  }
-  if (uncovered || overlapped)
-  {
-    std::cerr << label << ": expected the pieces to tile the cell, got " << uncovered
-              << " of 1000 random points in no piece and " << overlapped << " in two\n";
-    ++failures;
-  }
-  std::cout << label << ": " << ids << " nodes, degree " << D << ", " << shape.pieces << " pieces ("
-            << (shape.bezierPieces ? "Bezier" : "Lagrange") << "), " << shape.newPointCount
-            << " new points; max node difference " << nodeError << ", max basis difference "
-            << basisError << ", max lattice difference " << latticeError << ", volume "
-            << volume << "\n";
+  std::cout << label << ": " << ids << " nodes, max node difference " << nodeError
+            << ", max basis difference " << basisError << "\n";
   return failures;
 }
 
@@ -453,8 +240,7 @@ int TestSplitCellsNodeOrder(int, char*[])
   Worst worst;
   for (const int type : types)
   {
-    // Every id count up to that of order-6 Lagrange hexahedra: the shapes the split builds
-    // (every one it reads).
+    // Every id count up to that of order-6 Lagrange hexahedra: the shapes built (every one read).
     for (int ids = 1; ids <= 343; ++ids)
     {
       const tetdsr::SplitShape* shape = nullptr;
@@ -506,8 +292,7 @@ int TestSplitCellsNodeOrder(int, char*[])
     }
   }
   std::cout << shapes << " shapes: max node difference " << worst.nodes << ", max basis difference "
-            << worst.basis << ", max lattice difference " << worst.lattice << ", max volume difference "
-            << worst.pieces << "\n";
+            << worst.basis << "\n";
   if (failures != 0)
   {
     std::cerr << "FAILED: " << failures << " expectations\n";

@@ -536,7 +536,7 @@ std::optional<PyPick> PickAt(const PyRenderer& r, double x, double y,
     for (int c = 0; c < components; ++c)
     {
       tuple[static_cast<std::size_t>(c)] =
-        scene.interpolate(found.Core.sceneCell, found.Core.point, values.data(), components, c);
+        scene.interpolate(found.Core.cellId, found.Core.point, values.data(), components, c);
     }
   }
   return found;

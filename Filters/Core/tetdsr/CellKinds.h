@@ -32,14 +32,6 @@ decltype(auto) forKind(CellKind kind, Step&& step)
       return step(CurvedHigherOrderTetCell<3>{});
     case CellKind::CurvedQuarticTet:
       return step(CurvedHigherOrderTetCell<4>{});
-    case CellKind::Tet6:
-      return step(HigherOrderTetCell<6>{});
-    case CellKind::Tet8:
-      return step(HigherOrderTetCell<8>{});
-    case CellKind::CurvedTet6:
-      return step(CurvedHigherOrderTetCell<6>{});
-    case CellKind::CurvedTet8:
-      return step(CurvedHigherOrderTetCell<8>{});
     case CellKind::Hexahedron1:
       return step(HexahedronCell<1, false>{});
     case CellKind::Hexahedron2:

@@ -57,12 +57,6 @@ enum class CellKind : std::uint8_t
   QuarticTet,             ///< HigherOrderTetCell<4> (straight)
   CurvedCubicTet,         ///< CurvedHigherOrderTetCell<3>
   CurvedQuarticTet,       ///< CurvedHigherOrderTetCell<4>
-  /// HigherOrderTetCell<P> and CurvedHigherOrderTetCell<P> of the piece orders (kPieceOrders):
-  /// only pieces of split wedges (SplitCells.h) have them.
-  Tet6,
-  Tet8,
-  CurvedTet6,
-  CurvedTet8,
   /// HexahedronCell<P, false> and <P, true>: hexahedra of order P per axis, in their own
   /// reference space (HexahedronCell.h).
   Hexahedron1,
@@ -124,11 +118,8 @@ std::uint16_t hexahedronLayout(const CellType& type, long long ids, CellLayout& 
 
 /// The layout of a cell of VTK type `vtkType` with `ids` node ids; 0 (kValid) if it can be read,
 /// else the status saying why not: kUnsupported (a type kCellTypes does not read), kMalformed (an
-/// id count that fits no order of the type), kOrderTooHigh.
-/// `maxOrder` is the table's for an input's tetrahedra; a split mesh (SplitCells.h), whose Bezier
-/// tetrahedra above that order are the pieces of wedges, reads kPieceOrders too.
-inline std::uint16_t cellLayout(int vtkType, long long ids, CellLayout& layout,
-  int maxOrder = kMaxTetOrder)
+/// id count that fits no order of the type), kOrderTooHigh (above the table's highest).
+inline std::uint16_t cellLayout(int vtkType, long long ids, CellLayout& layout)
 {
   const CellType* type = cellTypeOf(vtkType);
   if (!isRead(type))
@@ -144,7 +135,7 @@ inline std::uint16_t cellLayout(int vtkType, long long ids, CellLayout& layout,
   {
     return kMalformed;
   }
-  if (order > maxOrder || !isTetOrder(order))
+  if (order > type->maxOrder)
   {
     return kOrderTooHigh;
   }
@@ -170,10 +161,6 @@ inline CellKind kindOf(const CellLayout& layout, bool curved)
       return curved ? CellKind::CurvedTet : CellKind::QuadraticTet;
     case 3:
       return curved ? CellKind::CurvedCubicTet : CellKind::CubicTet;
-    case 6:
-      return curved ? CellKind::CurvedTet6 : CellKind::Tet6;
-    case 8:
-      return curved ? CellKind::CurvedTet8 : CellKind::Tet8;
     default: // 4: cellLayout reads no other order (TestCellTypes: every cell read gets its own)
       return curved ? CellKind::CurvedQuarticTet : CellKind::QuarticTet;
   }
@@ -255,7 +242,6 @@ struct alignas(64) CellRecord
   {
     Quadratic, ///< straight, the field a quadratic (QuadraticTetCell)
     Constant,  ///< straight, the field constant to rounding (QuadraticTetCell)
-    Curved,    ///< isoparametric: solved from the mesh (CurvedTetCell, CurvedHigherOrderTetCell)
     HigherOrder, ///< straight, order 3 or 4 (HigherOrderTetCell): the field read from the mesh
     Hexahedron,  ///< a straight hexahedron (HexahedronCell): its forms kept beside the record
     Wedge,       ///< a straight wedge (WedgeCell): its field's triangle x segment form, the same
@@ -346,11 +332,12 @@ inline double longestEdge(const glm::dvec3 vertices[4])
   return std::sqrt(longest2);
 }
 
-/// The pieces of hexahedra and wedges of orders above 4 (SplitCells.h) get their Bernstein
-/// coefficients as sums over the cell's n <= 125 nodes with weights of absolute sum at most
-/// SplitShape::kMaxCoefficientWeight (checked when a shape is built): a constant field's spread by
-/// at most n times that.
-constexpr double kPieceConstantRoundings = 8.0 + 125.0 * 64.0;
+/// The largest HexahedronNodes::roundingGrowth of a node table (TestCellTypes checks each).
+constexpr double kMaxRoundingGrowth = 128.0;
+/// A tensor form (HexahedronCell.h, WedgeCell.h) is made from at most kMaxCellNodes nodes by its
+/// node table, which grows each one's rounding by at most kMaxRoundingGrowth: a constant field's
+/// coefficients spread by at most that many roundings (plus their own).
+constexpr double kTensorFormConstantRoundings = 8.0 + kMaxCellNodes * kMaxRoundingGrowth;
 
 /// The roundings, relative to the largest nodal magnitude, by which a cell of this order's
 /// Bernstein coefficients can spread for a constant field: 8 (their own rounding is 2-3), plus for
@@ -359,16 +346,20 @@ constexpr double kPieceConstantRoundings = 8.0 + 125.0 * 64.0;
 /// a constant order-4 field spread by 27 ulps, made a polynomial of rounding noise at 8).
 constexpr double constantRoundings(int order)
 {
-  return order <= 2 ? 8.0 : order == 3 ? 8.0 + 20.0 * 10.0 : order == 4 ? 8.0 + 35.0 * 35.0
-                                                                         : kPieceConstantRoundings;
+  return order <= 2 ? 8.0 : order == 3 ? 8.0 + 20.0 * 10.0 : 8.0 + 35.0 * 35.0;
+}
+
+/// Whether a Bernstein bound [lo, hi] is within `roundings` roundings of its magnitude wide.
+inline bool spreadWithin(double lo, double hi, double roundings)
+{
+  return hi - lo <= roundings * std::numeric_limits<double>::epsilon() * std::max(std::abs(lo), std::abs(hi));
 }
 
 /// Whether a field of this order whose Bernstein bound is [lo, hi] is constant over the cell to
 /// rounding: the bound's width within constantRoundings(order) of its magnitude.
 inline bool constantToRounding(double lo, double hi, int order = 2)
 {
-  return hi - lo <= constantRoundings(order) * std::numeric_limits<double>::epsilon() *
-    std::max(std::abs(lo), std::abs(hi));
+  return spreadWithin(lo, hi, constantRoundings(order));
 }
 
 /// A hit's gradient from one computed for the field scaled by `scale` (a power of two): unscaled

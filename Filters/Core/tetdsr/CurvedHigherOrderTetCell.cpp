@@ -84,32 +84,14 @@ bool CurvedHigherOrderTetCell<P>::intersect(const glm::dvec3* nodes, const doubl
   const IsoValues& isoValues, std::size_t first, std::size_t last, const Ray& ray, double tMin,
   double tLimit, SurfaceHit& hit, bool& certified)
 {
-  if constexpr (P <= kMaxHexahedronOrder)
-  {
-    // Recorded, then the record's ray test (the collapsed cube's box solve).
-    CellRecord cell{};
-    double coefficients[kRecordCoefficients];
-    record(nodes, values, cell, coefficients);
-    return HexahedronCell<P, true>::intersect(cell, ray, isoValues, first, last, tMin, tLimit, hit, certified);
-  }
-  else
-  {
-    // A split wedge's piece above order 4, on the simplex: the field scaled by a power of two to
-    // a largest coefficient near 1 (unitScale's).
-    const double scale = scaleFor(bernstein::magnitude(values, latticeCount(P)));
-    const PolynomialForm<P> field = fieldForm<P>(values, scale);
-    double boundLo, boundHi;
-    bernstein::range(field.c, latticeCount(P), boundLo, boundHi);
-    double L[4];
-    return isoparametric::intersect(localGeometry<P>(nodes), field, scale, boundLo, boundHi,
-      [&](const glm::dvec3& point) { return contains(nodes, point, L); }, isoValues, first, last,
-      ray, tMin, tLimit, hit, certified);
-  }
+  // Recorded, then the record's ray test (the collapsed cube's box solve).
+  CellRecord cell{};
+  double coefficients[kRecordCoefficients];
+  record(nodes, values, cell, coefficients);
+  return HexahedronCell<P, true>::intersect(cell, ray, isoValues, first, last, tMin, tLimit, hit, certified);
 }
 
 template struct CurvedHigherOrderTetCell<3>;
 template struct CurvedHigherOrderTetCell<4>;
-template struct CurvedHigherOrderTetCell<6>;
-template struct CurvedHigherOrderTetCell<8>;
 
 } // namespace tetdsr

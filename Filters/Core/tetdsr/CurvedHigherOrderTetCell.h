@@ -57,39 +57,25 @@ struct CurvedHigherOrderTetCell : HigherOrderTetCell<P>
   static glm::dvec3 gradient(const glm::dvec3* nodes, const double* values, const double L[4]);
 
   /// The nodes its record is made from: all; the numbers it keeps beside it: the collapsed
-  /// cube's forms (HexahedronCell<P, true>'s; pieces of orders above 4 keep none: solved from
-  /// the mesh).
-  static constexpr int kRecordNodes = P <= kMaxHexahedronOrder ? latticeCount(P) : 0;
-  static constexpr int kRecordCoefficients = P <= kMaxHexahedronOrder ? HexahedronCell<P, true>::kRecordCoefficients : 0;
+  /// cube's forms (HexahedronCell<P, true>'s).
+  static constexpr int kRecordNodes = latticeCount(P);
+  static constexpr int kRecordCoefficients = HexahedronCell<P, true>::kRecordCoefficients;
 
   /// record: the map and field as the collapsed cube's tensor forms of degree P, recorded as a
-  /// curved hexahedron's (the ray test is HexahedronCell<P, true>'s); a piece of order above 4
-  /// (a split wedge's) is solved from the mesh on the simplex.
+  /// curved hexahedron's (the ray test is HexahedronCell<P, true>'s).
   static void record(const glm::dvec3* nodes, const double* values, CellRecord& cell, double* coefficients)
   {
-    if constexpr (P <= kMaxHexahedronOrder)
-    {
-      glm::dvec3 tensorNodes[tensor::count(P)];
-      double tensorValues[tensor::count(P)];
-      const double fieldScale = collapsedTetrahedron<P>(
-        [](const double* items, const double L[4]) { return HigherOrderTetCell<P>::interpolate(items, L); },
-        nodes, values, latticeCount(P), tensorNodes, tensorValues);
-      HexahedronCell<P, true>::record(tensorNodes, tensorValues, cell, coefficients);
-      cell.scale *= fieldScale;
-    }
-    else
-    {
-      (void)nodes;
-      (void)values;
-      (void)coefficients;
-      cell.kind = CellRecord::Kind::Curved;
-    }
+    glm::dvec3 tensorNodes[tensor::count(P)];
+    double tensorValues[tensor::count(P)];
+    const double fieldScale = collapsedTetrahedron<P>(
+      [](const double* items, const double L[4]) { return HigherOrderTetCell<P>::interpolate(items, L); },
+      nodes, values, latticeCount(P), tensorNodes, tensorValues);
+    HexahedronCell<P, true>::record(tensorNodes, tensorValues, cell, coefficients);
+    cell.scale *= fieldScale;
   }
 };
 
 extern template struct CurvedHigherOrderTetCell<3>;
 extern template struct CurvedHigherOrderTetCell<4>;
-extern template struct CurvedHigherOrderTetCell<6>;
-extern template struct CurvedHigherOrderTetCell<8>;
 
 } // namespace tetdsr

@@ -512,7 +512,7 @@ bool HexahedronCell<P, Curved>::intersect(const CellRecord& cell, const Ray& ray
   const double hi = tLimit * s - tCentre;
   double fieldLo, fieldHi;
   bernstein::range(field, kNodes, fieldLo, fieldHi);
-  const bool constant = constantToRounding(fieldLo, fieldHi, kMaxPieceOrder);
+  const bool constant = spreadWithin(fieldLo, fieldHi, kTensorFormConstantRoundings);
 
   if constexpr (!Curved)
   {

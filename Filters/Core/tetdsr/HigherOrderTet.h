@@ -32,36 +32,22 @@ namespace tetdsr
 
 /// The highest order of Lagrange and Bezier tetrahedra the core reads from its input.
 constexpr int kMaxTetOrder = kMaxReadOrder;
-/// The orders of the tetrahedra straight wedges split into (SplitCells.h) beyond those: the total
-/// degrees of their polynomials (6, 8: wedges of order 3, 4). Only such pieces have them.
-constexpr int kPieceOrders[] = { 6, 8 };
-constexpr int kMaxPieceOrder = 8;
-/// The most nodes a cell of the core's kinds has (order kMaxPieceOrder).
-constexpr int kMaxCellNodes = latticeCount(kMaxPieceOrder);
+/// The most nodes (or tensor form coefficients) a cell of the core's kinds has: a Lagrange
+/// hexahedron's of the highest order, (kMaxReadOrder + 1)^3.
+constexpr int kMaxCellNodes = (kMaxReadOrder + 1) * (kMaxReadOrder + 1) * (kMaxReadOrder + 1);
+static_assert(kMaxCellNodes >= latticeCount(kMaxTetOrder), "a tetrahedron's nodes fit");
 
-/// Whether the core has cell kinds of this tetrahedron order: 1 to 4, and kPieceOrders.
-constexpr bool isTetOrder(int order)
-{
-  return (order >= 1 && order <= kMaxTetOrder) || order == 6 || order == 8;
-}
-
-/// Runs `step` with std::integral_constant<int, P> for a higher order P (3, 4 or a piece order);
+/// Runs `step` with std::integral_constant<int, P> for a higher tetrahedron order P (3 or 4);
 /// the one dispatch from a run-time order to the templates of that order.
 template <typename Step>
 decltype(auto) forHigherOrder(int order, Step&& step)
 {
-  switch (order)
+  static_assert(kMaxTetOrder == 4, "a case per order");
+  if (order == 3)
   {
-    case 3:
-      return step(std::integral_constant<int, 3>{});
-    case 6:
-      return step(std::integral_constant<int, 6>{});
-    case 8:
-      return step(std::integral_constant<int, 8>{});
-    default:
-      break;
+    return step(std::integral_constant<int, 3>{});
   }
-  return step(std::integral_constant<int, 4>{});
+  return step(std::integral_constant<int, 4>{}); // (cellLayout reads no other: TestCellTypes)
 }
 
 /// The order P of a tetrahedron with `nodes` nodes: the P with (P + 1)(P + 2)(P + 3) / 6 == nodes
@@ -143,23 +129,6 @@ struct HigherOrderTet
     if (P == 4)
     {
       put(1, 1, 1, 1);
-    }
-    if (P > 4)
-    {
-      // Orders VTK's tetrahedra are not read at (the pieces of hexahedra and wedges): after the
-      // edges, the face and body points in canonical order (never compared with VTK's).
-      bool placed[Lattice<P>::kCount] = {};
-      for (int k = 0; k < n; ++k)
-      {
-        placed[at[k]] = true;
-      }
-      for (int c = 0; c < Lattice<P>::kCount; ++c)
-      {
-        if (!placed[c])
-        {
-          at[n++] = c;
-        }
-      }
     }
     return at;
   }
@@ -292,8 +261,7 @@ struct HigherOrderTet
 };
 
 /// The barycentric point of VTK node n of a tetrahedron of order 1..kMaxTetOrder (for order 2,
-/// VTK_QUADRATIC_TETRA's node order too: its edge (0,2) is the Lagrange cell's (2,0)), or of a
-/// piece order's node n.
+/// VTK_QUADRATIC_TETRA's node order too: its edge (0,2) is the Lagrange cell's (2,0)).
 inline void tetNodePoint(int order, int n, double L[4])
 {
   switch (order)

@@ -276,11 +276,6 @@ struct PreparedMesh::Internals
   std::vector<NodeId> Connectivity;
   NodeId NumberOfPoints = 0;
 
-  /// The mesh with its hexahedra and wedges split into tetrahedra, when it has any.
-  SplitMesh Split;
-  bool IsSplit = false;
-  std::vector<double> ColorExtended; ///< a colour array extended to the split mesh's points
-
   std::unique_ptr<Scene> TheScene;
   bool Ready = false;
   std::vector<std::string> Errors; ///< the last prepare's, told again on reuse
@@ -342,17 +337,6 @@ bool PreparedMesh::prepare(const MeshArrays& arrays, const TransverseTest& trans
   if (arrays.hasRationalWeights)
   {
     mesh.rationalWeights = asDoubles(arrays.rationalWeights, numberOfPoints, 0, 1, in.Weights);
-  }
-  if (SplitMesh::needed(mesh))
-  {
-    std::string error;
-    if (!in.Split.split(mesh, parallelFor, error))
-    {
-      messages.errors.push_back(error);
-      return fail();
-    }
-    in.IsSplit = true;
-    mesh = in.Split.view();
   }
   in.TheScene.reset(new Scene(mesh, parallelFor, transverse));
   if (!describeSkipped(
@@ -417,11 +401,6 @@ const double* PreparedMesh::pointValues(
   in.ColorStamp = stamp;
   in.ColorCopy.clear();
   in.ColorValues = asDoubles(array, in.NumberOfPoints, 0, array.components, in.ColorCopy);
-  if (in.IsSplit)
-  {
-    in.Split.extend(in.ColorValues, array.components, in.ColorExtended);
-    in.ColorValues = in.ColorExtended.data();
-  }
   return in.ColorValues;
 }
 
@@ -430,9 +409,7 @@ std::size_t PreparedMesh::memoryBytes() const
   const Internals& in = *this->Internal;
   return (in.TheScene ? in.TheScene->memoryBytes() : 0) +
     (in.Surface ? in.Surface->memoryBytes() : 0) +
-    in.Split.memoryBytes() +
-    sizeof(double) * (in.Points.capacity() + in.Values.capacity() + in.ColorCopy.capacity() +
-      in.ColorExtended.capacity()) +
+    sizeof(double) * (in.Points.capacity() + in.Values.capacity() + in.ColorCopy.capacity()) +
     sizeof(NodeId) * (in.Offsets.capacity() + in.Connectivity.capacity());
 }
 

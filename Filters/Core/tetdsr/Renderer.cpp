@@ -292,7 +292,7 @@ bool Renderer::capAt(const Ray& ray, double t, int plane, std::size_t pixel) con
   const glm::dvec3 color = Settings_.colorTable.map(value);
   const glm::dvec3& normal = Settings_.clipPlanes[static_cast<std::size_t>(plane)].normal;
   Image_.depth[pixel] = t;
-  Image_.cellIds[pixel] = Scene_.sourceCell(cellId);
+  Image_.cellIds[pixel] = cellId;
   if (Image_.hitEntries)
   {
     Image_.hitEntries[pixel] = kNoEntry;
@@ -384,7 +384,7 @@ void Renderer::renderPixel(int i, int j) const
     if (layer == 0)
     {
       Image_.depth[pixel] = hit.t;
-      Image_.cellIds[pixel] = Scene_.sourceCell(hit.cellId);
+      Image_.cellIds[pixel] = hit.cellId;
       if (Image_.hitEntries)
       {
         Image_.hitEntries[pixel] = hit.entry;
@@ -461,8 +461,7 @@ bool Renderer::pick(const Ray& ray, Pick& pick, double tLimit) const
     pick.value = Scene_.interpolate(cellId, ray.origin + hit.t * ray.direction, Scene_.mesh().values);
   }
   pick.point = ray.origin + pick.t * ray.direction;
-  pick.sceneCell = cellId;
-  pick.cellId = Scene_.sourceCell(cellId);
+  pick.cellId = cellId;
   pick.hasParametric = Scene_.parametricCoordinates(cellId, pick.point, pick.parametric);
   return true;
 }

@@ -145,8 +145,7 @@ struct Pick
 {
   double t = 0.0;           ///< along the ray
   glm::dvec3 point{ 0.0 };  ///< ray.origin + t ray.direction
-  NodeId cellId = -1;       ///< the input's cell (Scene::sourceCell)
-  NodeId sceneCell = -1;    ///< the scene's cell, for Scene::interpolate of other arrays
+  NodeId cellId = -1;       ///< the input's cell
   /// The iso-value crossed, as an index into the values given to IsoValues; -1 on a cap.
   int isoValue = -1;
   int clipPlane = -1; ///< a cap's clipping plane (its index); -1 on a surface

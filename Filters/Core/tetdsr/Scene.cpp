@@ -146,10 +146,6 @@ Scene::Scene(const MeshView& mesh, const ParallelFor& parallelFor, const Transve
   FillLaterVector<std::uint16_t> status;
   glm::dvec3 lo, hi;
   validateCells(parallelFor, status, lo, hi);
-  if (Mesh_.sourceOffsets)
-  {
-    countBySource(status);
-  }
   keepValidCells(status);
   setSceneBox(lo, hi);
 }
@@ -159,7 +155,7 @@ bool Scene::layoutOf(NodeId cell, CellLayout& layout) const
   const NodeId begin = Mesh_.offsets[cell];
   const NodeId end = Mesh_.offsets[cell + 1];
   return begin >= 0 && end >= begin && end <= Mesh_.connectivitySize &&
-    cellLayout(Mesh_.cellTypes[cell], end - begin, layout, maxOrder()) == 0;
+    cellLayout(Mesh_.cellTypes[cell], end - begin, layout) == 0;
 }
 
 void Scene::forChunks(const ParallelFor& parallelFor,
@@ -269,51 +265,6 @@ void Scene::validateCells(const ParallelFor& parallelFor, FillLaterVector<std::u
     lo = glm::min(lo, chunkLo[chunk]);
     hi = glm::max(hi, chunkHi[chunk]);
   }
-}
-
-void Scene::countBySource(FillLaterVector<std::uint16_t>& status)
-{
-  // Serial and in input order: a few operations per cell, deterministic.
-  PreprocessSummary summary;
-  for (NodeId source = 0; source < Mesh_.numberOfSourceCells; ++source)
-  {
-    std::uint16_t flags = Mesh_.sourceStatus[source];
-    const auto begin = static_cast<std::size_t>(Mesh_.sourceOffsets[source]);
-    const auto end = static_cast<std::size_t>(Mesh_.sourceOffsets[source + 1]);
-    if (flags == 0)
-    {
-      // Valid when all its pieces are (what they found, together); else skipped for what
-      // skipped its first skipped piece (one reason per cell, as for any cell).
-      for (std::size_t piece = begin; piece < end; ++piece)
-      {
-        if (!(status[piece] & kValid))
-        {
-          flags = status[piece];
-          break;
-        }
-        flags |= status[piece];
-      }
-      if ((flags & kValid) && Mesh_.sourceMirrored && Mesh_.sourceMirrored[source])
-      {
-        flags ^= kInverted; // (its pieces are all of one orientation: a valid cell's map is one-to-one)
-      }
-      if ((flags & kValid) && Mesh_.sourceOrders && Mesh_.sourceOrders[source] != 0)
-      {
-        // Of higher order by its own order (3 or 4 per axis), not its pieces' total degree.
-        flags = static_cast<std::uint16_t>((flags & ~kHigherOrder) |
-          (Mesh_.sourceOrders[source] > 2 ? kHigherOrder : 0));
-      }
-    }
-    if (!(flags & kValid))
-    {
-      for (std::size_t piece = begin; piece < end; ++piece)
-      {
-        status[piece] &= static_cast<std::uint16_t>(~kValid);
-      }
-    }
-    count(flags, summary);
-  }
-  Summary_ = summary;
 }
 
 void Scene::keepValidCells(const FillLaterVector<std::uint16_t>& status)
@@ -448,7 +399,7 @@ std::uint16_t Scene::checkIds(NodeId cell, CellLayout& layout, const NodeId*& id
 {
   // The type and offsets first: nothing of the cell is read before they are trusted.
   const int type = Mesh_.cellTypes[cell];
-  if (cellLayout(type, -1, layout, maxOrder()) == kUnsupported)
+  if (cellLayout(type, -1, layout) == kUnsupported)
   {
     return kUnsupported;
   }
@@ -458,7 +409,7 @@ std::uint16_t Scene::checkIds(NodeId cell, CellLayout& layout, const NodeId*& id
   {
     return kMalformed;
   }
-  if (const std::uint16_t unreadable = cellLayout(type, end - begin, layout, maxOrder()))
+  if (const std::uint16_t unreadable = cellLayout(type, end - begin, layout))
   {
     return unreadable;
   }
@@ -687,33 +638,6 @@ void Scene::cellCoordinates(NodeId cellId, const glm::dvec3& point, double L[4])
   forKind(kindOf(cellId), [&](auto cell) { decltype(cell)::coordinates(nodes, point, L); });
 }
 
-bool Scene::intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues,
-  std::size_t first, std::size_t last, double tMin, double tLimit, SurfaceHit& hit) const
-{
-  glm::dvec3 nodes[kMaxCellNodes];
-  double values[kMaxCellNodes];
-  CellLayout layout;
-  const NodeId* ids = nodeIds(cellId, layout); // checked once for both reads
-  if (!ids || !loadNodes(layout, ids, nodes) || !loadValues(layout, ids, values, Mesh_.values))
-  {
-    return false; // (edited since validation)
-  }
-  bool certified = true;
-  const bool found = layout.order == 2
-    ? CurvedTetCell::intersect(nodes, values, isoValues, first, last, ray, tMin, tLimit, hit, certified)
-    : forHigherOrder(layout.order, [&](auto P) {
-        return CurvedHigherOrderTetCell<decltype(P)::value>::intersect(
-          nodes, values, isoValues, first, last, ray, tMin, tLimit, hit, certified);
-      });
-  if (!found)
-  {
-    return false;
-  }
-  countUncertified(certified);
-  hit.cellId = cellId;
-  return true;
-}
-
 NodeId Scene::uncertifiedHits() const
 {
   return UncertifiedHits_.load(std::memory_order_relaxed);
@@ -765,10 +689,6 @@ double Scene::interpolate(NodeId cellId, const glm::dvec3& point, const double* 
 
 bool Scene::parametricCoordinates(NodeId cellId, const glm::dvec3& point, double pcoords[3]) const
 {
-  if (Mesh_.sourceCells)
-  {
-    return false;
-  }
   double L[4];
   cellCoordinates(cellId, point, L);
   CellLayout layout;

@@ -46,20 +46,6 @@ struct MeshView
   /// the cell's longest edge and its coordinates' magnitude, makes the cell curved
   /// (isoparametric); closer ones are rounding.
   double pointRounding = 0x1p-52;
-
-  /// For a mesh split from another (SplitCells.h), the map back to that input's cells; null
-  /// otherwise. Counts (PreprocessSummary) and hit cell ids are then the input's.
-  const NodeId* sourceCells = nullptr;   ///< per cell: the input cell it comes from
-  const NodeId* sourceOffsets = nullptr; ///< per input cell: its first cell (+ 1 entry at the end)
-  /// per input cell: why it was not split or kept (CellStatus bits), 0 if it was
-  const std::uint16_t* sourceStatus = nullptr;
-  /// per input cell: the order per axis of a split one (a wedge of order 3 or 4 is of higher
-  /// order, whatever its pieces' total degree), 0 for one kept as it is
-  const std::uint8_t* sourceOrders = nullptr;
-  /// per input cell: 1 for a type whose VTK node order reverses the parametric orientation
-  /// (kCellTypes' CellType::mirrored): its pieces' inversion is the reverse of the cell's
-  const std::uint8_t* sourceMirrored = nullptr;
-  NodeId numberOfSourceCells = 0;
 };
 
 /// The checks of a cell's node ids that every reader of cells makes, in this order: kInvalidId
@@ -218,12 +204,6 @@ public:
   /// The longest edge of a valid cell.
   double cellSize(NodeId cellId) const;
 
-  /// The input's id of a cell (for a split mesh, the input cell it comes from).
-  NodeId sourceCell(NodeId cellId) const
-  {
-    return Mesh_.sourceCells ? Mesh_.sourceCells[cellId] : cellId;
-  }
-
   /// The kind of a valid cell, as validation classified it.
   CellKind kindOf(NodeId cellId) const
   {
@@ -261,9 +241,6 @@ private:
   /// Validates every cell: its status, entry and counts, and the box around the valid ones.
   void validateCells(const ParallelFor& parallelFor, FillLaterVector<std::uint16_t>& status,
     glm::dvec3& lo, glm::dvec3& hi);
-  /// For a split mesh: the counts by input cell (a cell is valid when all its pieces are; the
-  /// pieces of one that is not are dropped too).
-  void countBySource(FillLaterVector<std::uint16_t>& status);
   /// Keeps the valid cells' entries, in cell order, and marks the curved ones.
   void keepValidCells(const FillLaterVector<std::uint16_t>& status);
   /// The box around every valid cell (box units), padded.
@@ -271,9 +248,6 @@ private:
   /// Whether a cell's type and offsets can be trusted to read its ids (validate counts the rest),
   /// and how they are read.
   bool layoutOf(NodeId cellId, CellLayout& layout) const;
-  /// The highest tetrahedron order read: kMaxPieceOrder in a split mesh (its pieces), else
-  /// kMaxTetOrder.
-  int maxOrder() const { return Mesh_.sourceOffsets ? kMaxPieceOrder : kMaxTetOrder; }
   bool readable(NodeId cellId) const
   {
     CellLayout layout;
@@ -311,8 +285,6 @@ private:
   void cellCoordinates(NodeId cellId, const glm::dvec3& point, double L[4]) const;
   /// Whether `point` lies in a valid cell (within kBarycentricTolerance), and where.
   bool inCell(NodeId cellId, const glm::dvec3& point, double L[4]) const;
-  bool intersectCurvedCell(NodeId cellId, const Ray& ray, const IsoValues& isoValues,
-    std::size_t first, std::size_t last, double tMin, double tLimit, SurfaceHit& hit) const;
   /// Counts a hit accepted without a certificate.
   void countUncertified(bool certified) const
   {
@@ -359,10 +331,6 @@ inline bool Scene::intersectCell(const CellRecord& cell, const Ray& ray, const I
   if (cell.kind == CellRecord::Kind::Empty || !isoValues.within(cell.valueLo, cell.valueHi, first, last))
   {
     return false;
-  }
-  if (cell.kind == CellRecord::Kind::Curved)
-  {
-    return intersectCurvedCell(cell.cellId, ray, isoValues, first, last, tMin, tLimit, hit);
   }
   if (cell.kind == CellRecord::Kind::Hexahedron || cell.kind == CellRecord::Kind::CurvedHexahedron)
   {

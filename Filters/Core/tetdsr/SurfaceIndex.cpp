@@ -97,7 +97,7 @@ SurfaceIndex::CellFaces SurfaceIndex::facesOf(const Scene& scene, const CellReco
     faces.d = Float4{ -1.0f, -1.0f, -1.0f, -1.0f };
     return faces;
   }
-  if (record.kind == CellRecord::Kind::Curved || record.kind == CellRecord::Kind::Hexahedron ||
+  if (record.kind == CellRecord::Kind::Hexahedron ||
     record.kind == CellRecord::Kind::CurvedHexahedron || record.kind == CellRecord::Kind::Wedge)
   {
     // (No four planes bound them: a curved cell, a hexahedron's six faces, a wedge's five.) No

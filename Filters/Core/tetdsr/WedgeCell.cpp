@@ -242,7 +242,7 @@ bool WedgeCell<P>::intersect(const CellRecord& cell, const Ray& ray, const IsoVa
   constexpr int n = kTriangle * (P + 1);
   double fieldLo, fieldHi;
   bernstein::range(form, n, fieldLo, fieldHi);
-  if (constantToRounding(fieldLo, fieldHi, kMaxPieceOrder))
+  if (spreadWithin(fieldLo, fieldHi, kTensorFormConstantRoundings))
   {
     std::size_t index;
     if (!isoparametric::constantIsoIndex(isoValues, fieldLo, fieldHi, cell.scale, index))
