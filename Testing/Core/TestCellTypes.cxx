@@ -12,7 +12,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -93,6 +95,7 @@ TEST(CellTypes, TheTableIsWellFormed)
 TEST(CellTypes, EveryCodeAndIdCountReadsAsTheTableSays)
 {
   int read = 0;
+  double largestGrowth = 0.0;
   for (int code = 0; code < 256; ++code)
   {
     const tetdsr::CellType* type = tetdsr::cellTypeOf(code);
@@ -148,11 +151,16 @@ TEST(CellTypes, EveryCodeAndIdCountReadsAsTheTableSays)
         // Its tensor form's degree per axis: the type's order, but for the 19-node pyramid's
         // (of degree 3 along its axis in the cube collapsed onto it).
         EXPECT_EQ(table->order, code == tetdsr::kVtkTriquadraticPyramid ? 3 : order) << type->name;
+        // Its making grows rounding within what the tensor forms' constant test allows.
+        EXPECT_GE(table->roundingGrowth, 1.0) << type->name;
+        EXPECT_LE(table->roundingGrowth, tetdsr::kMaxRoundingGrowth) << type->name << ", " << ids << " ids";
+        largestGrowth = std::max(largestGrowth, table->roundingGrowth);
       }
     }
   }
   // 2 + 2 x 4 tetrahedra, 5 + 2 x 4 hexahedra, 4 + 2 x 4 wedges, 3 pyramids.
   EXPECT_EQ(read, 10 + 13 + 12 + 3);
+  std::printf("largest node table rounding growth: %.3g (allowed %.3g)\n", largestGrowth, tetdsr::kMaxRoundingGrowth);
 }
 
 TEST(CellTypes, MessagesNameEveryTypeReadAndNoneRefused)

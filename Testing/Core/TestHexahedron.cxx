@@ -42,6 +42,7 @@ struct Cell
 {
   static constexpr int N = count(P);
   glm::dvec3 nodes[tetdsr::kMaxCellNodes];
+  glm::dvec3 given[tetdsr::kMaxCellNodes]; ///< the nodes as given (VTK's order)
   double values[tetdsr::kMaxCellNodes];
 
   template <class Map, class Field>
@@ -52,7 +53,7 @@ struct Cell
     for (int n = 0; n < N; ++n)
     {
       const auto& r = table->nodePoints[static_cast<std::size_t>(n)];
-      nodes[n] = map(glm::dvec3(r[0], r[1], r[2]));
+      nodes[n] = given[n] = map(glm::dvec3(r[0], r[1], r[2]));
       values[n] = field(nodes[n]);
     }
     tetdsr::toTensorForm(*table, nodes);
@@ -298,21 +299,21 @@ TEST(Hexahedron, JacobianSign)
   auto value = [](const glm::dvec3& x) { return x.x; };
   // Bent: valid and curved.
   const Cell<2> bent(bend, value);
-  EXPECT_EQ((tetdsr::HexahedronCell<2, false>::validate(bent.nodes, 0x1p-52, *q2)),
+  EXPECT_EQ((tetdsr::HexahedronCell<2, false>::validate(bent.nodes, bent.given, 0x1p-52, *q2)),
     tetdsr::kValid | tetdsr::kCurved);
   // Mirrored (x -> -x): inverted, still rendered.
   const Cell<2> mirrored([](const glm::dvec3& r) { const glm::dvec3 x = bend(r); return glm::dvec3(-x.x, x.y, x.z); }, value);
-  EXPECT_EQ((tetdsr::HexahedronCell<2, false>::validate(mirrored.nodes, 0x1p-52, *q2)),
+  EXPECT_EQ((tetdsr::HexahedronCell<2, false>::validate(mirrored.nodes, mirrored.given, 0x1p-52, *q2)),
     tetdsr::kValid | tetdsr::kCurved | tetdsr::kInverted);
   // Folded: the middle pushed through the face x = 1 (det J changes sign inside).
   const Cell<2> folded([](const glm::dvec3& r) {
     const double bump = 16.0 * r.x * (1.0 - r.x) * r.y * (1.0 - r.y) * r.z * (1.0 - r.z);
     return glm::dvec3(r.x + 1.5 * bump, r.y, r.z);
   }, value);
-  EXPECT_EQ((tetdsr::HexahedronCell<2, false>::validate(folded.nodes, 0x1p-52, *q2)), tetdsr::kTangled);
+  EXPECT_EQ((tetdsr::HexahedronCell<2, false>::validate(folded.nodes, folded.given, 0x1p-52, *q2)), tetdsr::kTangled);
   // Straight: valid, not curved.
   const Cell<3> straight([](const glm::dvec3& r) { return 2.0 * r + glm::dvec3(0.1, 0.2, 0.3); }, value);
-  EXPECT_EQ((tetdsr::HexahedronCell<3, false>::validate(straight.nodes, 0x1p-52, *q3)), tetdsr::kValid);
+  EXPECT_EQ((tetdsr::HexahedronCell<3, false>::validate(straight.nodes, straight.given, 0x1p-52, *q3)), tetdsr::kValid);
 }
 
 } // namespace

@@ -332,12 +332,14 @@ inline double longestEdge(const glm::dvec3 vertices[4])
   return std::sqrt(longest2);
 }
 
-/// The largest HexahedronNodes::roundingGrowth of a node table (TestCellTypes checks each).
-constexpr double kMaxRoundingGrowth = 128.0;
-/// A tensor form (HexahedronCell.h, WedgeCell.h) is made from at most kMaxCellNodes nodes by its
-/// node table, which grows each one's rounding by at most kMaxRoundingGrowth: a constant field's
-/// coefficients spread by at most that many roundings (plus their own).
-constexpr double kTensorFormConstantRoundings = 8.0 + kMaxCellNodes * kMaxRoundingGrowth;
+/// A bound on HexahedronNodes::roundingGrowth, the worst-case growth of relative rounding in the
+/// making of a tensor form from nodes (TestCellTypes checks every table: the largest, 12,015, is
+/// the 75-node Lagrange wedge's).
+constexpr double kMaxRoundingGrowth = 16384.0;
+/// A tensor form (HexahedronCell.h, WedgeCell.h) of a constant field: its coefficients equal to
+/// within the growth of the nodes' rounding and that of each of its making's steps (a weighted
+/// sum, three axes' conversions; each step's own rounding grown by the steps after it).
+constexpr double kTensorFormConstantRoundings = 8.0 + 4.0 * kMaxRoundingGrowth;
 
 /// The roundings, relative to the largest nodal magnitude, by which a cell of this order's
 /// Bernstein coefficients can spread for a constant field: 8 (their own rounding is 2-3), plus for

@@ -366,41 +366,44 @@ void fieldOnSegment(const double* field, const double a[3], const double b[3], d
 
 template <int P, bool Curved>
 std::uint16_t HexahedronCell<P, Curved>::validate(
-  const glm::dvec3* nodes, double pointRounding, const HexahedronNodes& table)
+  const glm::dvec3* nodes, const glm::dvec3* given, double pointRounding, const HexahedronNodes& table)
 {
-  const std::uint16_t flags = validateForm(nodes, pointRounding, table);
+  const std::uint16_t flags = validateForm(nodes, given, pointRounding, table);
   // A mirrored type's well-formed cell has a map of negative orientation.
   return table.mirrored && (flags & kValid) ? static_cast<std::uint16_t>(flags ^ kInverted) : flags;
 }
 
 template <int P, bool Curved>
 std::uint16_t HexahedronCell<P, Curved>::validateForm(
-  const glm::dvec3* nodes, double pointRounding, const HexahedronNodes& table)
+  const glm::dvec3* nodes, const glm::dvec3* given, double pointRounding, const HexahedronNodes& table)
 {
-  // The corners' tetrahedron: size, volume, orientation, and the curved tolerance.
-  const glm::dvec3 frame[4] = { nodes[tensor::index(P, 0, 0, 0)], nodes[tensor::index(P, P, 0, 0)],
-    nodes[tensor::index(P, 0, P, 0)], nodes[tensor::index(P, 0, 0, P)] };
+  // The frame's tetrahedron: size, volume, orientation, and the curved tolerance (a pyramid's
+  // from its tensor form's corners, the same points).
+  const bool pyramid = table.frameNodes[0] < 0;
+  glm::dvec3 frame[4];
+  for (int k = 0; k < 4; ++k)
+  {
+    const int corner[4] = { tensor::index(P, 0, 0, 0), tensor::index(P, P, 0, 0), tensor::index(P, 0, P, 0),
+      tensor::index(P, 0, 0, P) };
+    frame[k] = pyramid ? nodes[corner[k]] : given[table.frameNodes[k]];
+  }
   double curvedTolerance = 0.0;
   std::uint16_t flags = QuadraticTetCell::validateVertices(frame, pointRounding, curvedTolerance);
   if (!(flags & kValid))
   {
     return flags;
   }
-  curvedTolerance *= table.roundingGrowth;
-  // Where an affine map puts the control points: a hexahedron's lattice, or a wedge's (its r =
-  // u (1 - v) has the Bernstein coefficients (i / P)(1 - j / P)). A pyramid is never straight
-  // here (its collapsed face is off the lattice): its affine ones are solved as curved.
-  const bool wedge = table.collapsedAxis == 1;
-  bool curved = false;
-  for (int k = 0; k <= P && !curved; ++k)
-    for (int j = 0; j <= P && !curved; ++j)
-      for (int i = 0; i <= P && !curved; ++i)
-      {
-        const double r = (static_cast<double>(i) / P) * (wedge ? 1.0 - static_cast<double>(j) / P : 1.0);
-        const glm::dvec3 expected = frame[0] + r * (frame[1] - frame[0]) +
-          (static_cast<double>(j) / P) * (frame[2] - frame[0]) + (static_cast<double>(k) / P) * (frame[3] - frame[0]);
-        curved = QuadraticTetCell::offItsPlace(nodes[tensor::index(P, i, j, k)], expected, curvedTolerance);
-      }
+  // Straight when every node as given lies where the frame's affine map puts its parametric
+  // point (a wedge's (r, s, t), not its cube's).
+  bool curved = pyramid;
+  for (int n = 0; n < table.nodes && !curved; ++n)
+  {
+    double r[3];
+    parametricPoint(table, table.nodePoints[static_cast<std::size_t>(n)].data(), r);
+    const glm::dvec3 expected =
+      frame[0] + r[0] * (frame[1] - frame[0]) + r[1] * (frame[2] - frame[0]) + r[2] * (frame[3] - frame[0]);
+    curved = QuadraticTetCell::offItsPlace(given[n], expected, curvedTolerance);
+  }
   if (!curved)
   {
     return flags;

@@ -83,9 +83,13 @@ struct HexahedronNodes
   };
   Parametric parametric = Parametric::Cube;
   /// How much the tensor form's making (the weights' largest absolute row sum, times the Lagrange
-  /// to Bernstein conversion's infinity norm per axis) can grow the nodes' rounding: a straight
-  /// cell's control points lie within that many of its roundings of their affine places.
+  /// to Bernstein conversion's infinity norm per axis) can grow the nodes' relative rounding (a
+  /// worst case: the bound kTensorFormConstantRoundings rests on).
   double roundingGrowth = 1.0;
+  /// The nodes at VTK's parametric (0, 0, 0), (1, 0, 0), (0, 1, 0) and (0, 0, 1) (the affine
+  /// frame a straight cell's nodes are placed by); -1 for pyramids, never taken as straight
+  /// (their cube is not their parametric cell).
+  int frameNodes[4] = { -1, -1, -1, -1 };
   /// Each node's point in the tensor form's cube (VTK's parametric point for hexahedra; (u, v,
   /// t) for collapsed cells).
   std::vector<std::array<double, 3>> nodePoints;
@@ -203,14 +207,18 @@ struct HexahedronCell
   static constexpr int kHeader = 24;
   static constexpr int kRecordCoefficients = kHeader + 4 * kNodes;
 
-  /// validate, on the tensor form: the corners' frame checks (QuadraticTetCell's on the
-  /// tetrahedron of the corners (0,0,0), (1,0,0), (0,1,0), (0,0,1)); kCurved when a control point
-  /// is off where the frame's affine map puts it; for a curved cell the sign of det J over the
-  /// whole cube (kTangled when it changes or vanishes, kInverted when negative; a collapsed
-  /// cell's with its factor (1 - x)^power divided out; a mirrored type's sign reversed).
-  static std::uint16_t validate(const glm::dvec3* nodes, double pointRounding, const HexahedronNodes& table);
+  /// validate: the frame's checks (QuadraticTetCell's on the tetrahedron of the nodes at
+  /// parametric (0,0,0), (1,0,0), (0,1,0), (0,0,1)); kCurved when a node as given (`given`,
+  /// VTK's order) is off where the frame's affine map puts it (a node's tolerance, as for every
+  /// cell: the tensor form's making would grow its rounding); for a curved cell the sign of det J
+  /// over the whole cube, from the tensor form `nodes` (kTangled when it changes or vanishes,
+  /// kInverted when negative; a collapsed cell's with its factor (1 - x)^power divided out; a
+  /// mirrored type's sign reversed). Pyramids are curved.
+  static std::uint16_t validate(
+    const glm::dvec3* nodes, const glm::dvec3* given, double pointRounding, const HexahedronNodes& table);
   /// validate without the mirrored type's reversal.
-  static std::uint16_t validateForm(const glm::dvec3* nodes, double pointRounding, const HexahedronNodes& table);
+  static std::uint16_t validateForm(
+    const glm::dvec3* nodes, const glm::dvec3* given, double pointRounding, const HexahedronNodes& table);
 
   static void valueBound(const double values[], const TransverseTest&, double& lo, double& hi)
   {

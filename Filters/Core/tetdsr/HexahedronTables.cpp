@@ -16,11 +16,27 @@ namespace
 {
 using Point = std::array<double, 3>;
 
-/// The table with its roundingGrowth: the weights' largest absolute row sum (1 for a lattice
-/// permutation), times the Lagrange to Bernstein conversion's infinity norm per axis (cubed; 1
-/// for Bezier tables).
-HexahedronNodes withRoundingGrowth(HexahedronNodes table)
+/// The table finished: its roundingGrowth (the weights' largest absolute row sum, 1 for a lattice
+/// permutation, times the Lagrange to Bernstein conversion's infinity norm per axis, cubed; 1 for
+/// Bezier tables) and its frame's nodes (none for pyramids).
+HexahedronNodes finished(HexahedronNodes table)
 {
+  if (table.collapsedAxis != 2)
+  {
+    const double corners[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
+    for (int n = 0; n < table.nodes; ++n)
+    {
+      double r[3];
+      parametricPoint(table, table.nodePoints[static_cast<std::size_t>(n)].data(), r);
+      for (int k = 0; k < 4; ++k)
+      {
+        if (r[0] == corners[k][0] && r[1] == corners[k][1] && r[2] == corners[k][2])
+        {
+          table.frameNodes[k] = n;
+        }
+      }
+    }
+  }
   double rows = 1.0;
   if (!table.weights.empty())
   {
@@ -72,7 +88,7 @@ HexahedronNodes latticeTable(const char* name, int order, bool bezier, std::vect
       static_cast<int>(std::lround(p[1] * order)), static_cast<int>(std::lround(p[2] * order))));
   }
   table.nodePoints = std::move(points);
-  return withRoundingGrowth(std::move(table));
+  return finished(std::move(table));
 }
 
 /// A table whose space is a part of Q2 given by a split shape's nodal basis (20 and 24 nodes):
@@ -92,7 +108,7 @@ HexahedronNodes basisTable(const SplitShape& shape)
         const double x[3] = { i / 2.0, j / 2.0, k / 2.0 };
         shape.basis(x, table.weights.data() + static_cast<std::size_t>(tensor::index(2, i, j, k) * shape.nodes));
       }
-  return withRoundingGrowth(std::move(table));
+  return finished(std::move(table));
 }
 
 /// A wedge type's table: its shape functions (SplitShape::basis) at the lattice points' images
@@ -123,7 +139,7 @@ HexahedronNodes wedgeTable(int vtkType, const SplitShape& shape)
     // (The collapsed vertex's u is any: its middle.)
     table.nodePoints.push_back({ r[1] < 1.0 ? r[0] / (1.0 - r[1]) : 0.5, r[1], r[2] });
   }
-  return withRoundingGrowth(std::move(table));
+  return finished(std::move(table));
 }
 
 /// A Lagrange or Bezier wedge's table of order `Order`, built on first use (a thread-safe static).
@@ -202,7 +218,7 @@ HexahedronNodes pyramidTable()
       table.weights[static_cast<std::size_t>(tensor::index(1, i, j, 1) * 5 + 4)] = 1.0;
     }
   table.nodePoints = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 }, { 0.5, 0.5, 1 } };
-  return withRoundingGrowth(std::move(table));
+  return finished(std::move(table));
 }
 
 /// VTK_QUADRATIC_PYRAMID's table. Its shape functions are of degree 2 per axis in VTK's
@@ -265,7 +281,7 @@ HexahedronNodes quadraticPyramidTable()
       }
   table.nodePoints = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 }, { 0.5, 0.5, 1 }, { 0.5, 0, 0 },
     { 1, 0.5, 0 }, { 0.5, 1, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 1, 0, 0.5 }, { 1, 1, 0.5 }, { 0, 1, 0.5 } };
-  return withRoundingGrowth(std::move(table));
+  return finished(std::move(table));
 }
 
 /// VTK_TRIQUADRATIC_PYRAMID's shape functions (Browning's rational pyramid of 19 nodes, as VTK
@@ -327,7 +343,7 @@ HexahedronNodes triquadraticPyramidTable()
     { 1, 0.5, 0 }, { 0.5, 1, 0 }, { 0, 0.5, 0 }, { 0, 0, 0.5 }, { 1, 0, 0.5 }, { 1, 1, 0.5 }, { 0, 1, 0.5 },
     { 0.5, 0.5, 0 }, { 0.5, 0, third }, { 1, 0.5, third }, { 0.5, 1, third }, { 0, 0.5, third },
     { 0.5, 0.5, 0.25 } };
-  return withRoundingGrowth(std::move(table));
+  return finished(std::move(table));
 }
 
 template <bool Bezier, int Order>

@@ -465,7 +465,9 @@ std::uint16_t Scene::checkNodes(const CellLayout& layout, const NodeId* ids,
   }
   if (layout.hexahedron)
   {
-    // A hexahedron is checked on its tensor form (its control points' frame and det J).
+    // A hexahedron is checked on its nodes as given (straight or not) and its tensor form (det J).
+    glm::dvec3 given[kMaxCellNodes];
+    std::copy(nodes, nodes + count, given);
     toKindForm(layout, nodes);
     toKindForm(layout, values);
     for (int n = 0; n < tensor::count(layout.order); ++n)
@@ -476,7 +478,8 @@ std::uint16_t Scene::checkNodes(const CellLayout& layout, const NodeId* ids,
       }
     }
     return forHexahedronOrder(layout.order, [&](auto P) {
-      return HexahedronCell<decltype(P)::value, false>::validate(nodes, Mesh_.pointRounding, *layout.hexahedron);
+      return HexahedronCell<decltype(P)::value, false>::validate(
+        nodes, given, Mesh_.pointRounding, *layout.hexahedron);
     });
   }
   // Orders 3 and 4 are checked on their nodes as given (where the affine map puts a node is
