@@ -455,6 +455,69 @@ class VtkConvention(unittest.TestCase):
                                      f"got {caster.GetNumberOfInvertedCells()}")
 
 
+def type_source_mesh(vtk_type, order, warp, field):
+    """vtkCellTypeSource's cells of a type (2 x 2 x 2 blocks) in the unit cube, bent by `warp` (or
+    not), with the point arrays "f" (`field`, active) and "colour" (linear_colour)."""
+    from vtkmodules.vtkFiltersSources import vtkCellTypeSource
+    source = vtkCellTypeSource()
+    source.SetCellType(vtk_type)
+    source.SetCellOrder(order)
+    source.SetBlocksDimensions(2, 2, 2)
+    source.Update()
+    mesh = vtkUnstructuredGrid()
+    mesh.DeepCopy(source.GetOutput())
+    x = vtk_to_numpy(mesh.GetPoints().GetData()).astype(np.float64) / 2.0  # [0, 2]^3 to the unit cube
+    x = warp(x) if warp is not None else x
+    points = numpy_to_vtk(np.ascontiguousarray(x), deep=1)
+    mesh.GetPoints().SetData(points)
+    for name, values in (("f", field.value(x)), ("colour", linear_colour(x))):
+        array = numpy_to_vtk(np.ascontiguousarray(values), deep=1)
+        array.SetName(name)
+        mesh.GetPointData().AddArray(array)
+    mesh.GetPointData().SetActiveScalars("f")
+    return mesh
+
+
+class PickParametric(unittest.TestCase):
+    """A pick's parametric coordinates are VTK's (r, s, t) of the cell, whatever cube TetDSR solves
+    it in: VTK's own map of the picked cell (EvaluateLocation) there lands on the picked point,
+    for wedges (straight: triangle x segment; bent: the collapsed cube) and the three pyramids
+    (their collapsed cubes; the 19-node one's parametric cell is a pyramid)."""
+
+    def test_picks_land_on_their_point(self):
+        from tetdsr import vtkDirectSurfacePick
+        from vtkmodules.vtkCommonCore import mutable
+        cam = camera()
+        w, h = 40, 30
+        for name, vtk_type, order in (("VTK_WEDGE", VTK_WEDGE, 1), ("VTK_QUADRATIC_WEDGE", VTK_QUADRATIC_WEDGE, 2),
+                                      ("VTK_LAGRANGE_WEDGE", VTK_LAGRANGE_WEDGE, 3), ("VTK_PYRAMID", VTK_PYRAMID, 1),
+                                      ("VTK_QUADRATIC_PYRAMID", VTK_QUADRATIC_PYRAMID, 2),
+                                      ("VTK_TRIQUADRATIC_PYRAMID", VTK_TRIQUADRATIC_PYRAMID, 2)):
+            for label, warp in (("straight", None), ("curved", hw.bulge())):
+                with self.subTest(type=name, shape=label):
+                    mesh = type_source_mesh(vtk_type, order, warp, PLANE)
+                    caster = caster_for(mesh, [PLANE.iso], cam, lambda c: c.SetImageSize(w, h))
+                    depth = outputs(caster)["Depth"].reshape(h, w)
+                    pick = vtkDirectSurfacePick()
+                    checked, worst = 0, 0.0
+                    for j in range(0, h, 3):
+                        for i in range(0, w, 3):
+                            if not np.isfinite(depth[j, i]):
+                                continue
+                            self.assertTrue(caster.Pick(i + 0.5, j + 0.5, pick))
+                            self.assertTrue(pick.GetHasParametricCoordinates())
+                            cell = mesh.GetCell(pick.GetCellId())
+                            x = [0.0, 0.0, 0.0]
+                            weights = [0.0] * cell.GetNumberOfPoints()
+                            cell.EvaluateLocation(mutable(0), pick.GetParametricCoordinates(), x, weights)
+                            worst = max(worst, float(np.linalg.norm(np.array(x) - pick.GetPosition())))
+                            checked += 1
+                    print(f"{name} {label}: {checked} picks, VTK's map at the pick's (r, s, t) within {worst:.3g} "
+                          f"of the pick")
+                    self.assertGreater(checked, 20)
+                    self.assertLess(worst, 1e-12)
+
+
 # The products of two different coordinates (and linear terms): in the space of every
 # VTK_QUADRATIC_PYRAMID of vtkCellTypeSource's cube (which holds z^2 and x y, x z, y z for a
 # pyramid along z, but not x^2 or y^2: measured with its InterpolateFunctions), so its straight
@@ -471,24 +534,7 @@ class Pyramids(unittest.TestCase):
     straight quadratic pyramids also hold MIXED, against its quadric."""
 
     def pyramids(self, vtk_type, warp, field=None):
-        from vtkmodules.vtkFiltersSources import vtkCellTypeSource
-        field = field or PLANE
-        source = vtkCellTypeSource()
-        source.SetCellType(vtk_type)
-        source.SetBlocksDimensions(2, 2, 2)
-        source.Update()
-        mesh = vtkUnstructuredGrid()
-        mesh.DeepCopy(source.GetOutput())
-        x = vtk_to_numpy(mesh.GetPoints().GetData()).astype(np.float64) / 2.0  # [0, 2]^3 to the unit cube
-        x = warp(x) if warp is not None else x
-        points = numpy_to_vtk(np.ascontiguousarray(x), deep=1)
-        mesh.GetPoints().SetData(points)
-        for name, values in (("f", field.value(x)), ("colour", linear_colour(x))):
-            array = numpy_to_vtk(np.ascontiguousarray(values), deep=1)
-            array.SetName(name)
-            mesh.GetPointData().AddArray(array)
-        mesh.GetPointData().SetActiveScalars("f")
-        return mesh
+        return type_source_mesh(vtk_type, 1, warp, field or PLANE)
 
     def test_pyramids_hold_a_plane(self):
         cam = camera()
