@@ -51,3 +51,28 @@ class Messages:
 
         algorithm.AddObserver(vtkCommand.ErrorEvent, on_error)
         algorithm.AddObserver(vtkCommand.WarningEvent, on_warning)
+
+
+def pick_landing_error(caster, grid, depth, step):
+    """Picks every `step`-th pixel of `caster`'s last image that `depth` (rows x columns) says is
+    a hit, and maps each pick's parametric coordinates through VTK's own map of the picked cell
+    (EvaluateLocation): (picks checked, largest distance from the pick's position). Every pick
+    must hit and have parametric coordinates (asserted)."""
+    from tetdsr import vtkDirectSurfacePick
+    from vtkmodules.vtkCommonCore import mutable
+    pick = vtkDirectSurfacePick()
+    checked, worst = 0, 0.0
+    height, width = depth.shape
+    for j in range(0, height, step):
+        for i in range(0, width, step):
+            if not np.isfinite(depth[j, i]):
+                continue
+            assert caster.Pick(i + 0.5, j + 0.5, pick), (i, j)
+            assert pick.GetHasParametricCoordinates(), (i, j)
+            cell = grid.GetCell(pick.GetCellId())
+            x = [0.0, 0.0, 0.0]
+            weights = [0.0] * cell.GetNumberOfPoints()
+            cell.EvaluateLocation(mutable(0), pick.GetParametricCoordinates(), x, weights)
+            worst = max(worst, float(np.linalg.norm(np.array(x) - pick.GetPosition())))
+            checked += 1
+    return checked, worst

@@ -19,7 +19,7 @@ from vtkmodules.vtkCommonDataModel import (
 
 import hex_wedge_grids as hw
 import higher_order_grids as hog
-from shared_helpers import Messages
+from shared_helpers import Messages, pick_landing_error
 from tetdsr import vtkDirectSurfaceRayCaster
 from test_higher_order import (DIAGONAL, caster_for, camera, contour_pixels, max_angle, outputs,
                                quadratic_field, truth)
@@ -411,42 +411,26 @@ class VtkConvention(unittest.TestCase):
     VTK 9.2) are not inverted; mirrored ones are."""
 
     def test_cell_type_source_cells_are_not_inverted(self):
-        from vtkmodules.vtkFiltersSources import vtkCellTypeSource
-        from vtkmodules.vtkFiltersGeneral import vtkTransformFilter
-        from vtkmodules.vtkCommonTransforms import vtkTransform
         cases = [(VTK_HEXAHEDRON, 1), (VTK_QUADRATIC_HEXAHEDRON, 2),
                  (VTK_LAGRANGE_HEXAHEDRON, 3), (VTK_BEZIER_HEXAHEDRON, 2), (VTK_WEDGE, 1), (VTK_QUADRATIC_WEDGE, 2),
                  (VTK_LAGRANGE_WEDGE, 3), (VTK_BEZIER_WEDGE, 2), (VTK_PYRAMID, 1), (VTK_QUADRATIC_PYRAMID, 2),
                  (VTK_TRIQUADRATIC_PYRAMID, 2)]
+        x_field = hog.Field(lambda x: x[..., 0], None, 0.5, 1)
         for vtk_type, order in cases:
             with self.subTest(vtk_type=vtk_type):
-                source = vtkCellTypeSource()
-                source.SetCellType(vtk_type)
-                source.SetCellOrder(order)
-                source.SetBlocksDimensions(2, 2, 2)
-                source.Update()
-                mirror = vtkTransform()
-                mirror.Scale(-1.0, 1.0, 1.0)
-                mirrored = vtkTransformFilter()
-                mirrored.SetTransform(mirror)
-                mirrored.SetInputConnection(source.GetOutputPort())
-                mirrored.Update()
-                for grid, inverted in ((source.GetOutput(), 0), (mirrored.GetOutput(), None)):
-                    mesh = vtkUnstructuredGrid()
-                    mesh.DeepCopy(grid)
+                for mirrored in (False, True):
+                    # VTK's own cells, or their mirror images (x -> 1 - x: every cell reversed).
+                    mesh = type_source_mesh(vtk_type, order, (lambda x: x * [-1.0, 1.0, 1.0] + [1.0, 0.0, 0.0])
+                                            if mirrored else None, x_field)
                     cells = mesh.GetNumberOfCells()
-                    x = vtk_to_numpy(mesh.GetPoints().GetData())[:, 0].astype(np.float64)
-                    array = numpy_to_vtk(np.ascontiguousarray(x), deep=1)
-                    array.SetName("x")
-                    mesh.GetPointData().AddArray(array)
                     caster = vtkDirectSurfaceRayCaster()
                     caster.SetInputData(mesh)
-                    caster.SetInputArrayToProcess(0, 0, 0, 0, "x")
-                    caster.SetValue(0, float(np.mean(x)))
+                    caster.SetInputArrayToProcess(0, 0, 0, 0, "f")
+                    caster.SetValue(0, x_field.iso)
                     caster.SetImageSize(4, 4)
                     caster.Update()
-                    expected = cells if inverted is None else inverted
-                    print(f"vtkCellTypeSource type {vtk_type} order {order}{' mirrored' if inverted is None else ''}: "
+                    expected = cells if mirrored else 0
+                    print(f"vtkCellTypeSource type {vtk_type} order {order}{' mirrored' if mirrored else ''}: "
                           f"{cells} cells, {caster.GetNumberOfRenderedCells()} rendered, "
                           f"{caster.GetNumberOfInvertedCells()} inverted")
                     self.assertEqual(caster.GetNumberOfRenderedCells(), cells)
@@ -485,8 +469,6 @@ class PickParametric(unittest.TestCase):
     (their collapsed cubes; the 19-node one's parametric cell is a pyramid)."""
 
     def test_picks_land_on_their_point(self):
-        from tetdsr import vtkDirectSurfacePick
-        from vtkmodules.vtkCommonCore import mutable
         cam = camera()
         w, h = 40, 30
         for name, vtk_type, order in (("VTK_WEDGE", VTK_WEDGE, 1), ("VTK_QUADRATIC_WEDGE", VTK_QUADRATIC_WEDGE, 2),
@@ -498,20 +480,7 @@ class PickParametric(unittest.TestCase):
                     mesh = type_source_mesh(vtk_type, order, warp, PLANE)
                     caster = caster_for(mesh, [PLANE.iso], cam, lambda c: c.SetImageSize(w, h))
                     depth = outputs(caster)["Depth"].reshape(h, w)
-                    pick = vtkDirectSurfacePick()
-                    checked, worst = 0, 0.0
-                    for j in range(0, h, 3):
-                        for i in range(0, w, 3):
-                            if not np.isfinite(depth[j, i]):
-                                continue
-                            self.assertTrue(caster.Pick(i + 0.5, j + 0.5, pick))
-                            self.assertTrue(pick.GetHasParametricCoordinates())
-                            cell = mesh.GetCell(pick.GetCellId())
-                            x = [0.0, 0.0, 0.0]
-                            weights = [0.0] * cell.GetNumberOfPoints()
-                            cell.EvaluateLocation(mutable(0), pick.GetParametricCoordinates(), x, weights)
-                            worst = max(worst, float(np.linalg.norm(np.array(x) - pick.GetPosition())))
-                            checked += 1
+                    checked, worst = pick_landing_error(caster, mesh, depth, 3)
                     print(f"{name} {label}: {checked} picks, VTK's map at the pick's (r, s, t) within {worst:.3g} "
                           f"of the pick")
                     self.assertGreater(checked, 20)

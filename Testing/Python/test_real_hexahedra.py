@@ -26,7 +26,7 @@ from vtkmodules.vtkCommonDataModel import VTK_LAGRANGE_HEXAHEDRON, VTK_QUADRATIC
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 from vtkmodules.vtkRenderingCore import vtkCamera
 
-from shared_helpers import Messages
+from shared_helpers import Messages, pick_landing_error
 from tetdsr import vtkDirectSurfaceRayCaster
 
 DATA = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "..", "Data")
@@ -146,23 +146,9 @@ class MfemQ3(unittest.TestCase):
     def test_picks_give_vtks_parametric_coordinates(self):
         # A pick's (r, s, t) through VTK's own map of the cell (vtkLagrangeHexahedron's
         # EvaluateLocation, its forward map: exact) lands on the picked point.
-        from tetdsr import vtkDirectSurfacePick
-        from vtkmodules.vtkCommonCore import mutable
         width, height = 64, 48
         caster, _, depth = cast(self.grid, "u", 0.5, camera_on(self.grid.GetBounds()), (width, height))
-        pick = vtkDirectSurfacePick()
-        checked, worst = 0, 0.0
-        for j in range(0, height, 2):
-            for i in range(0, width, 2):
-                if not np.isfinite(depth[j, i]):
-                    continue
-                self.assertTrue(caster.Pick(i + 0.5, j + 0.5, pick))
-                self.assertTrue(pick.GetHasParametricCoordinates())
-                x = [0.0, 0.0, 0.0]
-                weights = [0.0] * 64
-                self.grid.GetCell(pick.GetCellId()).EvaluateLocation(mutable(0), pick.GetParametricCoordinates(), x, weights)
-                worst = max(worst, float(np.linalg.norm(np.array(x) - pick.GetPosition())))
-                checked += 1
+        checked, worst = pick_landing_error(caster, self.grid, depth, 2)
         print(f"MFEM Q3, picks: {checked} checked, VTK's map at the pick's (r, s, t) within {worst:.3g} of the pick")
         self.assertGreater(checked, 20)
         self.assertLess(worst, 1e-12)

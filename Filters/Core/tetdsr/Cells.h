@@ -112,6 +112,23 @@ struct CellLayout
   bool wedge = false;
 };
 
+/// A cell's order by kCellTypes' rule for its id count (`order`), or why it cannot be read:
+/// kUnsupported (a type the table does not read), kMalformed (a count that fits no order of the
+/// type), kOrderTooHigh (above the table's highest).
+inline std::uint16_t readOrder(const CellType* type, long long ids, int& order)
+{
+  if (!isRead(type))
+  {
+    return kUnsupported;
+  }
+  order = orderOf(*type, ids);
+  if (order == 0)
+  {
+    return kMalformed;
+  }
+  return order > type->maxOrder ? kOrderTooHigh : 0;
+}
+
 /// cellLayout for a type read as a tensor-product cell (HexahedronTables.cpp): every hexahedron,
 /// wedge and pyramid type of kCellTypes.
 std::uint16_t hexahedronLayout(const CellType& type, long long ids, CellLayout& layout);
@@ -122,22 +139,14 @@ std::uint16_t hexahedronLayout(const CellType& type, long long ids, CellLayout& 
 inline std::uint16_t cellLayout(int vtkType, long long ids, CellLayout& layout)
 {
   const CellType* type = cellTypeOf(vtkType);
-  if (!isRead(type))
-  {
-    return kUnsupported;
-  }
-  if (type->shape != CellShape::Tetrahedron)
+  if (isRead(type) && type->shape != CellShape::Tetrahedron)
   {
     return hexahedronLayout(*type, ids, layout);
   }
-  const int order = orderOf(*type, ids);
-  if (order == 0)
+  int order = 0;
+  if (const std::uint16_t status = readOrder(type, ids, order))
   {
-    return kMalformed;
-  }
-  if (order > type->maxOrder)
-  {
-    return kOrderTooHigh;
+    return status;
   }
   layout = { order, type->bezier, latticeCount(order) };
   return 0;

@@ -569,25 +569,8 @@ bool HexahedronCell<P, Curved>::intersect(const CellRecord& cell, const Ray& ray
     const double b[3] = { x0.x + leave * dx.x, x0.y + leave * dx.y, x0.z + leave * dx.z };
     double along[3 * P + 1];
     fieldOnSegment<P>(field, a, b, along);
-    double nearest = 2.0;
-    for (std::size_t k = first; k < last; ++k)
-    {
-      double shifted[3 * P + 1];
-      const double level = sorted[k] * cell.scale;
-      for (int j = 0; j <= 3 * P; ++j)
-      {
-        shifted[j] = along[j] - level;
-      }
-      double u;
-      bool rootCertified;
-      if (firstBernsteinRoot<3 * P>(shifted, u, rootCertified) && u < nearest)
-      {
-        nearest = u;
-        hit.isoIndex = k;
-        certified = rootCertified;
-      }
-    }
-    if (!(nearest <= 1.0))
+    double nearest;
+    if (!nearestBernsteinRoot<3 * P>(along, sorted, first, last, cell.scale, nearest, hit.isoIndex, certified))
     {
       return false;
     }

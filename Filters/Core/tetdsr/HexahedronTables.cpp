@@ -373,18 +373,14 @@ const HexahedronNodes& splitShapeTable(int vtkType, int nodes)
 std::uint16_t hexahedronNodesOf(int vtkType, long long ids, const HexahedronNodes*& table)
 {
   const CellType* type = cellTypeOf(vtkType);
-  if (!isRead(type) || type->shape == CellShape::Tetrahedron)
+  int order = 0;
+  if (type && type->shape == CellShape::Tetrahedron)
   {
     return kUnsupported;
   }
-  const int order = orderOf(*type, ids);
-  if (order == 0)
+  if (const std::uint16_t status = readOrder(type, ids, order))
   {
-    return kMalformed;
-  }
-  if (order > type->maxOrder)
-  {
-    return kOrderTooHigh;
+    return status;
   }
   static const HexahedronNodes hexahedron = latticeTable("VTK_HEXAHEDRON", 1, false, hexahedronNodePoints(1));
   static const HexahedronNodes voxel = latticeTable("VTK_VOXEL", 1, false,

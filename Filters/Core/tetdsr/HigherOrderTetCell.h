@@ -123,7 +123,7 @@ struct HigherOrderTetCell
     double along[P + 1];
     bernstein::onSegment<P>(c, entry, exit, along);
     double nearest;
-    if (!nearestRoot(along, isoValues.sorted(), first, last, cell.scale, nearest, hit.isoIndex, certified))
+    if (!nearestBernsteinRoot<P>(along, isoValues.sorted(), first, last, cell.scale, nearest, hit.isoIndex, certified))
     {
       return false;
     }
@@ -177,36 +177,6 @@ struct HigherOrderTetCell
   }
 
 private:
-  /// The first root in [0, 1], over the iso-values sorted[first, last) (times `scale`), of the
-  /// field with Bernstein coefficients `along` on [0, 1]: each iso-value subtracted from every
-  /// coefficient (the Bernstein polynomials sum to 1), its first root certified
-  /// (firstBernsteinRoot). False if none has a root.
-  static bool nearestRoot(const double along[P + 1], const std::vector<double>& sorted,
-    std::size_t first, std::size_t last, double scale, double& nearest, std::size_t& index,
-    bool& certified)
-  {
-    nearest = 2.0;
-    certified = true;
-    for (std::size_t k = first; k < last; ++k)
-    {
-      double shifted[P + 1];
-      const double level = sorted[k] * scale;
-      for (int j = 0; j <= P; ++j)
-      {
-        shifted[j] = along[j] - level;
-      }
-      double u;
-      bool rootCertified;
-      if (firstBernsteinRoot<P>(shifted, u, rootCertified) && u < nearest)
-      {
-        nearest = u;
-        index = k;
-        certified = rootCertified;
-      }
-    }
-    return nearest <= 1.0;
-  }
-
   /// grad f = sum_k (df/dL_k) grad L_k, with f taken as homogeneous of degree P in L (any
   /// multiple of (1, 1, 1, 1) in its partials cancels: the grad L_k sum to zero).
   static glm::dvec3 latticeGradient(const double c[], const TetFrame& frame, const double L[4])

@@ -469,18 +469,14 @@ std::vector<std::array<double, 3>> hexahedronNodePoints(int order)
 std::uint16_t splitShapeOf(int vtkType, long long ids, const SplitShape*& shape)
 {
   const CellType* type = cellTypeOf(vtkType);
-  if (!isRead(type) || (type->shape != CellShape::Hexahedron && type->shape != CellShape::Wedge))
+  int order = 0;
+  if (type && type->shape != CellShape::Hexahedron && type->shape != CellShape::Wedge)
   {
     return kUnsupported;
   }
-  const int order = orderOf(*type, ids);
-  if (order == 0)
+  if (const std::uint16_t status = readOrder(type, ids, order))
   {
-    return kMalformed;
-  }
-  if (order > type->maxOrder)
-  {
-    return kOrderTooHigh;
+    return status;
   }
   const bool bezier = type->bezier;
   switch (vtkType)

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <algorithm>
+#include <vector>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -624,6 +625,36 @@ bool firstBernsteinRoot(const double b[D + 1], double& root, bool& certified)
     top += 2;
   }
   return false;
+}
+
+/// The first root in [0, 1], over the iso-values sorted[first, last) (times `scale`), of the
+/// field with Bernstein coefficients `along` (degree D) on [0, 1]: each iso-value subtracted from
+/// every coefficient (the Bernstein polynomials sum to 1), its first root certified
+/// (firstBernsteinRoot); `index` the iso-value's, `certified` its root's. False if none has a root.
+template <int D>
+bool nearestBernsteinRoot(const double along[D + 1], const std::vector<double>& sorted, std::size_t first,
+  std::size_t last, double scale, double& nearest, std::size_t& index, bool& certified)
+{
+  nearest = 2.0;
+  certified = true;
+  for (std::size_t k = first; k < last; ++k)
+  {
+    double shifted[D + 1];
+    const double level = sorted[k] * scale;
+    for (int j = 0; j <= D; ++j)
+    {
+      shifted[j] = along[j] - level;
+    }
+    double u;
+    bool rootCertified;
+    if (firstBernsteinRoot<D>(shifted, u, rootCertified) && u < nearest)
+    {
+      nearest = u;
+      index = k;
+      certified = rootCertified;
+    }
+  }
+  return nearest <= 1.0;
 }
 
 } // namespace tetdsr

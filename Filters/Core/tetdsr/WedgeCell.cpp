@@ -281,26 +281,8 @@ bool WedgeCell<P>::intersect(const CellRecord& cell, const Ray& ray, const IsoVa
   {
     along[l] /= tensor::binomial(2 * P, l);
   }
-  const std::vector<double>& sorted = isoValues.sorted();
-  double nearest = 2.0;
-  for (std::size_t k = first; k < last; ++k)
-  {
-    double shifted[2 * P + 1];
-    const double level = sorted[k] * cell.scale;
-    for (int j = 0; j <= 2 * P; ++j)
-    {
-      shifted[j] = along[j] - level;
-    }
-    double u;
-    bool rootCertified;
-    if (firstBernsteinRoot<2 * P>(shifted, u, rootCertified) && u < nearest)
-    {
-      nearest = u;
-      hit.isoIndex = k;
-      certified = rootCertified;
-    }
-  }
-  if (!(nearest <= 1.0))
+  double nearest;
+  if (!nearestBernsteinRoot<2 * P>(along, isoValues.sorted(), first, last, cell.scale, nearest, hit.isoIndex, certified))
   {
     return false;
   }
