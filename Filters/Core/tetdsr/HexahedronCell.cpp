@@ -553,17 +553,8 @@ bool HexahedronCell<P, Curved>::intersect(const CellRecord& cell, const Ray& ray
     }
     if (constant)
     {
-      std::size_t index;
-      if (!isoparametric::constantIsoIndex(isoValues, fieldLo, fieldHi, cell.scale, index))
-      {
-        return false;
-      }
-      hit.isoIndex = index;
-      hit.t = (tCentre + enter) / s;
-      hit.regionEnd = (tCentre + leave) / s;
-      hit.cellId = cell.cellId;
-      hit.gradient = glm::dvec3(0.0);
-      return true;
+      return isoparametric::constantStretch(
+        isoValues, fieldLo, fieldHi, cell.scale, tCentre, enter, leave, s, cell.cellId, hit);
     }
     const double a[3] = { x0.x + enter * dx.x, x0.y + enter * dx.y, x0.z + enter * dx.z };
     const double b[3] = { x0.x + leave * dx.x, x0.y + leave * dx.y, x0.z + leave * dx.z };

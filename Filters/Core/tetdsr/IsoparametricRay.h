@@ -50,6 +50,25 @@ inline bool constantIsoIndex(
   return it != sorted.end() && *it <= hi / scale;
 }
 
+/// A straight cell's hit for a field constant to rounding (Bernstein bound [lo, hi], scaled by
+/// `scale`) that equals an iso-value: the ray's stretch inside the cell, local depths [enter,
+/// leave] (t_world = (tCentre + T) / s), with no gradient. False if it equals none.
+inline bool constantStretch(const IsoValues& isoValues, double lo, double hi, double scale, double tCentre,
+  double enter, double leave, double s, std::uint32_t cellId, SurfaceHit& hit)
+{
+  std::size_t index;
+  if (!constantIsoIndex(isoValues, lo, hi, scale, index))
+  {
+    return false;
+  }
+  hit.isoIndex = index;
+  hit.t = (tCentre + enter) / s;
+  hit.regionEnd = (tCentre + leave) / s;
+  hit.cellId = cellId;
+  hit.gradient = glm::dvec3(0.0);
+  return true;
+}
+
 /// The cell seam's contains: whether the world `point` lies in the cell (within
 /// kBarycentricTolerance), and the barycentric coordinates of its preimage there.
 template <class Geometry>

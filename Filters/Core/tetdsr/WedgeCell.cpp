@@ -244,17 +244,8 @@ bool WedgeCell<P>::intersect(const CellRecord& cell, const Ray& ray, const IsoVa
   bernstein::range(form, n, fieldLo, fieldHi);
   if (spreadWithin(fieldLo, fieldHi, kTensorFormConstantRoundings))
   {
-    std::size_t index;
-    if (!isoparametric::constantIsoIndex(isoValues, fieldLo, fieldHi, cell.scale, index))
-    {
-      return false;
-    }
-    hit.isoIndex = index;
-    hit.t = (tCentre + enter) / s;
-    hit.regionEnd = (tCentre + leave) / s;
-    hit.cellId = cell.cellId;
-    hit.gradient = glm::dvec3(0.0);
-    return true;
+    return isoparametric::constantStretch(
+      isoValues, fieldLo, fieldHi, cell.scale, tCentre, enter, leave, s, cell.cellId, hit);
   }
   // The chord's ends: barycentric on the triangle, and t.
   const glm::dvec3 a = x0 + enter * dx, b = x0 + leave * dx;
