@@ -1100,10 +1100,6 @@ template bool solveOnSimplex(int, const PolynomialForm<3>*, const PolynomialForm
   double, double, SimplexRoot&, const SolveLimits&, int*, const Levels&);
 template bool solveOnSimplex(int, const PolynomialForm<4>*, const PolynomialForm<4>*, double,
   double, double, SimplexRoot&, const SolveLimits&, int*, const Levels&);
-template bool solveOnSimplex(int, const PolynomialForm<6>*, const PolynomialForm<6>*, double,
-  double, double, SimplexRoot&, const SolveLimits&, int*, const Levels&);
-template bool solveOnSimplex(int, const PolynomialForm<8>*, const PolynomialForm<8>*, double,
-  double, double, SimplexRoot&, const SolveLimits&, int*, const Levels&);
 
 CurvedGeometry CurvedGeometry::fromNodes(const glm::dvec3 nodes[10], double scale)
 {
@@ -1282,8 +1278,6 @@ glm::dvec3 IsoparametricGeometry<P>::centroid() const
 
 template struct IsoparametricGeometry<3>;
 template struct IsoparametricGeometry<4>;
-template struct IsoparametricGeometry<6>;
-template struct IsoparametricGeometry<8>;
 
 template <class Geometry>
 glm::dvec3 curvedGradient(const Geometry& geometry, const typename Geometry::Form& field,
@@ -1306,10 +1300,6 @@ template glm::dvec3 curvedGradient(
   const IsoparametricGeometry<3>&, const PolynomialForm<3>&, const double[4]);
 template glm::dvec3 curvedGradient(
   const IsoparametricGeometry<4>&, const PolynomialForm<4>&, const double[4]);
-template glm::dvec3 curvedGradient(
-  const IsoparametricGeometry<6>&, const PolynomialForm<6>&, const double[4]);
-template glm::dvec3 curvedGradient(
-  const IsoparametricGeometry<8>&, const PolynomialForm<8>&, const double[4]);
 
 namespace
 {
@@ -1524,8 +1514,6 @@ JacobianSign jacobianSign(const IsoparametricGeometry<P>& geometry)
 
 template JacobianSign jacobianSign(const IsoparametricGeometry<3>&);
 template JacobianSign jacobianSign(const IsoparametricGeometry<4>&);
-template JacobianSign jacobianSign(const IsoparametricGeometry<6>&);
-template JacobianSign jacobianSign(const IsoparametricGeometry<8>&);
 
 template <class Geometry>
 bool inverseNewton(const Geometry& geometry, const glm::dvec3& target, double L[4])
@@ -1538,7 +1526,5 @@ bool inverseNewton(const Geometry& geometry, const glm::dvec3& target, double L[
 template bool inverseNewton(const CurvedGeometry&, const glm::dvec3&, double[4]);
 template bool inverseNewton(const IsoparametricGeometry<3>&, const glm::dvec3&, double[4]);
 template bool inverseNewton(const IsoparametricGeometry<4>&, const glm::dvec3&, double[4]);
-template bool inverseNewton(const IsoparametricGeometry<6>&, const glm::dvec3&, double[4]);
-template bool inverseNewton(const IsoparametricGeometry<8>&, const glm::dvec3&, double[4]);
 
 } // namespace tetdsr

@@ -199,17 +199,25 @@ const HexahedronNodes* wedgeTableOf(int vtkType, long long ids, std::uint16_t& s
   }
 }
 
+/// A pyramid's table before its weights: order `order` per axis in the cube whose face w = 1 is
+/// collapsed onto the apex (det J = (1 - w)^2 times a form of the cell's sign), its weights zero.
+HexahedronNodes pyramidShell(const char* name, int order, int nodes)
+{
+  HexahedronNodes table;
+  table.name = name;
+  table.order = order;
+  table.nodes = nodes;
+  table.collapsedAxis = 2;
+  table.collapsedPower = 2;
+  table.weights.assign(static_cast<std::size_t>(tensor::count(order) * nodes), 0.0);
+  return table;
+}
+
 /// VTK_PYRAMID's table: the base's four nodes at t = 0 (VTK_HEXAHEDRON's order), the apex at
 /// the four corners of t = 1.
 HexahedronNodes pyramidTable()
 {
-  HexahedronNodes table;
-  table.name = "VTK_PYRAMID";
-  table.order = 1;
-  table.nodes = 5;
-  table.collapsedAxis = 2;
-  table.collapsedPower = 2;
-  table.weights.assign(static_cast<std::size_t>(8 * 5), 0.0);
+  HexahedronNodes table = pyramidShell("VTK_PYRAMID", 1, 5);
   const int baseNode[2][2] = { { 0, 3 }, { 1, 2 } }; // [i][j]
   for (int j = 0; j <= 1; ++j)
     for (int i = 0; i <= 1; ++i)
@@ -231,13 +239,7 @@ HexahedronNodes pyramidTable()
 /// corner), and at the centre 1/4 each mid-edge node and -1/4 each base corner.
 HexahedronNodes quadraticPyramidTable()
 {
-  HexahedronNodes table;
-  table.name = "VTK_QUADRATIC_PYRAMID";
-  table.order = 2;
-  table.nodes = 13;
-  table.collapsedAxis = 2;
-  table.collapsedPower = 2;
-  table.weights.assign(static_cast<std::size_t>(27 * 13), 0.0);
+  HexahedronNodes table = pyramidShell("VTK_QUADRATIC_PYRAMID", 2, 13);
   // The base's nodes at lattice (i, j) (-1: its centre), and the slanted edges' mid-edge nodes
   // over its corners.
   const int base[3][3] = { { 0, 8, 3 }, { 5, -1, 7 }, { 1, 6, 2 } };
@@ -323,14 +325,8 @@ void triquadraticPyramidBasis(const double x[3], double* weights)
 /// VTK_TRIQUADRATIC_PYRAMID's table: triquadraticPyramidBasis at the lattice points of order 3.
 HexahedronNodes triquadraticPyramidTable()
 {
-  HexahedronNodes table;
-  table.name = "VTK_TRIQUADRATIC_PYRAMID";
-  table.order = 3;
-  table.nodes = 19;
-  table.collapsedAxis = 2;
-  table.collapsedPower = 2;
+  HexahedronNodes table = pyramidShell("VTK_TRIQUADRATIC_PYRAMID", 3, 19);
   table.parametric = HexahedronNodes::Parametric::CentredPyramid;
-  table.weights.resize(static_cast<std::size_t>(64 * 19));
   for (int k = 0; k <= 3; ++k)
     for (int j = 0; j <= 3; ++j)
       for (int i = 0; i <= 3; ++i)

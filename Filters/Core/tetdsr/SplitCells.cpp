@@ -153,14 +153,6 @@ SplitShape makeShape(const char* name, bool wedge, std::vector<Point> nodePoints
     }
     solve(transposed, identity, n, n);
     shape.inverseVandermonde.assign(identity.begin(), identity.end());
-    for (const Corner& m : shape.monomials)
-    {
-      shape.degree = std::max(shape.degree, m[0] + m[1] + m[2]);
-    }
-  }
-  else
-  {
-    shape.degree = (wedge ? 2 : 3) * order;
   }
   return shape;
 }

@@ -37,7 +37,6 @@ struct SplitShape
   Basis basisKind = Basis::Monomials;
   int order = 1;          ///< p of the Lagrange and Bezier bases
   int nodes = 0;          ///< the cell's node count
-  int degree = 0;         ///< the total degree of its polynomials
   /// The parametric coordinates (r, s, t) of the cell's nodes, VTK's order.
   std::vector<std::array<double, 3>> nodePoints;
 
