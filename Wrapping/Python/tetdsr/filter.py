@@ -9,6 +9,9 @@ MeshInput.h), as for the C++ filter: the core checks every size the input claims
 arrays where their layout allows and converts them once where not, and casts the image tile by
 tile on all cores, writing straight into the output's VTK arrays.
 
+What the filters of a field share (input array, iso-values, the prepared mesh, messages) is
+_FieldFilter, which contour.py's vtkDirectSurfaceContour builds on too.
+
 Not here (the C++ build has them): distributed rendering over a vtkMultiProcessController.
 """
 import math
@@ -176,57 +179,25 @@ class DirectSurfacePick:
                 f"iso_value_index={self.iso_value_index}, value={self.value!r})")
 
 
-class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
-    """Ray casts the exact isosurface of a higher-order finite-element field (tetrahedra,
-    hexahedra, wedges and pyramids of orders 1 to 4, the types the core's table reads) into an
-    image.
+class _FieldFilter(VTKPythonAlgorithmBase):
+    """What the wheel's filters of a field share (the C++ build's vtkDirectSurfaceAdapter and
+    vtkDirectSurfaceReporting): an unstructured grid in, input array 0 the field (default the
+    active point scalars) and its ArrayComponent, iso-values as vtkContourFilter's, the core's
+    prepared mesh kept while the input is unchanged, and the core's messages as VTK's events
+    (ErrorEvent / WarningEvent, else the output window, naming the class `_VTK_CLASS`)."""
 
-    The interface of the C++ vtkDirectSurfaceRayCaster: input array 0 is the field
-    (SetInputArrayToProcess, default the active point scalars), iso-values as vtkContourFilter
-    (SetValue, ...), SetCamera (default: one that sees the whole mesh, as ResetCamera places it),
-    SetImageSize (default 512 x 512), Phong appearance, per-iso-value colours and opacities,
-    colouring by input array 1, clipping planes and caps, normal modes, NumberOfThreads (0: all
-    cores). The output is a vtkImageData with point arrays Colors (RGBA uchar, the scalars),
-    Depth (distance along the unit ray from the camera, or from the camera plane in parallel
-    projection; +inf on misses), Normals, CellId (-1 on misses) and, when colour-mapping,
-    ColorValues.
-    """
+    _VTK_CLASS = "vtkAlgorithm"
 
-    # Normal modes, colour maps, capping and transverse tests: the C++ filter's enumerations.
-    EXACT_GRADIENT, CENTRAL_DIFFERENCES, NODAL_INTERPOLATION, DEPTH_BUFFER = range(4)
-    COOL_TO_WARM, RAINBOW, GRAYSCALE, BLACK_BODY = range(4)
-    NO_CAP, CAP_BELOW_ISO_VALUE, CAP_ABOVE_ISO_VALUE = range(3)
-    BERNSTEIN_BOUND, WIDENED_NODAL_RANGE = range(2)
-    MaximumNumberOfClippingPlanes = _core.MAX_CLIP_PLANES
-
-    def __init__(self):
+    def __init__(self, output_type, settings):
         VTKPythonAlgorithmBase.__init__(self, nInputPorts=1, inputType="vtkUnstructuredGrid",
-                                        nOutputPorts=1, outputType="vtkImageData")
+                                        nOutputPorts=1, outputType=output_type)
         self.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS,
                                     vtkDataSetAttributes.SCALARS)
         self._contour_values = vtkContourValues()
-        # The core's defaults for what it shades and tests with.
-        material, normals, transverse = _core.Material(), _core.NormalSettings(), _core.TransverseTest()
-        self._settings = dict(
-            ImageSize=(512, 512), ArrayComponent=-1, SurfaceColor=material.color,
-            Ambient=material.ambient, Diffuse=material.diffuse, Specular=material.specular,
-            SpecularPower=material.specular_power, LightAtCamera=True,
-            LightPosition=(0.0, 0.0, 1.0), NumberOfThreads=0, NormalMode=normals.mode.value,
-            CentralDifferenceStep=normals.relative_step, TransverseTest=transverse.mode.value,
-            NodalRangeWidening=transverse.widening, ColorByArray=False, ColorArrayComponent=-1,
-            ColorRange=(0.0, -1.0), ColorMap=self.COOL_TO_WARM, Capping=self.NO_CAP)
-        self._camera = None
-        self._lookup_table = None
-        self._clipping_planes = None
-        self._styles = _core.IsoValueStyles()
+        self._settings = dict(ArrayComponent=-1, **settings)
         self._observed = []  # (object, observer tag): edits of these re-execute the filter
         self._prepared = None  # the core's PreparedMesh
         self._prepared_stamp = None  # what it was prepared from
-        self._last_image = None  # (renderer, grid, stamp arguments) of the last image: for Pick
-        self._counts = dict.fromkeys(
-            ("Rendered", "Inverted", "Curved", "Degenerate", "Tangled", "NonFinite", "InvalidId",
-             "Unsupported", "Malformed", "OrderTooHigh", "Rational", "HigherOrder", "OutOfScale",
-             "UncertifiedHits"), 0)
         # The contour values are an object of their own: their edits must reach this filter.
         self._observe(self._contour_values)
 
@@ -255,7 +226,7 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         if self.HasObserver(event):
             self.InvokeEvent(event, text)
         elif event == vtkCommand.ErrorEvent or self.GetGlobalWarningDisplay():
-            line = f"{kind}: In tetdsr, vtkDirectSurfaceRayCaster ({hex(id(self))}): {text}\n\n"
+            line = f"{kind}: In tetdsr, {self._VTK_CLASS} ({hex(id(self))}): {text}\n\n"
             window = vtkOutputWindow.GetInstance()
             if event == vtkCommand.ErrorEvent:
                 window.DisplayErrorText(line)
@@ -269,41 +240,17 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         def modified(caller, event):
             filter_ = this()
             if filter_ is not None:
-                if isinstance(caller, vtkPlaneCollection):
-                    filter_._observe_planes()
-                filter_.Modified()
+                filter_._observed_modified(caller)
 
         self._observed.append((obj, obj.AddObserver(vtkCommand.ModifiedEvent, modified)))
+
+    def _observed_modified(self, caller):
+        self.Modified()
 
     def _unobserve(self, obj):
         for observed, tag in [x for x in self._observed if x[0] is obj]:
             observed.RemoveObserver(tag)
         self._observed = [x for x in self._observed if x[0] is not obj]
-
-    def _observe_planes(self):
-        planes = self._clipping_planes
-        if planes is None:
-            return
-        for k in range(planes.GetNumberOfItems()):
-            plane = planes.GetItem(k)
-            if not any(x[0] is plane for x in self._observed):
-                self._observe(plane)
-
-    def _set_object(self, attribute, value):
-        old = getattr(self, attribute)
-        if old is value:
-            return
-        if old is not None:
-            self._unobserve(old)
-            if attribute == "_clipping_planes":
-                for k in range(old.GetNumberOfItems()):
-                    self._unobserve(old.GetItem(k))
-        setattr(self, attribute, value)
-        if value is not None:
-            self._observe(value)
-            if attribute == "_clipping_planes":
-                self._observe_planes()
-        self.Modified()
 
     def _set(self, key, value):
         if self._settings[key] != value:
@@ -319,15 +266,6 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
             self._emit(vtkCommand.WarningEvent, "Warning",
                        f"{key} {number} is outside [{lo}, {hi}]: {clamped} is used.")
         self._set(key, clamped)
-
-    def _set_finite(self, key, values):
-        """A tuple of numbers, refused with an error (the setting kept) unless all are finite."""
-        numbers_ = _reals("Set" + key, values)
-        if not all(math.isfinite(v) for v in numbers_):
-            self._emit(vtkCommand.ErrorEvent, "ERROR", f"{key} must be finite numbers, got "
-                       f"({', '.join(repr(v) for v in numbers_)}): {key} is unchanged.")
-            return
-        self._set(key, numbers_)
 
     # -- the pipeline's convenience methods of VTK's C++ algorithms
     def SetInputData(self, data):
@@ -372,6 +310,144 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         if self._iso_value_count("GenerateValues", "count", count, False):
             self._contour_values.GenerateValues(count, start, end)
 
+    def SetArrayComponent(self, component):
+        self._set("ArrayComponent", _integer("SetArrayComponent", component))
+
+    def GetArrayComponent(self):
+        return self._settings["ArrayComponent"]
+
+    def _check_composite_input(self, inInfo, messages):
+        """False, with the core's error, for a multiblock input without cells: it is executed
+        block by block, so it would execute nothing and say nothing."""
+        data = (inInfo[0].GetInformationObject(0).Get(vtkDataObject.DATA_OBJECT())
+                if inInfo[0].GetNumberOfInformationObjects() else None)
+        return not isinstance(data, vtkCompositeDataSet) or _core.check_mesh_not_empty(
+            data.GetNumberOfPoints(), data.GetNumberOfCells(), messages)
+
+    def _point_array(self, index, inInfo, requested, allow_magnitude, setting, messages):
+        """Input array `index` (0: the field, 1: the colour array) and the component the core
+        chose of it, or (None, None) with the core's error."""
+        info = self.GetInputArrayInformation(index)
+        name = info.Get(vtkDataObject.FIELD_NAME()) if info.Has(vtkDataObject.FIELD_NAME()) else None
+        array, association = _input_array(vtkUnstructuredGrid.GetData(inInfo[0]), info, name)
+        if array is None:
+            _core.report_missing_array(_core.InputArray.FIELD if index == 0 else _core.InputArray.COLOR,
+                                       name, messages)
+            return None, None
+        component = _core.choose_point_array_component(
+            array.GetName() or "", association == vtkDataObject.FIELD_ASSOCIATION_POINTS,
+            array.GetNumberOfComponents(), requested, allow_magnitude, setting, messages)
+        return (array, component) if component is not None else (None, None)
+
+    def _prepare(self, grid, scalars, component, transverse_test, threads, messages):
+        """The core's prepared mesh for `grid` and its field (with the transverse test (mode,
+        widening)): the last one while nothing it was built from changed (its errors told again),
+        else prepared afresh from numpy views of VTK's arrays. None, with the core's errors, when
+        nothing can be rendered."""
+        stamp = _stamp(grid, scalars, component, transverse_test)
+        if self._prepared is not None and _same_stamp(self._prepared_stamp, stamp):
+            return self._prepared if self._prepared.reuse(messages) else None
+        transverse = _core.TransverseTest()
+        transverse.mode = _core.TransverseMode(transverse_test[0])
+        transverse.widening = transverse_test[1]
+        cells = grid.GetCells()
+        weights = grid.GetPointData().GetRationalWeights()
+        prepared = _core.PreparedMesh()
+        self._prepared, self._prepared_stamp = prepared, stamp
+        ready = prepared.prepare(
+            _as_numpy(grid.GetPoints().GetData()), _as_numpy(_cell_types(grid)),
+            _as_numpy(cells.GetOffsetsArray()), _as_numpy(cells.GetConnectivityArray()),
+            _as_numpy(scalars), field_name=scalars.GetName() or "", component=component,
+            transverse=transverse, threads=threads, messages=messages,
+            rational_weights=_as_numpy(weights) if weights is not None else None)
+        return prepared if ready else None
+
+
+class vtkDirectSurfaceRayCaster(_FieldFilter):
+    """Ray casts the exact isosurface of a higher-order finite-element field (tetrahedra,
+    hexahedra, wedges and pyramids of orders 1 to 4, the types the core's table reads) into an
+    image.
+
+    The interface of the C++ vtkDirectSurfaceRayCaster: input array 0 is the field
+    (SetInputArrayToProcess, default the active point scalars), iso-values as vtkContourFilter
+    (SetValue, ...), SetCamera (default: one that sees the whole mesh, as ResetCamera places it),
+    SetImageSize (default 512 x 512), Phong appearance, per-iso-value colours and opacities,
+    colouring by input array 1, clipping planes and caps, normal modes, NumberOfThreads (0: all
+    cores). The output is a vtkImageData with point arrays Colors (RGBA uchar, the scalars),
+    Depth (distance along the unit ray from the camera, or from the camera plane in parallel
+    projection; +inf on misses), Normals, CellId (-1 on misses) and, when colour-mapping,
+    ColorValues.
+    """
+
+    # Normal modes, colour maps, capping and transverse tests: the C++ filter's enumerations.
+    EXACT_GRADIENT, CENTRAL_DIFFERENCES, NODAL_INTERPOLATION, DEPTH_BUFFER = range(4)
+    COOL_TO_WARM, RAINBOW, GRAYSCALE, BLACK_BODY = range(4)
+    NO_CAP, CAP_BELOW_ISO_VALUE, CAP_ABOVE_ISO_VALUE = range(3)
+    BERNSTEIN_BOUND, WIDENED_NODAL_RANGE = range(2)
+    MaximumNumberOfClippingPlanes = _core.MAX_CLIP_PLANES
+
+    _VTK_CLASS = "vtkDirectSurfaceRayCaster"
+
+    def __init__(self):
+        # The core's defaults for what it shades and tests with.
+        material, normals, transverse = _core.Material(), _core.NormalSettings(), _core.TransverseTest()
+        _FieldFilter.__init__(self, "vtkImageData", dict(
+            ImageSize=(512, 512), SurfaceColor=material.color,
+            Ambient=material.ambient, Diffuse=material.diffuse, Specular=material.specular,
+            SpecularPower=material.specular_power, LightAtCamera=True,
+            LightPosition=(0.0, 0.0, 1.0), NumberOfThreads=0, NormalMode=normals.mode.value,
+            CentralDifferenceStep=normals.relative_step, TransverseTest=transverse.mode.value,
+            NodalRangeWidening=transverse.widening, ColorByArray=False, ColorArrayComponent=-1,
+            ColorRange=(0.0, -1.0), ColorMap=self.COOL_TO_WARM, Capping=self.NO_CAP))
+        self._camera = None
+        self._lookup_table = None
+        self._clipping_planes = None
+        self._styles = _core.IsoValueStyles()
+        self._last_image = None  # (renderer, grid, stamp arguments) of the last image: for Pick
+        self._counts = dict.fromkeys(
+            ("Rendered", "Inverted", "Curved", "Degenerate", "Tangled", "NonFinite", "InvalidId",
+             "Unsupported", "Malformed", "OrderTooHigh", "Rational", "HigherOrder", "OutOfScale",
+             "UncertifiedHits"), 0)
+
+    def _observed_modified(self, caller):
+        if isinstance(caller, vtkPlaneCollection):
+            self._observe_planes()  # (a plane added to the collection is observed too)
+        self.Modified()
+
+    def _observe_planes(self):
+        planes = self._clipping_planes
+        if planes is None:
+            return
+        for k in range(planes.GetNumberOfItems()):
+            plane = planes.GetItem(k)
+            if not any(x[0] is plane for x in self._observed):
+                self._observe(plane)
+
+    def _set_object(self, attribute, value):
+        old = getattr(self, attribute)
+        if old is value:
+            return
+        if old is not None:
+            self._unobserve(old)
+            if attribute == "_clipping_planes":
+                for k in range(old.GetNumberOfItems()):
+                    self._unobserve(old.GetItem(k))
+        setattr(self, attribute, value)
+        if value is not None:
+            self._observe(value)
+            if attribute == "_clipping_planes":
+                self._observe_planes()
+        self.Modified()
+
+    def _set_finite(self, key, values):
+        """A tuple of numbers, refused with an error (the setting kept) unless all are finite."""
+        numbers_ = _reals("Set" + key, values)
+        if not all(math.isfinite(v) for v in numbers_):
+            self._emit(vtkCommand.ErrorEvent, "ERROR", f"{key} must be finite numbers, got "
+                       f"({', '.join(repr(v) for v in numbers_)}): {key} is unchanged.")
+            return
+        self._set(key, numbers_)
+
     # -- camera and image
     def SetCamera(self, camera):
         """vtkCamera: position, focal point, view up, view angle (vertical), parallel projection
@@ -390,12 +466,6 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
 
     def GetImageSize(self):
         return self._settings["ImageSize"]
-
-    def SetArrayComponent(self, component):
-        self._set("ArrayComponent", _integer("SetArrayComponent", component))
-
-    def GetArrayComponent(self):
-        return self._settings["ArrayComponent"]
 
     # -- shading
     def SetSurfaceColor(self, red, green=None, blue=None):
@@ -690,12 +760,7 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
     # -- the pipeline
     def RequestInformation(self, request, inInfo, outInfo):
         messages = _core.Messages()
-        # A multiblock input is executed block by block: one without cells would execute
-        # nothing and say nothing.
-        data = (inInfo[0].GetInformationObject(0).Get(vtkDataObject.DATA_OBJECT())
-                if inInfo[0].GetNumberOfInformationObjects() else None)
-        if isinstance(data, vtkCompositeDataSet) and not _core.check_mesh_not_empty(
-                data.GetNumberOfPoints(), data.GetNumberOfCells(), messages):
+        if not self._check_composite_input(inInfo, messages):
             return self._report(messages)
         width, height = self._settings["ImageSize"]
         if not _core.check_image_size(width, height, messages):
@@ -709,49 +774,11 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
         info.Set(vtkAlgorithm.CAN_PRODUCE_SUB_EXTENT(), 1)
         return 1
 
-    def _point_array(self, index, inInfo, requested, allow_magnitude, setting, messages):
-        """Input array `index` (0: the field, 1: the colour array) and the component the core
-        chose of it, or (None, None) with the core's error."""
-        info = self.GetInputArrayInformation(index)
-        name = info.Get(vtkDataObject.FIELD_NAME()) if info.Has(vtkDataObject.FIELD_NAME()) else None
-        array, association = _input_array(vtkUnstructuredGrid.GetData(inInfo[0]), info, name)
-        if array is None:
-            _core.report_missing_array(_core.InputArray.FIELD if index == 0 else _core.InputArray.COLOR,
-                                       name, messages)
-            return None, None
-        component = _core.choose_point_array_component(
-            array.GetName() or "", association == vtkDataObject.FIELD_ASSOCIATION_POINTS,
-            array.GetNumberOfComponents(), requested, allow_magnitude, setting, messages)
-        return (array, component) if component is not None else (None, None)
-
     def _clip_planes(self):
         planes = self._clipping_planes
         count = planes.GetNumberOfItems() if planes is not None else 0
         return [_core.ClipPlane(planes.GetItem(k).GetOrigin(), planes.GetItem(k).GetNormal())
                 for k in range(count)]
-
-    def _prepare(self, grid, scalars, component, messages):
-        """The core's prepared mesh for `grid` and its field: the last one while nothing it was
-        built from changed (its errors told again), else prepared afresh from numpy views of
-        VTK's arrays. None, with the core's errors, when nothing can be rendered."""
-        s = self._settings
-        stamp = _stamp(grid, scalars, component, (s["TransverseTest"], s["NodalRangeWidening"]))
-        if self._prepared is not None and _same_stamp(self._prepared_stamp, stamp):
-            return self._prepared if self._prepared.reuse(messages) else None
-        transverse = _core.TransverseTest()
-        transverse.mode = _core.TransverseMode(s["TransverseTest"])
-        transverse.widening = s["NodalRangeWidening"]
-        cells = grid.GetCells()
-        weights = grid.GetPointData().GetRationalWeights()
-        prepared = _core.PreparedMesh()
-        self._prepared, self._prepared_stamp = prepared, stamp
-        ready = prepared.prepare(
-            _as_numpy(grid.GetPoints().GetData()), _as_numpy(_cell_types(grid)),
-            _as_numpy(cells.GetOffsetsArray()), _as_numpy(cells.GetConnectivityArray()),
-            _as_numpy(scalars), field_name=scalars.GetName() or "", component=component,
-            transverse=transverse, threads=s["NumberOfThreads"], messages=messages,
-            rational_weights=_as_numpy(weights) if weights is not None else None)
-        return prepared if ready else None
 
     def _core_camera(self, prepared, aspect):
         vtk_camera = self._camera
@@ -817,7 +844,9 @@ class vtkDirectSurfaceRayCaster(VTKPythonAlgorithmBase):
 
         # Preprocess once per mesh, array and transverse test.
         try:
-            prepared = self._prepare(grid, scalars, component, messages)
+            prepared = self._prepare(grid, scalars, component,
+                                     (s["TransverseTest"], s["NodalRangeWidening"]),
+                                     s["NumberOfThreads"], messages)
         except (MemoryError, RuntimeError) as error:
             self._prepared, self._prepared_stamp = None, None
             return self._fail(error, "prepare the mesh")
