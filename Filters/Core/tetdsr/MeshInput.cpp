@@ -62,6 +62,8 @@ void withTypedData(const ArrayView& array, Use&& use)
   }
 }
 
+} // namespace
+
 /// Components [first, first + count) of the first `tuples` tuples, as doubles, one tuple after
 /// another: a view when the array holds exactly that as Float64, else converted into `copy`.
 const double* asDoubles(const ArrayView& array, NodeId tuples, int first, int count,
@@ -84,6 +86,9 @@ const double* asDoubles(const ArrayView& array, NodeId tuples, int first, int co
   });
   return copy.data();
 }
+
+namespace
+{
 
 /// An id array (offsets, connectivity) as 64-bit ids: viewed when Int64, else converted.
 const NodeId* asIds(const ArrayView& array, std::vector<NodeId>& copy)

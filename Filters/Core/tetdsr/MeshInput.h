@@ -47,6 +47,13 @@ struct ArrayView
   std::string name; ///< as messages name it ("" for unnamed)
 };
 
+/// Components [first, first + count) of an array's first `tuples` tuples, as doubles, one tuple
+/// after another: a view when the array holds exactly that as Float64, else converted into
+/// `copy`. The caller has checked that the array holds `tuples` tuples of `first + count`
+/// components.
+const double* asDoubles(const ArrayView& array, NodeId tuples, int first, int count,
+  std::vector<double>& copy);
+
 /// A mesh as VTK holds it.
 struct MeshArrays
 {
