@@ -427,17 +427,26 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
   if (affine)
   {
     Jinv = glm::inverse(Jm);
+    // J^-T H J^-1 with H = its middle + a part within the radius: the middle's product exactly
+    // (its cancellations kept), the rest bounded in magnitude.
+    glm::dmat3 middle, radius;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+      {
+        middle[j][i] = 0.5 * (b.fieldSecond[i][j].lo + b.fieldSecond[i][j].hi);
+        radius[j][i] = 0.5 * b.fieldSecond[i][j].width();
+      }
+    const glm::dmat3 product = glm::transpose(Jinv) * middle * Jinv;
     double K = 0.0;
     for (int a = 0; a < 3; ++a)
     {
       double row = 0.0;
       for (int c2 = 0; c2 < 3; ++c2)
       {
-        double largest = 0.0;
+        row += std::abs(product[c2][a]);
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j)
-            largest += std::abs(Jinv[a][i] * Jinv[c2][j]) * largestAbs(b.fieldSecond[i][j]);
-        row += largest;
+            row += std::abs(Jinv[a][i] * Jinv[c2][j]) * radius[j][i];
       }
       K = std::max(K, row);
     }
