@@ -30,6 +30,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <mutex>
 #include <unordered_map>
 
 namespace tetdsr
@@ -120,6 +121,107 @@ Interval dot(const glm::dvec3& d, const Interval G[3])
 bool signDefinite(const Interval& i)
 {
   return i.lo > 0.0 || i.hi < 0.0;
+}
+
+/// The matrix taking a polynomial's values at k / D (k = 0..D) to its Bernstein coefficients of
+/// degree D (the inverse of B_j^D(k / D)), for D up to 12; made once per degree.
+const std::vector<double>& bernsteinFromSamples(int D)
+{
+  static std::mutex mutex;
+  static std::vector<double> made[13];
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::vector<double>& m = made[D];
+  if (m.empty())
+  {
+    const int n = D + 1;
+    std::vector<long double> a(static_cast<std::size_t>(n * n)), inv(static_cast<std::size_t>(n * n), 0.0L);
+    for (int k = 0; k < n; ++k)
+    {
+      const long double t = static_cast<long double>(k) / D;
+      for (int j = 0; j < n; ++j)
+      {
+        long double binomial = 1.0L;
+        for (int i = 0; i < j; ++i)
+          binomial = binomial * (D - i) / (i + 1);
+        a[static_cast<std::size_t>(k * n + j)] = binomial * std::pow(t, j) * std::pow(1.0L - t, D - j);
+      }
+      inv[static_cast<std::size_t>(k * n + k)] = 1.0L;
+    }
+    // Gauss-Jordan with partial pivoting.
+    for (int col = 0; col < n; ++col)
+    {
+      int pivot = col;
+      for (int r = col + 1; r < n; ++r)
+        if (std::abs(a[static_cast<std::size_t>(r * n + col)]) > std::abs(a[static_cast<std::size_t>(pivot * n + col)]))
+          pivot = r;
+      for (int c2 = 0; c2 < n; ++c2)
+      {
+        std::swap(a[static_cast<std::size_t>(col * n + c2)], a[static_cast<std::size_t>(pivot * n + c2)]);
+        std::swap(inv[static_cast<std::size_t>(col * n + c2)], inv[static_cast<std::size_t>(pivot * n + c2)]);
+      }
+      const long double d = a[static_cast<std::size_t>(col * n + col)];
+      for (int c2 = 0; c2 < n; ++c2)
+      {
+        a[static_cast<std::size_t>(col * n + c2)] /= d;
+        inv[static_cast<std::size_t>(col * n + c2)] /= d;
+      }
+      for (int r = 0; r < n; ++r)
+      {
+        if (r == col)
+          continue;
+        const long double f = a[static_cast<std::size_t>(r * n + col)];
+        for (int c2 = 0; c2 < n; ++c2)
+        {
+          a[static_cast<std::size_t>(r * n + c2)] -= f * a[static_cast<std::size_t>(col * n + c2)];
+          inv[static_cast<std::size_t>(r * n + c2)] -= f * inv[static_cast<std::size_t>(col * n + c2)];
+        }
+      }
+    }
+    m.assign(inv.begin(), inv.end());
+  }
+  return m;
+}
+
+/// The largest number of roots of f = c on the reference segment r0 -> r1 that the Bernstein
+/// coefficients of f - c along it allow (their sign changes; Descartes' rule for Bernstein
+/// forms), or -1 when a coefficient is within rounding of 0 or the cell's field is not a
+/// polynomial along lines (a pyramid's). The segment's polynomial is of degree `degree`.
+int rootsAllowed(const CellForms& forms, const glm::dvec3& r0, const glm::dvec3& r1, double c, int degree, double margin)
+{
+  if (forms.type().space == Space::Pyramid || degree > 12)
+    return -1;
+  const std::vector<double>& m = bernsteinFromSamples(degree);
+  const int n = degree + 1;
+  double samples[13], coefficients[13];
+  for (int k = 0; k < n; ++k)
+    samples[k] = forms.fieldAtReference(r0 + (double(k) / degree) * (r1 - r0)) - c;
+  // The conversion grows the samples' rounding by its row sums (at most about 1e4 for degree
+  // 12): a coefficient within 1e-10 of the samples' magnitude (plus the forms' rounding) has
+  // no sign of its own.
+  double largest = 0.0;
+  for (int k = 0; k < n; ++k)
+    largest = std::max(largest, std::abs(samples[k]));
+  const double zero = 1e-10 * largest + margin;
+  int changes = 0;
+  for (int j = 0; j < n; ++j)
+  {
+    double sum = 0.0;
+    for (int k = 0; k < n; ++k)
+      sum += m[static_cast<std::size_t>(j * n + k)] * samples[k];
+    coefficients[j] = sum;
+    if (std::abs(sum) <= zero)
+      return -1;
+    if (j > 0 && (coefficients[j] > 0.0) != (coefficients[j - 1] > 0.0))
+      ++changes;
+  }
+  return changes;
+}
+
+/// The degree of a cell's field along a line of its reference space: P for a tetrahedron (total
+/// degree P), 2P for a wedge (P on the triangle, P along the axis), 3P for a cube.
+int lineDegree(const FormMatrix& type)
+{
+  return type.space == Space::Tetrahedron ? type.degree : type.space == Space::Wedge ? 2 * type.degree : 3 * type.degree;
 }
 
 /// The root of f = c on the reference segment r0 -> r1, where f - c changes sign (rising: from
@@ -562,7 +664,12 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
     if (!slabBox({ e[0], e[1] }, Ee, lo, hi))
       continue;
     forms.fieldBounds(lo, hi, local);
-    if (!signDefinite(dot(d, local.grad)))
+    if (signDefinite(dot(d, local.grad)))
+      continue;
+    // Not monotone there: the count Descartes' rule allows, for the polynomial along the edge.
+    const bool crossed = (fv[e[0]] >= 0.0) != (fv[e[1]] >= 0.0);
+    const int allowed = rootsAllowed(forms, piece.r[e[0]], piece.r[e[1]], c, lineDegree(forms.type()), margin);
+    if (allowed < 0 || allowed > (crossed ? 1 : 0))
       topology = false;
   }
   double L2 = 0.0, X2 = 0.0;
