@@ -354,6 +354,27 @@ NodeId Cast(const Renderer& renderer, bool depthBufferNormals, int numberOfThrea
   return done;
 }
 
+bool ExtractExactSurface(const PreparedMesh& prepared, const ExactSurfaceSettings& settings,
+  const std::vector<vtkDataArray*>& arrays, int numberOfThreads, ExactSurfaceMesh& surface,
+  Messages& messages)
+{
+  // The views point into these (the arrays themselves, or copies of those VTK stores in another
+  // layout) until the core has read them.
+  std::vector<vtkSmartPointer<vtkDataArray>> keep;
+  std::vector<ArrayView> views;
+  views.reserve(arrays.size());
+  for (vtkDataArray* array : arrays)
+  {
+    views.push_back(ViewOf(array, keep));
+  }
+  bool extracted = false;
+  WithThreads(numberOfThreads, [&]() {
+    extracted = extractExactSurface(
+      *prepared.GetScene(), settings, views, surface, messages, SMPParallelFor);
+  });
+  return extracted;
+}
+
 bool PickPrepared(PreparedMesh& prepared, const std::vector<double>& isoValues,
   const RenderSettings& settings, const Ray& ray, double tLimit, int numberOfThreads, Pick& pick)
 {

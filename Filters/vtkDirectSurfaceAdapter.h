@@ -1,5 +1,6 @@
 // The one layer between VTK and the VTK-free core, shared by every VTK face of TetDSR (the
-// filter vtkDirectSurfaceRayCaster and the mapper vtkDirectSurfaceMapper): it hands VTK's arrays
+// filters vtkDirectSurfaceRayCaster and vtkDirectSurfaceContour, and the mapper
+// vtkDirectSurfaceMapper): it hands VTK's arrays
 // to the core's mesh contract (tetdsr/MeshInput.h, which checks and converts them), keeps the
 // prepared scene while nothing it was built from changes, turns VTK settings (iso-values, lookup
 // tables, clipping planes) into the core's (tetdsr/Settings.h, which checks them), and casts an
@@ -13,6 +14,7 @@
 #include "TetDSRFiltersModule.h" // for export macro
 #include "vtkType.h"
 
+#include "tetdsr/ExactSurface.h"
 #include "tetdsr/MeshInput.h"
 #include "tetdsr/Messages.h"
 #include "tetdsr/Renderer.h"
@@ -147,6 +149,13 @@ TETDSRFILTERS_EXPORT NodeId Cast(const Renderer& renderer, bool depthBufferNorma
 /// Runs `work` with vtkSMPTools set to `numberOfThreads` (0: all cores), on STDThread when VTK's
 /// default backend is Sequential (ParaView's) and the user did not choose one.
 TETDSRFILTERS_EXPORT void WithThreads(int numberOfThreads, const std::function<void()>& work);
+
+/// The core's exact surface (extractExactSurface) of a prepared mesh's scene, with `arrays` (point
+/// arrays of the grid it was prepared from) viewed as VTK stores them, interpolated and
+/// integrated, on `numberOfThreads` threads (0: all cores). Only after a successful Prepare.
+TETDSRFILTERS_EXPORT bool ExtractExactSurface(const PreparedMesh& prepared,
+  const ExactSurfaceSettings& settings, const std::vector<vtkDataArray*>& arrays,
+  int numberOfThreads, ExactSurfaceMesh& surface, Messages& messages);
 
 /// The core's Renderer::pick along `ray` (the mesh's coordinates, no farther than tLimit) in a
 /// prepared mesh, with the iso-values and settings of a render. False when nothing is hit.
