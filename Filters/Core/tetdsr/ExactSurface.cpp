@@ -627,7 +627,13 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
     const glm::dvec3 inFace = g - glm::dot(g, normal) * normal;
     const double gf = glm::length(inFace);
     forms.fieldBounds(lo, hi, local);
-    if (!(gf > 0.0) || !(dot(inFace / gf, local.grad).lo > 0.0))
+    // Monotone along the in-face part of grad l, or of the middle of the gradient's box.
+    glm::dvec3 middle(0.5 * (local.grad[0].lo + local.grad[0].hi), 0.5 * (local.grad[1].lo + local.grad[1].hi),
+      0.5 * (local.grad[2].lo + local.grad[2].hi));
+    middle -= glm::dot(middle, normal) * normal;
+    const bool alongL = gf > 0.0 && dot(inFace / gf, local.grad).lo > 0.0;
+    const bool alongMiddle = glm::length(middle) > 0.0 && dot(glm::normalize(middle), local.grad).lo > 0.0;
+    if (!alongL && !alongMiddle)
     {
       topology = false;
       break;
@@ -635,15 +641,24 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
     // The loop of the surface's boundary runs on the faces with a sign change only (a monotone
     // face without one holds no curve): their strips bound it.
     const bool chord = (fv[face[0]] >= 0.0) != (fv[face[1]] >= 0.0) || (fv[face[0]] >= 0.0) != (fv[face[2]] >= 0.0);
+    // The curve and the chord are graphs along the monotone direction d within the strip, so
+    // at most the strip's width over the cosine of d's angle to the strip's normal apart.
     if (chord && affine)
     {
       // The strip's width in the scene: the in-face part of the scene gradient J^-T g.
       const glm::dvec3 gx = glm::transpose(Jinv) * g;
       const glm::dvec3 nx = glm::normalize(glm::transpose(Jinv) * normal);
-      widest = std::max(widest, 2.0 * E / glm::length(gx - glm::dot(gx, nx) * nx));
+      const glm::dvec3 gFx = gx - glm::dot(gx, nx) * nx;
+      double cosine = 1.0;
+      if (!alongL)
+        cosine = std::abs(glm::dot(glm::normalize(Jm * glm::normalize(middle)), glm::normalize(gFx)));
+      widest = std::max(widest, 2.0 * E / glm::length(gFx) / cosine);
     }
     else if (chord)
-      widest = std::max(widest, 2.0 * E / gf);
+    {
+      const double cosine = alongL ? 1.0 : std::abs(glm::dot(glm::normalize(middle), inFace / gf));
+      widest = std::max(widest, 2.0 * E / gf / cosine);
+    }
   }
   // Each edge: one root or none. Along an edge e, |f - l| <= e^T H e / 8 (its own second
   // derivative's bound); f is monotone where the edge is within that of c.
