@@ -211,7 +211,7 @@ def write_table(path, infos, rows, args):
         stream.write("\n".join(out) + "\n")
 
 
-def plot(path, infos, rows):
+def plot(path, infos, rows, tolerances):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -237,7 +237,8 @@ def plot(path, infos, rows):
     dataset_handles = [plt.Line2D([], [], color="0.3", marker=m, ls="", label=d) for d, m in markers.items()]
     figure.legend(handles=method_handles, loc="upper left", bbox_to_anchor=(0.06, 0.02), ncol=3, title="method")
     figure.legend(handles=dataset_handles, loc="upper right", bbox_to_anchor=(0.98, 0.02), ncol=3, title="dataset")
-    figure.suptitle("Exact surface (tolerances 1e-2 ... 1e-4) against vtkContourFilter and tessellation + contour")
+    figure.suptitle(f"Exact surface (tolerances {', '.join(f'{t:g}' for t in tolerances)}) against vtkContourFilter "
+                    "and tessellation + contour")
     figure.savefig(path, dpi=110, bbox_inches="tight")
 
 
@@ -288,7 +289,7 @@ def main():
             infos.append(info)
             rows += dataset_rows
     write_table(os.path.join(args.out, "exact-surface.md"), infos, rows, args)
-    plot(os.path.join(args.out, "exact-surface.png"), infos, rows)
+    plot(os.path.join(args.out, "exact-surface.png"), infos, rows, args.tolerances)
     log(f"wrote {args.out}/exact-surface.md and .png")
     if args.check and not check(infos, rows):
         return 1
