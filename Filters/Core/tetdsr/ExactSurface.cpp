@@ -300,6 +300,9 @@ private:
   /// iso-value by itself twice).
   std::vector<std::unordered_map<std::uint64_t, std::uint32_t, KeyHash>> Roots;
   std::vector<SurfaceVertex> Out;
+
+public:
+  bool BudgetReached = false;
 };
 
 std::uint32_t Extraction::meshVertex(NodeId point)
@@ -1026,6 +1029,18 @@ void Extraction::run(const ParallelFor& parallelFor, ExactSurfaceMesh& surface, 
     });
     bool split = false;
     const std::size_t count = Pieces.size();
+    std::size_t splits = 0;
+    for (const Piece& piece : Pieces)
+      splits += piece.state == State::Split ? 1 : 0;
+    // The budget: a tolerance far below what the mesh's pieces can reach would take them all
+    // down to the level limit; past it, what is left uncertified stays so (and is counted).
+    if (count + 4 * splits > static_cast<std::size_t>(kMaxSurfacePieces))
+    {
+      BudgetReached = true;
+      for (Piece& piece : Pieces)
+        if (piece.state == State::Split)
+          piece.state = State::Unresolved;
+    }
     for (std::size_t i = 0; i < count; ++i)
     {
       if (Pieces[i].state == State::Split)
@@ -1113,11 +1128,18 @@ bool extractExactSurface(const Scene& scene, const ExactSurfaceSettings& setting
   exact::Extraction extraction(scene, settings, tolerance);
   extraction.run(parallelFor, surface, parts);
   exact::finishSurface(scene, settings, arrays, values, parts, surface, parallelFor);
+  if (extraction.BudgetReached)
+  {
+    messages.warnings.push_back(text("The tolerance (", tolerance, ", ", tolerance / diagonal,
+      " of the mesh's diagonal) needed more than ", kMaxSurfacePieces,
+      " pieces of cells: the refinement stopped there. Raise the tolerance."));
+  }
   if (surface.unresolvedSubcells > 0)
   {
     messages.warnings.push_back(text(surface.unresolvedSubcells,
       " pieces of cells were not certified after ", kMaxSurfaceLevels,
-      " bisections (a surface tangent to itself or to a cell's edge, or through a pyramid's apex):"
+      " bisections or when the refinement stopped (a surface tangent to itself or to a cell's edge,"
+      " through a pyramid's apex, or a tolerance too small for the pieces' budget):"
       " their triangles are the marching-tetrahedra case of their corners, within no stated"
       " distance, and a piece of surface inside one without a sign change at its corners is"
       " missed."));

@@ -31,6 +31,8 @@ namespace tetdsr
 
 /// Bisections of a cell's first tetrahedra at most.
 constexpr int kMaxSurfaceLevels = 48;
+/// Pieces of cells at most (about 150 bytes each): past it refinement stops, with a warning.
+constexpr long long kMaxSurfacePieces = 2000000;
 /// The default distance bound, relative to the diagonal of the valid cells' box.
 constexpr double kDefaultRelativeTolerance = 1e-3;
 
