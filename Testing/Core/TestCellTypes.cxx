@@ -213,7 +213,8 @@ TEST(CellTypes, DocumentsNameEveryTypeRead)
   // Where a line is short (the package's one-line description, the classes' docstrings): every
   // shape and the orders.
   for (const char* document : { "pyproject.toml", "Wrapping/Python/tetdsr/filter.py",
-         "Wrapping/Python/tetdsr/pyvista.py", "Wrapping/Python/tetdsr/paraview_plugin.py" })
+         "Wrapping/Python/tetdsr/contour.py", "Wrapping/Python/tetdsr/pyvista.py",
+         "Wrapping/Python/tetdsr/paraview_plugin.py" })
   {
     const std::string text = fileText(document);
     ASSERT_FALSE(text.empty()) << document;

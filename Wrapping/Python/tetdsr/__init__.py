@@ -12,7 +12,10 @@ VTK_QUADRATIC_PYRAMID, VTK_TRIQUADRATIC_PYRAMID); Lagrange and Bezier cells of o
 
 - `tetdsr.vtkDirectSurfaceRayCaster`: the filter (a VTKPythonAlgorithmBase), with pip's `vtk`
   (>= 9.3) or ParaView's own VTK;
+- `tetdsr.vtkDirectSurfaceContour`: the exact isosurface as data (a certified, watertight
+  vtkPolyData with its area, volume and array integrals), the same way;
 - `tetdsr.pyvista.add_isosurface(plotter, grid, value, ...)`: the isosurface in a PyVista plotter;
+  `tetdsr.pyvista.exact_contour(grid, isosurfaces, ...)`: the exact surface as a pyvista.PolyData;
 - the ParaView plugin is the file `paraview_plugin.py` beside this one (`plugin_path()`;
   `load_paraview_plugin()` loads it in pvpython).
 """
@@ -20,7 +23,8 @@ import os
 
 from . import _core  # noqa: F401
 
-__all__ = ["vtkDirectSurfaceRayCaster", "plugin_path", "load_paraview_plugin"]
+__all__ = ["vtkDirectSurfaceRayCaster", "vtkDirectSurfaceContour", "plugin_path",
+           "load_paraview_plugin"]
 
 
 def plugin_path():
@@ -44,8 +48,11 @@ def load_paraview_plugin(ns=None):
 
 
 def __getattr__(name):
-    # PEP 562: the filter imports vtkmodules, so only when asked for.
+    # PEP 562: the filters import vtkmodules, so only when asked for.
     if name == "vtkDirectSurfaceRayCaster":
         from .filter import vtkDirectSurfaceRayCaster
         return vtkDirectSurfaceRayCaster
+    if name == "vtkDirectSurfaceContour":
+        from .contour import vtkDirectSurfaceContour
+        return vtkDirectSurfaceContour
     raise AttributeError(f"module 'tetdsr' has no attribute {name!r}")

@@ -1,16 +1,21 @@
-"""TetDSR's ParaView Python plugin: the wheel's vtkDirectSurfaceRayCaster as a ParaView filter,
-"Direct Surface Ray Cast (Python)" (Filters > Quadratic), for any ParaView >= 5.10 whose Python
-can import the installed `tetdsr` package (it then uses ParaView's own VTK).
+"""TetDSR's ParaView Python plugin: the wheel's vtkDirectSurfaceRayCaster and
+vtkDirectSurfaceContour as ParaView filters, "Direct Surface Ray Cast (Python)" and "Exact
+Isosurface (Python)" (Filters > Quadratic; the C++ plugin's "Exact Isosurface (TetDSR)" with the
+same properties), for any ParaView >= 5.10 whose Python can import the
+installed `tetdsr` package (it then uses ParaView's own VTK).
 
 Load it with Tools > Manage Plugins > Load New (this file: `tetdsr.plugin_path()`), or in pvpython
 with `tetdsr.load_paraview_plugin(globals())` (which also works around ParaView 5.10/5.11 on
-Python >= 3.11, see there). Its output is an image whose `Colors` are RGBA: show it with
-`display.MapScalars = 0`.
+Python >= 3.11, see there). The ray caster's output is an image whose `Colors` are RGBA: show it
+with `display.MapScalars = 0`. The contour's is the exact surface as polygons, with its integrals
+in the field data.
 """
 from paraview.util.vtkAlgorithm import smdomain, smhint, smproperty, smproxy
 from vtkmodules.vtkCommonDataModel import vtkPlane
 from vtkmodules.vtkRenderingCore import vtkCamera
 
+from tetdsr import _core
+from tetdsr.contour import vtkDirectSurfaceContour
 from tetdsr.filter import vtkDirectSurfaceRayCaster
 
 
@@ -184,3 +189,70 @@ class DirectSurfaceRayCastPython(vtkDirectSurfaceRayCaster):
     @smdomain.intrange(min=0, max=256)
     def SetNumberOfThreads(self, threads):
         vtkDirectSurfaceRayCaster.SetNumberOfThreads(self, threads)
+
+
+@smproxy.filter(name="TetDSRDirectSurfaceContourPython", label="Exact Isosurface (Python)")
+@smhint.xml('<ShowInMenu category="Quadratic" />')
+@smproperty.input(name="Input", port_index=0)
+@smdomain.datatype(dataTypes=["vtkUnstructuredGrid"], composite_data_supported=False)
+@smdomain.xml('<InputArrayDomain name="inputs_array" attribute_type="point" number_of_components="1"/>')
+class DirectSurfaceContourPython(vtkDirectSurfaceContour):
+    """The exact isosurface of a higher-order finite-element field (tetrahedra, hexahedra, wedges
+    and pyramids of orders 1 to 4) as a certified, watertight triangle surface, with its area,
+    enclosed volume and point-array integrals in the field data (the wheel's filter)."""
+
+    @smproperty.xml("""
+      <StringVectorProperty name="ContourBy" label="Contour By" command="SetInputArrayToProcess"
+                            number_of_elements="5" element_types="0 0 0 0 2" animateable="0">
+        <ArrayListDomain name="array_list" attribute_type="Scalars" input_domain_name="inputs_array">
+          <RequiredProperties><Property name="Input" function="Input"/></RequiredProperties>
+        </ArrayListDomain>
+        <Documentation>The point array whose isosurfaces are extracted.</Documentation>
+      </StringVectorProperty>""")
+    def SetInputArrayToProcess(self, *args):
+        return vtkDirectSurfaceContour.SetInputArrayToProcess(self, *args)
+
+    @smproperty.xml("""
+      <DoubleVectorProperty name="ContourValues" label="Isosurfaces" command="SetValue"
+                            number_of_elements="1" default_values="0" use_index="1"
+                            repeat_command="1" number_of_elements_per_command="1"
+                            set_number_command="SetNumberOfContours">
+        <ArrayRangeDomain name="scalar_range" default_mode="mid">
+          <RequiredProperties>
+            <Property name="Input" function="Input"/>
+            <Property name="ContourBy" function="ArraySelection"/>
+          </RequiredProperties>
+        </ArrayRangeDomain>
+        <Documentation>The iso-values.</Documentation>
+      </DoubleVectorProperty>""")
+    def SetValue(self, i, value):
+        vtkDirectSurfaceContour.SetValue(self, i, value)
+
+    @smproperty.xml(f"""
+      <DoubleVectorProperty name="Tolerance" command="SetTolerance" number_of_elements="1"
+                            default_values="{_core.DEFAULT_RELATIVE_TOLERANCE!r}">
+        <DoubleRangeDomain name="range" min="0"/>
+        <Documentation>The largest distance between the triangles and the true surface, relative
+        to the diagonal of the valid cells' box (used when Absolute Tolerance is 0).</Documentation>
+      </DoubleVectorProperty>""")
+    def SetTolerance(self, relative):
+        vtkDirectSurfaceContour.SetTolerance(self, relative)
+
+    @smproperty.xml("""
+      <DoubleVectorProperty name="AbsoluteTolerance" label="Absolute Tolerance"
+                            command="SetAbsoluteTolerance" number_of_elements="1" default_values="0">
+        <DoubleRangeDomain name="range" min="0"/>
+        <Documentation>The same distance bound in the mesh's units; 0 uses Tolerance.</Documentation>
+      </DoubleVectorProperty>""")
+    def SetAbsoluteTolerance(self, tolerance):
+        vtkDirectSurfaceContour.SetAbsoluteTolerance(self, tolerance)
+
+    @smproperty.intvector(name="ComputeIntegrals", label="Compute Integrals", default_values=1)
+    @smdomain.xml('<BooleanDomain name="bool"/>')
+    def SetComputeIntegrals(self, on):
+        vtkDirectSurfaceContour.SetComputeIntegrals(self, on)
+
+    @smproperty.intvector(name="NumberOfThreads", label="Number Of Threads", default_values=0)
+    @smdomain.intrange(min=0, max=256)
+    def SetNumberOfThreads(self, threads):
+        vtkDirectSurfaceContour.SetNumberOfThreads(self, threads)

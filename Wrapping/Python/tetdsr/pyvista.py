@@ -1,4 +1,6 @@
-"""The isosurface in a PyVista plotter: `add_isosurface(plotter, grid, value, ...)`.
+"""The isosurface in a PyVista plotter: `add_isosurface(plotter, grid, value, ...)`; and the exact
+isosurface as data: `exact_contour(grid, isosurfaces, ...)`, a pyvista.PolyData made by
+tetdsr.vtkDirectSurfaceContour (at the end of this file).
 
 The surface is cast by tetdsr.vtkDirectSurfaceRayCaster with the plotter's camera and its
 renderer's size in pixels, and drawn by a quad actor in the plotter's renderer whose shaders
@@ -26,16 +28,19 @@ nearest hit).
 """
 import math
 import numbers
+import warnings
 
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkCommand, vtkLookupTable, vtkPoints
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.vtkCommonCore import VTK_STRING, vtkCommand, vtkLookupTable, vtkPoints
 from vtkmodules.vtkCommonDataModel import (vtkCellArray, vtkCompositeDataSet, vtkDataObject,
                                            vtkImageData, vtkPlane, vtkPolyData, vtkUnstructuredGrid)
 from vtkmodules.vtkRenderingCore import vtkActor, vtkCamera, vtkPolyDataMapper, vtkTexture
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (the OpenGL mapper: shader replacements)
 
 from . import _core
+from .contour import vtkDirectSurfaceContour
 from .filter import vtkDirectSurfaceRayCaster
 
 _NORMAL_MODES = {"exact": 0, "central": 1, "nodal": 2, "depth": 3}
@@ -44,12 +49,18 @@ _CAPPING = {None: vtkDirectSurfaceRayCaster.NO_CAP,
             "above": vtkDirectSurfaceRayCaster.CAP_ABOVE_ISO_VALUE}
 
 
+def _real(name, value, caller="add_isosurface"):
+    """`value` as a float if it is a number (not a bool); a TypeError naming the argument
+    otherwise."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{caller}: {name} must be a number, got {value!r}")
+    return float(value)
+
+
 def _number(name, value, lo=-math.inf, hi=math.inf, low_open=False):
     """`value` as a float if it is a finite number in [lo, hi] ((lo, hi] with low_open); a
     TypeError or ValueError naming the argument otherwise."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"add_isosurface: {name} must be a number, got {value!r}")
-    number = float(value)
+    number = _real(name, value)
     if not math.isfinite(number) or number < lo or number > hi or (low_open and number == lo):
         bounds = f" in {'(' if low_open else '['}{lo:g}, {hi:g}]" if math.isfinite(hi - lo) else ""
         raise ValueError(f"add_isosurface: {name} must be a finite number{bounds}, got {value!r}")
@@ -69,20 +80,29 @@ def _choice(name, value, choices):
     return choices[value]
 
 
-def _checked_grid(grid):
+def _checked_grid(grid, caller="add_isosurface"):
     """The grid, if it is an unstructured grid with cells; a TypeError or ValueError saying what
     it is otherwise (VTK's culling would draw nothing and say nothing)."""
     if isinstance(grid, vtkCompositeDataSet):
-        raise TypeError("add_isosurface: grid is a multiblock dataset (" + (
+        raise TypeError(f"{caller}: grid is a multiblock dataset (" + (
             "empty" if grid.GetNumberOfCells() == 0 else f"{grid.GetNumberOfCells()} cells") +
             "): pass one pyvista.UnstructuredGrid (e.g. multiblock.combine())")
     if not isinstance(grid, vtkUnstructuredGrid):
-        raise TypeError(f"add_isosurface: grid must be a pyvista.UnstructuredGrid, "
+        raise TypeError(f"{caller}: grid must be a pyvista.UnstructuredGrid, "
                         f"got {type(grid).__name__}")
     if grid.GetNumberOfCells() == 0 or grid.GetNumberOfPoints() == 0:
-        raise ValueError(f"add_isosurface: the grid is empty ({grid.GetNumberOfPoints()} points, "
+        raise ValueError(f"{caller}: the grid is empty ({grid.GetNumberOfPoints()} points, "
                          f"{grid.GetNumberOfCells()} cells)")
     return grid
+
+
+def _iso_values(value, caller, name):
+    """A number or a sequence of numbers as a list of floats (not empty); a TypeError or
+    ValueError naming the argument otherwise. Their values are judged by the core."""
+    values = [value] if np.ndim(value) == 0 else list(value)
+    if not values:
+        raise ValueError(f"{caller}: {name} is an empty list: give one iso-value or more")
+    return [_real(f"{name} {v!r}" if len(values) > 1 else name, v, caller) for v in values]
 
 
 def _rgb(color):
@@ -466,9 +486,7 @@ def add_isosurface(plotter, grid, value, scalars=None, *, color="white", colors=
     normal_mode: "exact", "central", "nodal" or "depth"; threads: 0 for all cores.
     """
     grid = _checked_grid(grid)
-    values = [value] if np.ndim(value) == 0 else list(value)
-    if not values:
-        raise ValueError("add_isosurface: value is an empty list: give one iso-value or more")
+    values = _iso_values(value, "add_isosurface", "value")
     values = [_number(f"value {v!r}" if len(values) > 1 else "value", v) for v in values]
     interactive_scale = _number("interactive_scale", interactive_scale, 0.0, 1.0, low_open=True)
     normal_mode = _choice("normal_mode", normal_mode, _NORMAL_MODES)
@@ -512,3 +530,55 @@ def add_isosurface(plotter, grid, value, scalars=None, *, color="white", colors=
     caster.SetNormalMode(normal_mode)
     caster.SetNumberOfThreads(int(threads))
     return DirectSurface(plotter, caster, interactive_scale)
+
+
+def exact_contour(grid, isosurfaces, scalars=None, *, tolerance=_core.DEFAULT_RELATIVE_TOLERANCE,
+                  absolute_tolerance=0.0, integrals=True):
+    """The exact isosurface(s) `isosurfaces` (a number or a list) of the point array `scalars`
+    (default: the active scalars) of `grid` (a pyvista.UnstructuredGrid of tetrahedra, hexahedra,
+    wedges and pyramids of orders 1 to 4: linear, quadratic, Lagrange, Bezier) as a
+    pyvista.PolyData: a watertight triangle surface whose vertices lie on the true surface (roots
+    of each cell's own field, certified) and whose every triangle lies within a certified distance
+    of it; every piece is found, also where no nodal value crosses the iso-value (where
+    grid.contour finds nothing).
+
+    tolerance: the largest distance between the triangles and the true surface, relative to the
+    diagonal of the grid's valid cells' box; absolute_tolerance: the same in the grid's units
+    (0: use tolerance); integrals: compute the area, the enclosed volume and the integral of every
+    point array over the curved surface.
+
+    The result holds point data "Normals" (the field's exact unit gradient) and every numeric
+    point array of the grid interpolated at the vertices; cell data "vtkOriginalCellIds" and
+    "IsoValue"; field data "IsoValues", and per iso-value "Area", "AreaError", "Volume" (of the
+    region where the field >= the iso-value), "VolumeError", "FlatArea" (the triangles' area),
+    "<name> Integral" and "<name> IntegralError" per point array (with `integrals`), and
+    "DistanceBound", "LargestCertifiedBound", "Subcells", "UnresolvedSubcells",
+    "SizeCertifiedSubcells", "BoundaryEdges" (edges of one triangle: where the surface meets the
+    grid's boundary), "NonManifoldEdges".
+
+    Settings the core refuses (a negative tolerance, a NaN iso-value, an array not found) raise
+    ValueError with its message; its warnings (pieces left uncertified) are Python warnings.
+    """
+    grid = _checked_grid(grid, "exact_contour")
+    values = _iso_values(isosurfaces, "exact_contour", "isosurfaces")
+    contour = vtkDirectSurfaceContour()
+    contour.SetInputData(grid)
+    contour.SetNumberOfContours(len(values))
+    for i, v in enumerate(values):
+        contour.SetValue(i, v)
+    if scalars is not None:
+        contour.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS, scalars)
+    contour.SetTolerance(_real("tolerance", tolerance, "exact_contour"))
+    contour.SetAbsoluteTolerance(_real("absolute_tolerance", absolute_tolerance, "exact_contour"))
+    contour.SetComputeIntegrals(bool(integrals))
+    told = {vtkCommand.ErrorEvent: [], vtkCommand.WarningEvent: []}
+    for event, texts in told.items():
+        contour.AddObserver(event, calldata_type(VTK_STRING)(
+            lambda caller, name, text, texts=texts: texts.append(text)))
+    contour.Update()
+    for text in told[vtkCommand.WarningEvent]:
+        warnings.warn(text, RuntimeWarning, stacklevel=2)
+    if told[vtkCommand.ErrorEvent]:
+        raise ValueError(told[vtkCommand.ErrorEvent][0])
+    import pyvista
+    return pyvista.PolyData(contour.GetOutput())
