@@ -89,6 +89,28 @@ class PluginInPvpython(unittest.TestCase):
         self.assertTrue(np.all(points[:, 0] <= self.centre[0] + 1e-12), "expected no hit beyond the plane")
         self.assertLess(seen.sum(), np.isfinite(whole["Depth"]).sum() - 500)
 
+    def test_exact_isosurface_on_the_sphere(self):
+        """The plugin's exact contour: vertices on the analytic sphere, its area within the
+        estimate, every edge in two triangles."""
+        proxy = ExactIsosurfacePython(Input=self.reader)  # noqa: F821 (LoadPlugin's ns)
+        proxy.ContourBy = ["POINTS", "sphere"]
+        proxy.Isosurfaces = [0.0]
+        proxy.UpdatePipeline()
+        surface = servermanager.Fetch(proxy)
+        self.assertGreater(surface.GetNumberOfPolys(), 20)
+        points = vtk_to_numpy(surface.GetPoints().GetData())
+        off = float(np.max(np.abs(np.linalg.norm(points - self.centre, axis=1) - self.radius))) / self.radius
+        self.assertLess(off, 1e-9, f"expected the vertices on the sphere within 1e-9 r, got {off:.3g}")
+        triangles = vtk_to_numpy(surface.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+        edges = np.sort(triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+        counts = np.unique(edges, axis=0, return_counts=True)[1]
+        self.assertTrue(np.all(counts == 2), "expected every edge in two triangles")
+        fd = surface.GetFieldData()
+        area, estimate = fd.GetArray("Area").GetValue(0), fd.GetArray("AreaError").GetValue(0)
+        exact = 4 * np.pi * self.radius ** 2
+        self.assertLessEqual(abs(area - exact), estimate + 1e-9 * exact,
+                             f"expected area {exact!r} within {estimate:.3g}, got {area!r}")
+
 
 if __name__ == "__main__":
     unittest.main(verbosity=2)
