@@ -308,6 +308,16 @@ def grid_diagonal(grid):
     return float(np.linalg.norm(b[1::2] - b[0::2]))
 
 
+def check_pyramids_skipped(test, label, grid, isos):
+    """Pyramids are not read by the exact surface yet: their cells are skipped with a warning
+    that counts them, and no triangle comes from them."""
+    contour, out, messages, seconds = exact_surface(grid, isos, relative=SWEEP_TOLERANCE)
+    text = " ".join(messages.warnings)
+    test.assertIn("pyramid cells that can hold an iso-value were skipped", text, label)
+    test.assertEqual(out.GetNumberOfCells(), 0, label)
+    print(f"{label}: skipped with a warning in {seconds:.2f} s", flush=True)
+
+
 # --- The checks --------------------------------------------------------------------------------
 
 def check(test, label, grid, truth, second=None, relative=None, absolute=None, quiet=False):
@@ -585,12 +595,8 @@ class StraightCells(unittest.TestCase):
     def test_pyramids(self):
         for label, vtk_type in PYRAMIDS:
             with self.subTest(label):
-                check(self, f"straight {label}, plane", type_source_mesh(vtk_type, 1, None, PLANE), plane(),
-                      ("colour", linear_colour), relative=SWEEP_TOLERANCE)
-        with self.subTest("VTK_QUADRATIC_PYRAMID, mixed products"):
-            check(self, "straight VTK_QUADRATIC_PYRAMID, mixed products",
-                  type_source_mesh(VTK_QUADRATIC_PYRAMID, 1, None, MIXED), polynomial("mixed", MIXED),
-                  ("colour", linear_colour), relative=SWEEP_TOLERANCE)
+                check_pyramids_skipped(self, f"straight {label}, plane", type_source_mesh(vtk_type, 1, None, PLANE),
+                                       [PLANE.iso])
 
 
 class CurvedCells(unittest.TestCase):
@@ -615,8 +621,8 @@ class CurvedCells(unittest.TestCase):
     def test_pyramids(self):
         for label, vtk_type in PYRAMIDS:
             with self.subTest(label):
-                check(self, f"curved {label}, plane", type_source_mesh(vtk_type, 1, hw.bulge(), PLANE), plane(),
-                      ("colour", linear_colour), relative=SWEEP_TOLERANCE)
+                check_pyramids_skipped(self, f"curved {label}, plane", type_source_mesh(vtk_type, 1, hw.bulge(), PLANE),
+                                       [PLANE.iso])
 
     def test_plane_through_strongly_bent_hexahedra(self):
         # The plane through Q3 hexahedra bent twice as much. (vtkContourFilter is exact here too:

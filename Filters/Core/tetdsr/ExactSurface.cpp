@@ -303,6 +303,7 @@ private:
 
 public:
   bool BudgetReached = false;
+  NodeId SkippedPyramids = 0;
 };
 
 std::uint32_t Extraction::meshVertex(NodeId point)
@@ -492,6 +493,14 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
     fv[k] = Vertices[piece.v[k]].f - c;
     cut = cut || ((fv[k] >= 0.0) != (fv[0] >= 0.0));
   }
+  // Where the gradient has no bound (a pyramid's piece at its apex, where the collapse's
+  // derivative is unbounded): by size alone, the box around the piece's image.
+  if (!b.finite)
+  {
+    topology = false;
+    bound = glm::length(glm::dvec3(b.x[0].width(), b.x[1].width(), b.x[2].width()));
+    return std::isfinite(bound) && bound <= (cut ? Tolerance : 0.5 * Tolerance);
+  }
   // E: |f - l| over the piece, from the corner whose edges give the least.
   double E = std::numeric_limits<double>::infinity();
   double diameter = 0.0;
@@ -576,7 +585,11 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
   const glm::dvec3 g = glm::inverse(glm::transpose(A)) * df;
   const double gl = glm::length(g);
   if (!(gl > 0.0) || !std::isfinite(gl))
-    return false;
+  {
+    topology = false;
+    bound = glm::length(glm::dvec3(b.x[0].width(), b.x[1].width(), b.x[2].width()));
+    return std::isfinite(bound) && bound <= (cut ? Tolerance : 0.5 * Tolerance);
+  }
   const glm::dvec3 n = g / gl;
   // Where the surface can be: the slab |l - c| <= width within a simplex of the piece's corners
   // (the piece, a face, an edge), a convex polytope whose corners are the simplex's corners within
@@ -618,7 +631,12 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
   }
   forms.fieldBounds(lo, hi, local);
   if (!(dot(n, local.grad).lo > 0.0))
-    return false;
+  {
+    // Not even monotone inside: by size alone (the box around the piece's image).
+    topology = false;
+    bound = glm::length(glm::dvec3(b.x[0].width(), b.x[1].width(), b.x[2].width()));
+    return std::isfinite(bound) && bound <= (cut ? Tolerance : 0.5 * Tolerance);
+  }
   topology = true;
   // Each face the slab meets: monotone along its in-face direction within the slab.
   double widest = 0.0;
@@ -704,9 +722,12 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
   // A piece with no sign change at its corners must be shown empty; or, when a grazing face or
   // edge leaves that open, be smaller than the bound (a piece of surface in it, which its
   // neighbours' triangles need not show, is then within the bound of the piece itself).
+  // By size alone: the surface in the piece and its triangles (whose corners are in the piece's
+  // image) lie in the box around the image, and within L times its diameter of each other.
+  const double image = glm::length(glm::dvec3(b.x[0].width(), b.x[1].width(), b.x[2].width()));
   if (!cut && !topology)
   {
-    bound = std::sqrt(L2) * diameter;
+    bound = std::min(std::sqrt(L2) * diameter, image);
     return std::isfinite(bound) && bound <= 0.5 * Tolerance;
   }
   const double flat = b.hasHessian ? std::min(diameter * std::sqrt(X2), 3.0 / 16.0 * b.mapHessian * diameter * diameter)
@@ -749,7 +770,12 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
   {
     // By size alone: the surface in the piece and its triangles lie in the image of the piece,
     // within L times its diameter of each other (and the flat triangles within X of that image).
-    bound = std::sqrt(L2) * diameter + flat;
+    bound = std::min(std::sqrt(L2) * diameter + flat, image);
+  }
+  if (topology && !(bound <= Tolerance) && image <= Tolerance)
+  {
+    topology = false; // the certificate's bound is looser than the piece's size
+    bound = image;
   }
   return std::isfinite(bound) && bound <= Tolerance;
 }
@@ -777,7 +803,7 @@ void Extraction::classify(Piece& piece)
     any = true;
     double bound = 0.0;
     bool topology = false;
-    if (!b.finite || !certify(piece, b, k, margin, bound, topology))
+    if (!certify(piece, b, k, margin, bound, topology))
     {
       certified = false;
       break;
@@ -961,8 +987,17 @@ void Extraction::run(const ParallelFor& parallelFor, ExactSurfaceMesh& surface, 
   std::vector<NodeId> candidates;
   for (const auto& cell : Scene_.validCells())
   {
-    if (sorted.anyWithin(cell.valueLo, cell.valueHi))
-      candidates.push_back(cell.id);
+    if (!sorted.anyWithin(cell.valueLo, cell.valueHi))
+      continue;
+    // Pyramids are not read yet: their field is rational in their own space, and its bounds
+    // there (through the collapse) are too loose to certify a piece before the budget runs out.
+    const CellType* type = cellTypeOf(mesh.cellTypes[cell.id]);
+    if (type && type->shape == CellShape::Pyramid)
+    {
+      ++SkippedPyramids;
+      continue;
+    }
+    candidates.push_back(cell.id);
   }
   Forms.resize(candidates.size());
   parallelFor(static_cast<NodeId>(candidates.size()), [&](NodeId begin, NodeId end) {
@@ -1128,6 +1163,13 @@ bool extractExactSurface(const Scene& scene, const ExactSurfaceSettings& setting
   exact::Extraction extraction(scene, settings, tolerance);
   extraction.run(parallelFor, surface, parts);
   exact::finishSurface(scene, settings, arrays, values, parts, surface, parallelFor);
+  if (extraction.SkippedPyramids > 0)
+  {
+    messages.warnings.push_back(text(extraction.SkippedPyramids,
+      " pyramid cells that can hold an iso-value were skipped: the exact surface does not read"
+      " pyramids yet (the ray caster does); the surface has holes there, and the volume leaves"
+      " them out."));
+  }
   if (extraction.BudgetReached)
   {
     messages.warnings.push_back(text("The tolerance (", tolerance, ", ", tolerance / diagonal,

@@ -417,9 +417,9 @@ void CellForms::boundsOf(const glm::dvec3& boxLo, const glm::dvec3& boxHi, Bound
       tensor::transformAxis<P>(one, 1, matrix[1], two);
       tensor::transformAxis<P>(two, 2, matrix[2], one);
       if (q == 3)
-      {
         out.f = { *std::min_element(one, one + N), *std::max_element(one, one + N) };
-      }
+      else
+        out.x[q] = { *std::min_element(one, one + N), *std::max_element(one, one + N) };
       if (Type->space != Space::Pyramid && !fieldOnly)
       {
         // Second differences of the box's coefficients: the second derivatives' ranges.

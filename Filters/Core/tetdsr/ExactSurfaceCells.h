@@ -96,6 +96,7 @@ public:
     Interval f;
     Interval grad[3];
     Interval J[3][3];
+    Interval x[3]; ///< the map's range: a box around the image of the box
     /// Bounds of the second derivatives' magnitudes along the reference axes, as Frobenius norms
     /// of their largest magnitudes: the field's, and the map's (all components); for spaces
     /// other than pyramids (hasHessian).

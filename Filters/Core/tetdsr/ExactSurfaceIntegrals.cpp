@@ -370,7 +370,12 @@ void finishSurface(const Scene& scene, const ExactSurfaceSettings& settings,
       continue;
     }
     I.area += r.area[0];
-    I.areaError += std::abs(r.area[0] - r.area[1]);
+    // The rules' difference, and the rounding of the carried points (relative to the
+    // coordinates' magnitude) over the triangle's perimeter.
+    const glm::dvec3 P0 = point(tri.v[0]), P1 = point(tri.v[1]), P2 = point(tri.v[2]);
+    const double magnitude = std::max({ glm::length(P0), glm::length(P1), glm::length(P2) });
+    const double perimeter = glm::length(P1 - P0) + glm::length(P2 - P1) + glm::length(P0 - P2);
+    I.areaError += std::abs(r.area[0] - r.area[1]) + 256.0 * std::numeric_limits<double>::epsilon() * magnitude * perimeter;
     for (int a = 0; a < totalComponents; ++a)
     {
       I.arrayIntegrals[static_cast<std::size_t>(a)] += r.arrays[0][static_cast<std::size_t>(a)];
