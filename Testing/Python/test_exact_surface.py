@@ -309,16 +309,6 @@ def grid_diagonal(grid):
     return float(np.linalg.norm(b[1::2] - b[0::2]))
 
 
-def check_pyramids_skipped(test, label, grid, isos):
-    """Pyramids are not read by the exact surface yet: their cells are skipped with a warning
-    that counts them, and no triangle comes from them."""
-    contour, out, messages, seconds = exact_surface(grid, isos, relative=SWEEP_TOLERANCE)
-    text = " ".join(messages.warnings)
-    test.assertIn("pyramid cells that can hold an iso-value were skipped", text, label)
-    test.assertEqual(out.GetNumberOfCells(), 0, label)
-    print(f"{label}: skipped with a warning in {seconds:.2f} s", flush=True)
-
-
 # --- The checks --------------------------------------------------------------------------------
 
 def check(test, label, grid, truth, second=None, relative=None, absolute=None, quiet=False):
@@ -535,23 +525,30 @@ class HardCases(unittest.TestCase):
                 print_contour(label, linear)
                 self.assertEqual(linear[0]["pieces"], 0, "vtkContourFilter finds no sign change, no triangle")
 
-    @unittest.skipUnless(os.environ.get("TETDSR_SLOW_TESTS"),
-                         "the torus in order-4 cells took over 6 minutes (with the next test) on 2 cores: "
-                         "run with TETDSR_SLOW_TESTS=1")
     def test_torus_in_order_four_cells(self):
+        # At 3e-2 of the diagonal in the suite (order-4 tetrahedra took 74 s and 55,010 triangles
+        # on 2 cores, hexahedra 21 s); the Bezier tetrahedra and the default 1e-3 with
+        # TETDSR_SLOW_TESTS=1 (the certified bound is conservative: many more triangles).
         truth = torus()
+        slow = bool(os.environ.get("TETDSR_SLOW_TESTS"))
         fields = {"f": truth.field.value, "g": quartic_second}
-        for label, grid in (("VTK_LAGRANGE_TETRAHEDRON order 4", hog.grid(2, VTK_LAGRANGE_TETRAHEDRON, 4, fields)),
-                            ("VTK_BEZIER_TETRAHEDRON order 4", hog.grid(2, VTK_BEZIER_TETRAHEDRON, 4, fields)),
-                            ("VTK_LAGRANGE_HEXAHEDRON order 4", hw.grid(2, VTK_LAGRANGE_HEXAHEDRON, 125, fields))):
+        cases = [("VTK_LAGRANGE_TETRAHEDRON order 4", lambda: hog.grid(2, VTK_LAGRANGE_TETRAHEDRON, 4, fields)),
+                 ("VTK_LAGRANGE_HEXAHEDRON order 4", lambda: hw.grid(2, VTK_LAGRANGE_HEXAHEDRON, 125, fields))]
+        if slow:
+            cases.insert(1, ("VTK_BEZIER_TETRAHEDRON order 4", lambda: hog.grid(2, VTK_BEZIER_TETRAHEDRON, 4, fields)))
+        for label, make in cases:
             with self.subTest(label):
-                mine = check(self, f"torus, {label}", grid, truth, ("g", quartic_second))
+                grid = make()
+                mine = check(self, f"torus, {label}", grid, truth, ("g", quartic_second),
+                             relative=None if slow else 3e-2)
                 linear = contour_measures(grid, truth)
                 print_contour(label, linear)
-                # The linear contour of the nodal values is farther from the torus than the bound
-                # the exact surface keeps, and its area is off by more than AreaError.
-                self.assertGreater(max(linear[0]["forward"], linear[0]["backward"]), mine["bound"])
-                self.assertGreater(linear[0]["area_error"], mine["area_error"][0][1])
+                # The linear contour of the nodal values is farther from the torus than the exact
+                # surface measures (and, at the default tolerance, than the bound it keeps).
+                self.assertGreater(max(linear[0]["forward"], linear[0]["backward"]),
+                                   max(mine["forward"], mine["backward"]))
+                if slow:
+                    self.assertGreater(max(linear[0]["forward"], linear[0]["backward"]), mine["bound"])
 
     @unittest.skipUnless(os.environ.get("TETDSR_SLOW_TESTS"),
                          "the torus at three tolerances took over 6 minutes (with the previous test) on 2 cores: "
@@ -604,8 +601,8 @@ class StraightCells(unittest.TestCase):
     def test_pyramids(self):
         for label, vtk_type in PYRAMIDS:
             with self.subTest(label):
-                check_pyramids_skipped(self, f"straight {label}, plane", type_source_mesh(vtk_type, 1, None, PLANE),
-                                       [PLANE.iso])
+                check(self, f"straight {label}, plane", type_source_mesh(vtk_type, 1, None, PLANE), plane(),
+                      relative=SWEEP_TOLERANCE)
 
 
 class CurvedCells(unittest.TestCase):
@@ -630,8 +627,8 @@ class CurvedCells(unittest.TestCase):
     def test_pyramids(self):
         for label, vtk_type in PYRAMIDS:
             with self.subTest(label):
-                check_pyramids_skipped(self, f"curved {label}, plane", type_source_mesh(vtk_type, 1, hw.bulge(), PLANE),
-                                       [PLANE.iso])
+                check(self, f"curved {label}, plane", type_source_mesh(vtk_type, 1, hw.bulge(), PLANE), plane(),
+                      relative=SWEEP_TOLERANCE)
 
     def test_plane_through_strongly_bent_hexahedra(self):
         # The plane through Q3 hexahedra bent twice as much. (vtkContourFilter is exact here too:

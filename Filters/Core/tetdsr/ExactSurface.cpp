@@ -182,19 +182,50 @@ const std::vector<double>& bernsteinFromSamples(int D)
   return m;
 }
 
-/// The largest number of roots of f = c on the reference segment r0 -> r1 that the Bernstein
-/// coefficients of f - c along it allow (their sign changes; Descartes' rule for Bernstein
-/// forms), or -1 when a coefficient is within rounding of 0 or the cell's field is not a
-/// polynomial along lines (a pyramid's). The segment's polynomial is of degree `degree`.
-int rootsAllowed(const CellForms& forms, const glm::dvec3& r0, const glm::dvec3& r1, double c, int degree, double margin)
+/// What the Bernstein coefficients of f - c along the reference segment r0 -> r1 allow
+/// (Descartes' rule for Bernstein forms: no more roots inside than sign changes). An end whose
+/// coefficient (its value) is within rounding of 0 is a root there; the other coefficients'
+/// sign changes bound the roots inside. A pyramid's field is rational along lines of its own
+/// space: with s = 1 - z (linear along the segment, positive off the apex), the collapse's
+/// u = 1/2 + (x - 1/2) / s makes each of the form's degree-P factors in u and v a polynomial
+/// over s^P, so s^2P (f - c), of degree 3P (lineDegree), has the same roots off the apex.
+struct SegmentRoots
 {
-  if (forms.type().space == Space::Pyramid || degree > 12)
-    return -1;
+  int inside = -1;         ///< the sign changes inside; -1: a coefficient within rounding of 0
+  bool atStart = false;    ///< f = c at r0 (to rounding)
+  bool atEnd = false;      ///< f = c at r1 (to rounding)
+  bool everywhere = false; ///< every coefficient within rounding of 0: f = c along the segment
+
+  /// Whether the segment holds the marching case's roots: one where its ends' sides differ
+  /// (f >= c counts as above; a root at an end is that end), none where they agree, or the
+  /// whole segment in the surface.
+  bool asCase(bool crossed) const
+  {
+    if (everywhere)
+      return true;
+    if (inside == 0)
+      return !(atStart && atEnd) && (!crossed || atStart || atEnd);
+    return inside == 1 && crossed && !atStart && !atEnd;
+  }
+};
+
+SegmentRoots segmentRoots(const CellForms& forms, const glm::dvec3& r0, const glm::dvec3& r1, double c, int degree, double margin)
+{
+  SegmentRoots out;
+  if (degree > 12)
+    return out;
   const std::vector<double>& m = bernsteinFromSamples(degree);
   const int n = degree + 1;
+  const bool pyramid = forms.type().space == Space::Pyramid;
+  const int power = 2 * forms.type().degree;
   double samples[13], coefficients[13];
   for (int k = 0; k < n; ++k)
-    samples[k] = forms.fieldAtReference(r0 + (double(k) / degree) * (r1 - r0)) - c;
+  {
+    const glm::dvec3 r = r0 + (double(k) / degree) * (r1 - r0);
+    samples[k] = forms.fieldAtReference(r) - c;
+    if (pyramid)
+      samples[k] *= std::pow(std::max(0.0, 1.0 - r.z), power);
+  }
   // The conversion grows the samples' rounding by its row sums (at most about 1e4 for degree
   // 12): a coefficient within 1e-10 of the samples' magnitude (plus the forms' rounding) has
   // no sign of its own.
@@ -202,19 +233,34 @@ int rootsAllowed(const CellForms& forms, const glm::dvec3& r0, const glm::dvec3&
   for (int k = 0; k < n; ++k)
     largest = std::max(largest, std::abs(samples[k]));
   const double zero = 1e-10 * largest + margin;
-  int changes = 0;
+  bool allZero = true;
   for (int j = 0; j < n; ++j)
   {
     double sum = 0.0;
     for (int k = 0; k < n; ++k)
       sum += m[static_cast<std::size_t>(j * n + k)] * samples[k];
     coefficients[j] = sum;
-    if (std::abs(sum) <= zero)
-      return -1;
-    if (j > 0 && (coefficients[j] > 0.0) != (coefficients[j - 1] > 0.0))
+    allZero = allZero && std::abs(sum) <= zero;
+  }
+  if (allZero)
+  {
+    out.everywhere = true;
+    return out;
+  }
+  out.atStart = std::abs(coefficients[0]) <= zero;
+  out.atEnd = std::abs(coefficients[n - 1]) <= zero;
+  // A root at an end: f - c = t g (or (1 - t) g), whose coefficients have the others' signs.
+  const int first = out.atStart ? 1 : 0, last = out.atEnd ? n - 2 : n - 1;
+  int changes = 0;
+  for (int j = first; j <= last; ++j)
+  {
+    if (std::abs(coefficients[j]) <= zero)
+      return out; // inside stays -1
+    if (j > first && (coefficients[j] > 0.0) != (coefficients[j - 1] > 0.0))
       ++changes;
   }
-  return changes;
+  out.inside = changes;
+  return out;
 }
 
 /// The degree of a cell's field along a line of its reference space: P for a tetrahedron (total
@@ -303,7 +349,6 @@ private:
 
 public:
   bool BudgetReached = false;
-  NodeId SkippedPyramids = 0;
 };
 
 std::uint32_t Extraction::meshVertex(NodeId point)
@@ -524,6 +569,20 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
   // and that sum is at most the enclosing ball's radius squared, 3/8 of the diameter squared.
   if (b.hasHessian)
     E = std::min(E, 3.0 / 16.0 * b.fieldHessian * diameter * diameter);
+  // Or directly: |f - l| over the piece's box, from the Bernstein coefficients of f - l there (a
+  // pyramid's field, whose derivatives' bounds through the collapse are loose, gets it too).
+  glm::dmat3 A;
+  for (int j = 0; j < 3; ++j)
+    A[j] = piece.r[j + 1] - piece.r[0];
+  const glm::dmat3 AinvT = glm::inverse(glm::transpose(A));
+  glm::dvec3 boxLo = piece.r[0], boxHi = piece.r[0];
+  for (int k = 1; k < 4; ++k)
+  {
+    boxLo = glm::min(boxLo, piece.r[k]);
+    boxHi = glm::max(boxHi, piece.r[k]);
+  }
+  const glm::dvec3 g = AinvT * glm::dvec3(fv[1] - fv[0], fv[2] - fv[0], fv[3] - fv[0]);
+  E = std::min(E, forms.deviation(boxLo, boxHi, 3, fv[0] + c - glm::dot(g, piece.r[0]), g));
   // An affine cell (the map's derivative constant to rounding): the same in the scene, where the
   // second derivatives and the diameter are those of the shape itself (J^-T H J^-1; Gershgorin's
   // row sums bound its norm), and the slab's and strips' widths are scene distances.
@@ -536,11 +595,39 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
       jScale = std::max(jScale, largestAbs(b.J[k][i]));
       jWidth = std::max(jWidth, b.J[k][i].width());
     }
-  const bool affine = b.hasHessian && jWidth <= 1e-12 * jScale && std::abs(glm::determinant(Jm)) > 0.0;
+  const bool constantJ = b.hasHessian && jWidth <= 1e-12 * jScale && std::abs(glm::determinant(Jm)) > 0.0;
+  // Else the map's distance from its own affine interpolant of the corners (per axis): the piece
+  // is straight when it is 0 to rounding (a straight pyramid's, whose Jacobian's bounds through
+  // the collapse are not constant), and otherwise it bounds how far the flat triangles are from
+  // the image of the piece's (twice it).
+  double mapDeviation = 0.0;
+  bool straight = false;
+  glm::dmat3 Jcorners(0.0);
+  if (!constantJ)
+  {
+    double mapScale = 0.0;
+    for (int a = 0; a < 3; ++a)
+    {
+      const double x0 = Vertices[piece.v[0]].x[a];
+      const glm::dvec3 Ga = AinvT * glm::dvec3(Vertices[piece.v[1]].x[a] - x0, Vertices[piece.v[2]].x[a] - x0,
+                                      Vertices[piece.v[3]].x[a] - x0);
+      for (int i = 0; i < 3; ++i)
+        Jcorners[i][a] = Ga[i];
+      const double d = forms.deviation(boxLo, boxHi, a, x0 - glm::dot(Ga, piece.r[0]), Ga);
+      mapDeviation += d * d;
+      mapScale = std::max(mapScale, std::abs(x0) + glm::length(Ga));
+    }
+    mapDeviation = std::sqrt(mapDeviation);
+    straight = mapDeviation <= 1e-12 * mapScale && std::abs(glm::determinant(Jcorners)) > 0.0;
+    if (straight)
+      Jm = Jcorners;
+  }
+  const bool affine = constantJ || straight;
   glm::dmat3 Jinv(1.0);
   if (affine)
-  {
     Jinv = glm::inverse(Jm);
+  if (affine && b.hasHessian)
+  {
     // J^-T H J^-1 with H = its middle + a part within the radius: the middle's product exactly
     // (its cancellations kept), the rest bounded in magnitude.
     glm::dmat3 middle, radius;
@@ -577,12 +664,7 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
     topology = true;
     return true;
   }
-  // grad l from the corners' values: A^T g = df, A's columns the edges from corner 0.
-  glm::dmat3 A;
-  for (int j = 0; j < 3; ++j)
-    A[j] = piece.r[j + 1] - piece.r[0];
-  const glm::dvec3 df(fv[1] - fv[0], fv[2] - fv[0], fv[3] - fv[0]);
-  const glm::dvec3 g = glm::inverse(glm::transpose(A)) * df;
+  // grad l from the corners' values (g above: A^T g = df, A's columns the edges from corner 0).
   const double gl = glm::length(g);
   if (!(gl > 0.0) || !std::isfinite(gl))
   {
@@ -619,7 +701,6 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
     }
     return any;
   };
-  CellForms::Bounds local;
   glm::dvec3 lo, hi;
   // Monotone along n where the surface can be: no closed sheet, no handle, a graph over l = c
   // (along every line along n, f - c has l - c's sign outside the slab).
@@ -629,8 +710,9 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
     topology = true;
     return true;
   }
-  forms.fieldBounds(lo, hi, local);
-  if (!(dot(n, local.grad).lo > 0.0))
+  Interval slope[2];
+  forms.slopes(lo, hi, &n, 1, slope);
+  if (!(slope[0].lo > 0.0))
   {
     // Not even monotone inside: by size alone (the box around the piece's image).
     topology = false;
@@ -642,18 +724,26 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
   double widest = 0.0;
   for (const auto& face : kFaces)
   {
-    if (!slabBox({ face[0], face[1], face[2] }, E, lo, hi))
+    // |f - l| on the face alone (its box's Bernstein coefficients): the face's own slab.
+    glm::dvec3 faceLo = glm::min(glm::min(piece.r[face[0]], piece.r[face[1]]), piece.r[face[2]]);
+    glm::dvec3 faceHi = glm::max(glm::max(piece.r[face[0]], piece.r[face[1]]), piece.r[face[2]]);
+    const double EF = std::min(E, forms.deviation(faceLo, faceHi, 3, fv[0] + c - glm::dot(g, piece.r[0]), g) + margin);
+    if (!slabBox({ face[0], face[1], face[2] }, EF, lo, hi))
       continue;
     const glm::dvec3 normal = glm::normalize(glm::cross(piece.r[face[1]] - piece.r[face[0]], piece.r[face[2]] - piece.r[face[0]]));
     const glm::dvec3 inFace = g - glm::dot(g, normal) * normal;
     const double gf = glm::length(inFace);
-    forms.fieldBounds(lo, hi, local);
-    // Monotone along the in-face part of grad l, or of the middle of the gradient's box.
-    glm::dvec3 middle(0.5 * (local.grad[0].lo + local.grad[0].hi), 0.5 * (local.grad[1].lo + local.grad[1].hi),
-      0.5 * (local.grad[2].lo + local.grad[2].hi));
+    // Monotone along the in-face part of grad l, or of the gradient at the middle of the box.
+    glm::dvec3 xm, middle;
+    glm::dmat3 Jmiddle;
+    double fm = 0.0;
+    forms.atReference(0.5 * (lo + hi), xm, Jmiddle, fm, middle);
     middle -= glm::dot(middle, normal) * normal;
-    const bool alongL = gf > 0.0 && dot(inFace / gf, local.grad).lo > 0.0;
-    const bool alongMiddle = glm::length(middle) > 0.0 && dot(glm::normalize(middle), local.grad).lo > 0.0;
+    const glm::dvec3 directions[2] = { gf > 0.0 ? inFace / gf : glm::dvec3(0.0),
+      glm::length(middle) > 0.0 ? glm::normalize(middle) : glm::dvec3(0.0) };
+    forms.slopes(lo, hi, directions, 2, slope);
+    const bool alongL = gf > 0.0 && slope[0].lo > 0.0;
+    const bool alongMiddle = glm::length(middle) > 0.0 && slope[1].lo > 0.0;
     if (!alongL && !alongMiddle)
     {
       topology = false;
@@ -673,12 +763,12 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
       double cosine = 1.0;
       if (!alongL)
         cosine = std::abs(glm::dot(glm::normalize(Jm * glm::normalize(middle)), glm::normalize(gFx)));
-      widest = std::max(widest, 2.0 * E / glm::length(gFx) / cosine);
+      widest = std::max(widest, 2.0 * EF / glm::length(gFx) / cosine);
     }
     else if (chord)
     {
       const double cosine = alongL ? 1.0 : std::abs(glm::dot(glm::normalize(middle), inFace / gf));
-      widest = std::max(widest, 2.0 * E / gf / cosine);
+      widest = std::max(widest, 2.0 * EF / gf / cosine);
     }
   }
   // Each edge: one root or none. Along an edge e, |f - l| <= e^T H e / 8 (its own second
@@ -699,13 +789,13 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
     }
     if (!slabBox({ e[0], e[1] }, Ee, lo, hi))
       continue;
-    forms.fieldBounds(lo, hi, local);
-    if (signDefinite(dot(d, local.grad)))
+    forms.slopes(lo, hi, &d, 1, slope);
+    if (signDefinite(slope[0]))
       continue;
     // Not monotone there: the count Descartes' rule allows, for the polynomial along the edge.
     const bool crossed = (fv[e[0]] >= 0.0) != (fv[e[1]] >= 0.0);
-    const int allowed = rootsAllowed(forms, piece.r[e[0]], piece.r[e[1]], c, lineDegree(forms.type()), margin);
-    if (allowed < 0 || allowed > (crossed ? 1 : 0))
+    const SegmentRoots roots = segmentRoots(forms, piece.r[e[0]], piece.r[e[1]], c, lineDegree(forms.type()), margin);
+    if (!roots.asCase(crossed))
       topology = false;
   }
   double L2 = 0.0, X2 = 0.0;
@@ -730,8 +820,9 @@ bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::si
     bound = std::min(std::sqrt(L2) * diameter, image);
     return std::isfinite(bound) && bound <= 0.5 * Tolerance;
   }
-  const double flat = b.hasHessian ? std::min(diameter * std::sqrt(X2), 3.0 / 16.0 * b.mapHessian * diameter * diameter)
-                                    : diameter * std::sqrt(X2);
+  const double flat = std::min(constantJ ? 0.0 : 2.0 * mapDeviation,
+    b.hasHessian ? std::min(diameter * std::sqrt(X2), 3.0 / 16.0 * b.mapHessian * diameter * diameter)
+                 : diameter * std::sqrt(X2));
   if (topology && cut)
   {
     // The case's triangles are a graph over the plane l = c too (their normals on n's side).
@@ -936,6 +1027,7 @@ void Extraction::emit(ExactSurfaceMesh& surface, SurfaceParts& parts)
         tri.form = piece.form;
         tri.iso = static_cast<int>(iso);
         tri.piece = static_cast<std::uint32_t>(index);
+        tri.sizeOnly = piece.sizeOnly || piece.state == State::Unresolved;
         parts.triangles.push_back(tri);
       }
       // The polytope above c that the case's flat triangles cut from the piece.
@@ -989,14 +1081,6 @@ void Extraction::run(const ParallelFor& parallelFor, ExactSurfaceMesh& surface, 
   {
     if (!sorted.anyWithin(cell.valueLo, cell.valueHi))
       continue;
-    // Pyramids are not read yet: their field is rational in their own space, and its bounds
-    // there (through the collapse) are too loose to certify a piece before the budget runs out.
-    const CellType* type = cellTypeOf(mesh.cellTypes[cell.id]);
-    if (type && type->shape == CellShape::Pyramid)
-    {
-      ++SkippedPyramids;
-      continue;
-    }
     candidates.push_back(cell.id);
   }
   Forms.resize(candidates.size());
@@ -1163,13 +1247,6 @@ bool extractExactSurface(const Scene& scene, const ExactSurfaceSettings& setting
   exact::Extraction extraction(scene, settings, tolerance);
   extraction.run(parallelFor, surface, parts);
   exact::finishSurface(scene, settings, arrays, values, parts, surface, parallelFor);
-  if (extraction.SkippedPyramids > 0)
-  {
-    messages.warnings.push_back(text(extraction.SkippedPyramids,
-      " pyramid cells that can hold an iso-value were skipped: the exact surface does not read"
-      " pyramids yet (the ray caster does); the surface has holes there, and the volume leaves"
-      " them out."));
-  }
   if (extraction.BudgetReached)
   {
     messages.warnings.push_back(text("The tolerance (", tolerance, ", ", tolerance / diagonal,

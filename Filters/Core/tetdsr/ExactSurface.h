@@ -9,11 +9,14 @@
 //    shape: spaces whose faces map affinely onto a neighbour's), into tetrahedra: a centre, and
 //    a centre on each quadrilateral face.
 //  - Those tetrahedra are bisected at their longest edge until each that can hold an iso-value is
-//    certified: the field's Bernstein bounds on its box give its gradient; the field is monotone
-//    along a direction inside it and along a direction in each face the surface may cross, and
-//    along every edge the surface may cross; then the surface in it is one disc, bounded by the
-//    loop the marching-tetrahedra case draws, and the distance from it to the case's triangles is
-//    bounded (ExactSurface.cpp: slabBound). Vertices are named by the mesh's points and the edges
+//    certified: the Bernstein coefficients of f - l on its box (l the affine function of its
+//    corners' values) bound the slab the surface lies in, and those of the field's directional
+//    derivatives show it monotone along a direction inside it and along a direction in each face
+//    the surface may cross, and along every edge the surface may cross (or Descartes' rule counts
+//    the edge's roots); then the surface in it is one disc, bounded by the loop the
+//    marching-tetrahedra case draws, and the distance from it to the case's triangles is bounded
+//    (ExactSurface.cpp: Extraction::certify). A piece at a pyramid's apex, or whose topology is
+//    not shown, is certified by its size alone (the box around its image within the bound). Vertices are named by the mesh's points and the edges
 //    bisected, so neighbouring cells bisect shared faces alike (conforming closure): no cracks.
 //  - A tetrahedron still uncertified after kMaxSurfaceLevels bisections is counted, and warned of.
 #pragma once

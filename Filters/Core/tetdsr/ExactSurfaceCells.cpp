@@ -367,7 +367,8 @@ void CellForms::fieldBounds(const glm::dvec3& lo, const glm::dvec3& hi, Bounds& 
   boundsOf(lo, hi, out, true);
 }
 
-void CellForms::boundsOf(const glm::dvec3& boxLo, const glm::dvec3& boxHi, Bounds& out, bool fieldOnly) const
+bool CellForms::formBox(const glm::dvec3& boxLo, const glm::dvec3& boxHi, glm::dvec3& a, glm::dvec3& b, Interval& k,
+  Interval& uc, Interval& vc) const
 {
   // A box flat along an axis (a face or an edge along the space's axes) is widened a little
   // there: a larger box's bounds hold too, and its differences give the derivative across it.
@@ -380,29 +381,112 @@ void CellForms::boundsOf(const glm::dvec3& boxLo, const glm::dvec3& boxHi, Bound
       hi[axis] = std::min(1.0, hi[axis] + 1e-6);
     }
   }
-  glm::dvec3 a = lo, b = hi;
-  Interval k{ 1.0, 1.0 }, uc{ 0.0, 0.0 }, vc{ 0.0, 0.0 };
-  out.finite = true;
-  out.fieldHessian = out.mapHessian = 0.0;
-  out.hasHessian = false;
+  a = lo;
+  b = hi;
+  k = { 1.0, 1.0 };
+  uc = vc = { 0.0, 0.0 };
+  if (Type->space != Space::Pyramid)
+    return true;
+  // The box's image in the collapsed cube: u - 1/2 = (a - 1/2) k, k = 1 / (1 - c).
+  if (hi.z >= 1.0)
+  {
+    a = glm::dvec3(0.0, 0.0, lo.z);
+    b = glm::dvec3(1.0, 1.0, 1.0);
+    return false;
+  }
+  k = { 1.0 / (1.0 - lo.z), 1.0 / (1.0 - hi.z) };
+  uc = Interval{ lo.x - 0.5, hi.x - 0.5 } * k;
+  vc = Interval{ lo.y - 0.5, hi.y - 0.5 } * k;
+  a = glm::dvec3(std::max(0.0, 0.5 + uc.lo), std::max(0.0, 0.5 + vc.lo), lo.z);
+  b = glm::dvec3(std::min(1.0, 0.5 + uc.hi), std::min(1.0, 0.5 + vc.hi), hi.z);
+  return true;
+}
+
+double CellForms::deviation(const glm::dvec3& lo, const glm::dvec3& hi, int quantity, double value,
+  const glm::dvec3& gradient) const
+{
+  glm::dvec3 a, b;
+  Interval k, uc, vc;
+  if (!formBox(lo, hi, a, b, k, uc, vc))
+    return std::numeric_limits<double>::infinity();
+  const bool pyramid = Type->space == Space::Pyramid;
+  return forDegree(Type->degree, [&](auto degree) {
+    constexpr int P = decltype(degree)::value;
+    constexpr int N = tensor::count(P);
+    double matrix[3][P + 1][P + 1];
+    for (int axis = 0; axis < 3; ++axis)
+      tensor::segmentMatrix<P>(a[axis], b[axis], matrix[axis]);
+    double one[N], two[N];
+    tensor::transformAxis<P>(Coefficients.data() + quantity * N, 0, matrix[0], one);
+    tensor::transformAxis<P>(one, 1, matrix[1], two);
+    tensor::transformAxis<P>(two, 2, matrix[2], one);
+    double largest = 0.0;
+    for (int kk = 0; kk <= P; ++kk)
+      for (int jj = 0; jj <= P; ++jj)
+        for (int ii = 0; ii <= P; ++ii)
+        {
+          // The Greville point's form-space point, and its reference point.
+          const glm::dvec3 t(double(ii) / P, double(jj) / P, double(kk) / P);
+          const glm::dvec3 u = a + t * (b - a);
+          const glm::dvec3 r = pyramid ? glm::dvec3(0.5 + (u.x - 0.5) * (1.0 - u.z), 0.5 + (u.y - 0.5) * (1.0 - u.z), u.z) : u;
+          const double affine = value + glm::dot(gradient, r);
+          largest = std::max(largest, std::abs(one[tensor::index(P, ii, jj, kk)] - affine));
+        }
+    return largest;
+  });
+}
+
+void CellForms::slopes(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3* directions, int count,
+  Interval* out) const
+{
   if (Type->space == Space::Pyramid)
   {
-    // The box's image in the collapsed cube: u - 1/2 = (a - 1/2) k, k = 1 / (1 - c).
-    if (hi.z >= 1.0)
+    Bounds b;
+    fieldBounds(lo, hi, b);
+    for (int d = 0; d < count; ++d)
     {
-      out.finite = false;
-      a = glm::dvec3(0.0, 0.0, lo.z);
-      b = glm::dvec3(1.0, 1.0, 1.0);
+      out[d] = Interval{ 0.0, 0.0 };
+      for (int i = 0; i < 3; ++i)
+      {
+        const Interval term = b.grad[i] * Interval{ directions[d][i], directions[d][i] };
+        out[d].lo += term.lo;
+        out[d].hi += term.hi;
+      }
+      if (!b.finite || !(out[d].lo <= out[d].hi))
+        out[d] = { -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity() };
     }
-    else
-    {
-      k = { 1.0 / (1.0 - lo.z), 1.0 / (1.0 - hi.z) };
-      uc = Interval{ lo.x - 0.5, hi.x - 0.5 } * k;
-      vc = Interval{ lo.y - 0.5, hi.y - 0.5 } * k;
-      a = glm::dvec3(std::max(0.0, 0.5 + uc.lo), std::max(0.0, 0.5 + vc.lo), lo.z);
-      b = glm::dvec3(std::min(1.0, 0.5 + uc.hi), std::min(1.0, 0.5 + vc.hi), hi.z);
-    }
+    return;
   }
+  glm::dvec3 a, b;
+  Interval k, uc, vc;
+  formBox(lo, hi, a, b, k, uc, vc);
+  forDegree(Type->degree, [&](auto degree) {
+    constexpr int P = decltype(degree)::value;
+    constexpr int N = tensor::count(P);
+    double matrix[3][P + 1][P + 1];
+    for (int axis = 0; axis < 3; ++axis)
+      tensor::segmentMatrix<P>(a[axis], b[axis], matrix[axis]);
+    double one[N], two[N];
+    tensor::transformAxis<P>(Coefficients.data() + 3 * N, 0, matrix[0], one);
+    tensor::transformAxis<P>(one, 1, matrix[1], two);
+    tensor::transformAxis<P>(two, 2, matrix[2], one);
+    for (int d = 0; d < count; ++d)
+    {
+      double scale[3];
+      for (int axis = 0; axis < 3; ++axis)
+        scale[axis] = directions[d][axis] / (b[axis] - a[axis]);
+      tensor::directionalRange<P>(one, scale, out[d].lo, out[d].hi);
+    }
+  });
+}
+
+void CellForms::boundsOf(const glm::dvec3& boxLo, const glm::dvec3& boxHi, Bounds& out, bool fieldOnly) const
+{
+  glm::dvec3 a, b;
+  Interval k, uc, vc;
+  out.finite = formBox(boxLo, boxHi, a, b, k, uc, vc);
+  out.fieldHessian = out.mapHessian = 0.0;
+  out.hasHessian = false;
   forDegree(Type->degree, [&](auto degree) {
     constexpr int P = decltype(degree)::value;
     constexpr int N = tensor::count(P);

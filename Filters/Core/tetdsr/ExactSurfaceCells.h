@@ -110,8 +110,25 @@ public:
   /// The field's bounds only (f and grad; the rest left as they are).
   void fieldBounds(const glm::dvec3& lo, const glm::dvec3& hi, Bounds& out) const;
 
+  /// The range of the field's derivative along each of `count` reference directions over a
+  /// reference box (the directional derivative's own Bernstein coefficients; a pyramid's from
+  /// its gradient's bounds through the collapse); unbounded where they are not bounded.
+  void slopes(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3* directions, int count, Interval* out) const;
+
+  /// The largest |Q - A| over a reference box, Q a quantity (0-2: the map's components, 3: the
+  /// field) and A(r) = value + gradient . r an affine function of the reference point: from the
+  /// Bernstein coefficients of Q - A on the box's form-space box (an affine function of the
+  /// reference point is of degree at most 1 per form axis, through a pyramid's collapse too, so
+  /// its coefficients are its values at the Greville points). Infinite where a pyramid's box
+  /// reaches its apex.
+  double deviation(const glm::dvec3& lo, const glm::dvec3& hi, int quantity, double value, const glm::dvec3& gradient) const;
+
 private:
   void boundsOf(const glm::dvec3& lo, const glm::dvec3& hi, Bounds& out, bool fieldOnly) const;
+  /// The form-space box of a reference box (flat axes widened by 1e-6), and for pyramids the
+  /// collapse's k = 1 / (1 - z) and (u - 1/2), (v - 1/2) ranges; false where it reaches the apex.
+  bool formBox(const glm::dvec3& lo, const glm::dvec3& hi, glm::dvec3& a, glm::dvec3& b, Interval& k, Interval& uc,
+    Interval& vc) const;
 
 public:
 

@@ -376,10 +376,15 @@ void finishSurface(const Scene& scene, const ExactSurfaceSettings& settings,
     const double magnitude = std::max({ glm::length(P0), glm::length(P1), glm::length(P2) });
     const double perimeter = glm::length(P1 - P0) + glm::length(P2 - P1) + glm::length(P0 - P2);
     I.areaError += std::abs(r.area[0] - r.area[1]) + 256.0 * std::numeric_limits<double>::epsilon() * magnitude * perimeter;
+    // A triangle of a piece certified by its size alone may fold over its neighbours: all of it
+    // counts in the error.
+    if (tri.sizeOnly)
+      I.areaError += std::abs(r.area[0]);
     for (int a = 0; a < totalComponents; ++a)
     {
       I.arrayIntegrals[static_cast<std::size_t>(a)] += r.arrays[0][static_cast<std::size_t>(a)];
-      I.arrayErrors[static_cast<std::size_t>(a)] += std::abs(r.arrays[0][static_cast<std::size_t>(a)] - r.arrays[1][static_cast<std::size_t>(a)]);
+      I.arrayErrors[static_cast<std::size_t>(a)] += std::abs(r.arrays[0][static_cast<std::size_t>(a)] - r.arrays[1][static_cast<std::size_t>(a)]) +
+        (tri.sizeOnly ? std::abs(r.arrays[0][static_cast<std::size_t>(a)]) : 0.0);
     }
   }
   // Edges on the mesh's boundary: the carried edge is on the surface, not necessarily on the

@@ -48,6 +48,9 @@ struct SurfaceTriangle
   int iso = 0;
   glm::dvec3 reference[3]; ///< its corners in its cell's reference space
   std::uint32_t piece = 0;
+  /// Its piece was certified by its size alone: its triangles are within the bound, but they may
+  /// fold or overlap, so their area is not the surface's (it counts in the area's error).
+  bool sizeOnly = false;
 };
 
 /// A tetrahedron of a cell's reference space counted in a volume (sign -1: taken away).

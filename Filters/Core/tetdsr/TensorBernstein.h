@@ -15,6 +15,7 @@
 #include "tetdsr/TetBernstein.h"
 
 #include <algorithm>
+#include <limits>
 #include <array>
 #include <cmath>
 
@@ -256,6 +257,42 @@ inline void derivativeRange(const double* c, int axis, double& lo, double& hi)
       }
     }
   }
+}
+
+/// The range of the directional derivative sum_i scale[i] d f / d t_i over the box the
+/// coefficients are on (t: that box's own unit coordinates): each partial's coefficients (P times
+/// neighbours' differences, of degree P - 1 along its axis) raised to degree P along it, summed
+/// coefficient by coefficient, least and largest. Tighter than combining the partials' ranges,
+/// whose extremes need not fall together.
+template <int P>
+inline void directionalRange(const double* c, const double scale[3], double& lo, double& hi)
+{
+  lo = std::numeric_limits<double>::infinity();
+  hi = -lo;
+  for (int k = 0; k <= P; ++k)
+    for (int j = 0; j <= P; ++j)
+      for (int i = 0; i <= P; ++i)
+      {
+        const int n[3] = { i, j, k };
+        const int at = index(P, i, j, k);
+        double sum = 0.0;
+        for (int axis = 0; axis < 3; ++axis)
+        {
+          if (scale[axis] == 0.0)
+            continue;
+          const int step = stride(P, axis);
+          const int m = n[axis];
+          // Degree elevation: e_m = (m / P) q_{m-1} + (1 - m / P) q_m, q_m = P (c_{m+1} - c_m).
+          double e = 0.0;
+          if (m > 0)
+            e += m * (c[at] - c[at - step]);
+          if (m < P)
+            e += (P - m) * (c[at + step] - c[at]);
+          sum += scale[axis] * e;
+        }
+        lo = std::min(lo, sum);
+        hi = std::max(hi, sum);
+      }
 }
 
 /// The inverse of the matrix B_j^P(i / P) (rows i: equispaced points), computed once per P: nodal
