@@ -20,43 +20,13 @@ import time
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkSMPTools, vtkVersion
-from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkUnstructuredGrid
-from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
-from tetdsr import vtkDirectSurfaceContour
+from exact_surface_vs_contour import exact_surface, log, read
 
 # Dataset, array, iso-value (the middle of the solution's range).
 DATASETS = [("hex_poisson", "u", 0.5),
             ("expansion_flow", "speed", 0.5)]
 TOLERANCES = [1e-1, 3e-2, 1e-2, 3e-3, 1e-3]
 FIELDS = ["Area", "AreaError", "FlatArea", "Volume", "VolumeError", "DistanceBound", "UnresolvedSubcells"]
-
-
-def log(*message):
-    print(*message, file=sys.stderr, flush=True)
-
-
-def read(path, array):
-    """The mesh with only `array` as point data (no integrals of other arrays are computed)."""
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(path)
-    reader.Update()
-    grid = vtkUnstructuredGrid()
-    grid.CopyStructure(reader.GetOutput())
-    grid.GetPointData().AddArray(reader.GetOutput().GetPointData().GetArray(array))
-    grid.GetPointData().SetActiveScalars(array)
-    return grid
-
-
-def exact_surface(grid, array, iso, tolerance, threads):
-    f = vtkDirectSurfaceContour()
-    f.SetNumberOfThreads(threads)
-    f.SetInputData(grid)
-    f.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS, array)
-    f.SetValue(0, iso)
-    f.SetTolerance(tolerance)
-    f.SetComputeIntegrals(True)
-    f.Update()
-    return f.GetOutput()
 
 
 def field_data(out):

@@ -241,6 +241,28 @@ Interval operator+(const Interval& a, const Interval& b)
   return { a.lo + b.lo, a.hi + b.hi };
 }
 
+/// A form's coefficients on the form-space box [a, b] (its segment matrices, made once per box).
+template <int P>
+struct BoxRestriction
+{
+  double matrix[3][P + 1][P + 1];
+
+  BoxRestriction(const glm::dvec3& a, const glm::dvec3& b)
+  {
+    for (int axis = 0; axis < 3; ++axis)
+      tensor::segmentMatrix<P>(a[axis], b[axis], matrix[axis]);
+  }
+
+  /// `out` (count(P) values) = the form's coefficients on the box.
+  void operator()(const double* form, double* out) const
+  {
+    double work[tensor::count(P)];
+    tensor::transformAxis<P>(form, 0, matrix[0], out);
+    tensor::transformAxis<P>(out, 1, matrix[1], work);
+    tensor::transformAxis<P>(work, 2, matrix[2], out);
+  }
+};
+
 } // namespace
 
 const FormMatrix* formMatrixOf(int vtkType, long long ids)
@@ -413,13 +435,8 @@ double CellForms::deviation(const glm::dvec3& lo, const glm::dvec3& hi, int quan
   return forDegree(Type->degree, [&](auto degree) {
     constexpr int P = decltype(degree)::value;
     constexpr int N = tensor::count(P);
-    double matrix[3][P + 1][P + 1];
-    for (int axis = 0; axis < 3; ++axis)
-      tensor::segmentMatrix<P>(a[axis], b[axis], matrix[axis]);
-    double one[N], two[N];
-    tensor::transformAxis<P>(Coefficients.data() + quantity * N, 0, matrix[0], one);
-    tensor::transformAxis<P>(one, 1, matrix[1], two);
-    tensor::transformAxis<P>(two, 2, matrix[2], one);
+    double one[N];
+    BoxRestriction<P>(a, b)(Coefficients.data() + quantity * N, one);
     double largest = 0.0;
     for (int kk = 0; kk <= P; ++kk)
       for (int jj = 0; jj <= P; ++jj)
@@ -463,13 +480,8 @@ void CellForms::slopes(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dv
   forDegree(Type->degree, [&](auto degree) {
     constexpr int P = decltype(degree)::value;
     constexpr int N = tensor::count(P);
-    double matrix[3][P + 1][P + 1];
-    for (int axis = 0; axis < 3; ++axis)
-      tensor::segmentMatrix<P>(a[axis], b[axis], matrix[axis]);
-    double one[N], two[N];
-    tensor::transformAxis<P>(Coefficients.data() + 3 * N, 0, matrix[0], one);
-    tensor::transformAxis<P>(one, 1, matrix[1], two);
-    tensor::transformAxis<P>(two, 2, matrix[2], one);
+    double one[N];
+    BoxRestriction<P>(a, b)(Coefficients.data() + 3 * N, one);
     for (int d = 0; d < count; ++d)
     {
       double scale[3];
@@ -490,16 +502,12 @@ void CellForms::boundsOf(const glm::dvec3& boxLo, const glm::dvec3& boxHi, Bound
   forDegree(Type->degree, [&](auto degree) {
     constexpr int P = decltype(degree)::value;
     constexpr int N = tensor::count(P);
-    double matrix[3][P + 1][P + 1];
-    for (int axis = 0; axis < 3; ++axis)
-      tensor::segmentMatrix<P>(a[axis], b[axis], matrix[axis]);
+    const BoxRestriction<P> onBox(a, b);
     Interval partial[4][3]; // per quantity, d/d form axis
     for (int q = fieldOnly ? 3 : 0; q < 4; ++q)
     {
-      double one[N], two[N];
-      tensor::transformAxis<P>(Coefficients.data() + q * N, 0, matrix[0], one);
-      tensor::transformAxis<P>(one, 1, matrix[1], two);
-      tensor::transformAxis<P>(two, 2, matrix[2], one);
+      double one[N];
+      onBox(Coefficients.data() + q * N, one);
       if (q == 3)
         out.f = { *std::min_element(one, one + N), *std::max_element(one, one + N) };
       else
