@@ -1,9 +1,9 @@
 // The one layer between VTK and the VTK-free core, shared by every VTK face of TetDSR (the
 // filters vtkDirectSurfaceRayCaster and vtkDirectSurfaceContour, and the mapper
 // vtkDirectSurfaceMapper): it hands VTK's arrays
-// to the core's mesh contract (tetdsr/MeshInput.h, which checks and converts them), keeps the
+// to the core's mesh contract (tetdsr/input/MeshInput.h, which checks and converts them), keeps the
 // prepared scene while nothing it was built from changes, turns VTK settings (iso-values, lookup
-// tables, clipping planes) into the core's (tetdsr/Settings.h, which checks them), and casts an
+// tables, clipping planes) into the core's (tetdsr/input/Settings.h, which checks them), and casts an
 // image on VTK's threads. It decides nothing and writes no sentence: the core's messages are
 // reported by vtkDirectSurfaceReporting.h.
 //
@@ -14,13 +14,13 @@
 #include "TetDSRFiltersModule.h" // for export macro
 #include "vtkType.h"
 
-#include "tetdsr/ExactSurface.h"
-#include "tetdsr/MeshInput.h"
-#include "tetdsr/Messages.h"
-#include "tetdsr/Renderer.h"
-#include "tetdsr/Scene.h"
-#include "tetdsr/Settings.h"
-#include "tetdsr/SurfaceIndex.h"
+#include "tetdsr/surface/ExactSurface.h"
+#include "tetdsr/input/MeshInput.h"
+#include "tetdsr/common/Messages.h"
+#include "tetdsr/render/Renderer.h"
+#include "tetdsr/index/Scene.h"
+#include "tetdsr/input/Settings.h"
+#include "tetdsr/index/SurfaceIndex.h"
 
 #include <functional>
 #include <memory>
@@ -89,7 +89,7 @@ private:
 /// types' (vtkUnstructuredGrid::GetMTime does not follow edits of its cell arrays).
 TETDSRFILTERS_EXPORT vtkMTimeType MeshModifiedTime(vtkUnstructuredGrid* grid);
 
-/// The core's per-iso-value colours and opacities (tetdsr/Settings.h) with VTK's double[3]
+/// The core's per-iso-value colours and opacities (tetdsr/input/Settings.h) with VTK's double[3]
 /// colours, for the filter's and the mapper's SetIsoValueColor / SetIsoValueOpacity.
 class TETDSRFILTERS_EXPORT IsoValueStyles
 {

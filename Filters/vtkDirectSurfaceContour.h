@@ -11,7 +11,7 @@
  * surface is missed, however small, including surfaces whose cells' nodal values all lie on one
  * side of the iso-value (where vtkContourFilter, which contours linear sub-cells, draws nothing).
  * The core subdivides each cell whose certified field range holds an iso-value until the
- * surface in each piece is one disc (see tetdsr/ExactSurface.h and docs/how-it-works.md).
+ * surface in each piece is one disc (see tetdsr/surface/ExactSurface.h and docs/how-it-works.md).
  *
  * Output:
  * - points (double) and triangles, each triangle's normal toward higher field values;
@@ -36,7 +36,7 @@
  *   surface meets the mesh's boundary) and `NonManifoldEdges` (edges used by more than two: none
  *   on a certified surface).
  *
- * The errors are estimates (see tetdsr/ExactSurface.h), not bounds. Every check and every
+ * The errors are estimates (see tetdsr/surface/ExactSurface.h), not bounds. Every check and every
  * message is the core's: settings it refuses, and inputs of which nothing can be made, give an
  * error and an empty output; cells it skips and pieces it cannot certify give warnings with
  * their counts.

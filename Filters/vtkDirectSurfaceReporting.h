@@ -9,7 +9,7 @@
 
 #include "TetDSRFiltersModule.h" // for export macro
 
-#include "tetdsr/Messages.h"
+#include "tetdsr/common/Messages.h"
 
 class vtkObject;
 

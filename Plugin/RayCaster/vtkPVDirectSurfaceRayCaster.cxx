@@ -5,7 +5,7 @@
 #include "vtkPlane.h"
 
 #include "vtkDirectSurfaceReporting.h"
-#include "tetdsr/Settings.h"
+#include "tetdsr/input/Settings.h"
 
 vtkStandardNewMacro(vtkPVDirectSurfaceRayCaster);
 

@@ -27,8 +27,8 @@
 #include "vtkTransform.h"
 #include "vtkUnstructuredGrid.h"
 
-#include "tetdsr/MeshInput.h"
-#include "tetdsr/Settings.h"
+#include "tetdsr/input/MeshInput.h"
+#include "tetdsr/input/Settings.h"
 
 #include <algorithm>
 #include <cmath>

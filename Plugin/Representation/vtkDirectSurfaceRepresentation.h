@@ -16,7 +16,7 @@
  * SetMapScalars) to the mapper's standard colouring API; colour, opacity and lighting
  * coefficients to the actor's vtkProperty; the transform to the actor.
  *
- * Everything is checked, with the core's sentences (tetdsr/Settings.h, tetdsr/MeshInput.h), as
+ * Everything is checked, with the core's sentences (tetdsr/input/Settings.h, tetdsr/input/MeshInput.h), as
  * ParaView's properties are not (its Python sets any value, a domain only guides the panel):
  * a number outside its range is clamped with a warning and NaN refused with an error; a list
  * (ClipPlanes, IsoValueColors) that is not whole planes or colours is refused with an error; an

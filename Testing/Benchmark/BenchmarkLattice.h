@@ -2,7 +2,7 @@
 // tets with three fields sampled at its nodes.
 #pragma once
 
-#include "tetdsr/Scene.h"
+#include "tetdsr/index/Scene.h"
 
 #include <cmath>
 #include <cstddef>

@@ -11,12 +11,12 @@
 // same cell at every order (W is a polynomial of degree 2 in L, represented exactly by the order-P
 // nodes), with the field |q - c|^2 of the preimage q (quadratic in L): the cost of the degree
 // alone. Then a map and field of full degree P (a bump of degree P in L).
-#include "tetdsr/CurvedHigherOrderTetCell.h"
-#include "tetdsr/CurvedTet.h"
-#include "tetdsr/CurvedTetCell.h"
-#include "tetdsr/HigherOrderTet.h"
-#include "tetdsr/HexahedronCell.h"
-#include "tetdsr/IsoparametricRay.h"
+#include "tetdsr/cells/CurvedHigherOrderTetCell.h"
+#include "tetdsr/math/CurvedTet.h"
+#include "tetdsr/cells/CurvedTetCell.h"
+#include "tetdsr/math/HigherOrderTet.h"
+#include "tetdsr/cells/HexahedronCell.h"
+#include "tetdsr/cells/IsoparametricRay.h"
 
 #include <algorithm>
 #include <chrono>

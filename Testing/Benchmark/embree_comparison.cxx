@@ -13,10 +13,10 @@
 // exactly. The exact double ray of each pixel is kept beside Embree's float ray, found by the
 // ray's id; the callback tests the cell with it.
 #include "BenchmarkLattice.h"
-#include "tetdsr/Camera.h"
-#include "tetdsr/Hierarchy.h"
-#include "tetdsr/Scene.h"
-#include "tetdsr/SurfaceIndex.h"
+#include "tetdsr/common/Camera.h"
+#include "tetdsr/index/Hierarchy.h"
+#include "tetdsr/index/Scene.h"
+#include "tetdsr/index/SurfaceIndex.h"
 
 #include <embree3/rtcore.h>
 

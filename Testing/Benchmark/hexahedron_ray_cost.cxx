@@ -9,7 +9,7 @@
 // The cell: the unit cube's control net moved by a smooth bend of `bend` (0 for the straight
 // cell, 0.03 as tetdsr-benchmark --kinds bends its lattices), the field |x - c|^2 + 0.8 x at the
 // control points (a Bezier cell: any net is one), its iso-value halfway through their range.
-#include "tetdsr/HexahedronCell.h"
+#include "tetdsr/cells/HexahedronCell.h"
 
 #include <algorithm>
 #include <chrono>

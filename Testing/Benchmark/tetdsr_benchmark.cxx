@@ -49,11 +49,11 @@
 #include "vtkXMLUnstructuredGridWriter.h"
 
 #include "BenchmarkLattice.h"
-#include "tetdsr/HexahedronCell.h"
-#include "tetdsr/SplitCells.h"
-#include "tetdsr/HigherOrderTet.h"
-#include "tetdsr/QuadraticTet.h"
-#include "tetdsr/Renderer.h"
+#include "tetdsr/cells/HexahedronCell.h"
+#include "tetdsr/cells/SplitCells.h"
+#include "tetdsr/math/HigherOrderTet.h"
+#include "tetdsr/math/QuadraticTet.h"
+#include "tetdsr/render/Renderer.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 

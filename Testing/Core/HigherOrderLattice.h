@@ -10,8 +10,8 @@
 // system (Bernstein basis at the nodes, Gaussian elimination), not by the core's conversion.
 #pragma once
 
-#include "tetdsr/HigherOrderTet.h"
-#include "tetdsr/Scene.h"
+#include "tetdsr/math/HigherOrderTet.h"
+#include "tetdsr/index/Scene.h"
 
 #include <glm/glm.hpp>
 

@@ -1,6 +1,6 @@
 #pragma once
 // An image the core renders into, with buffers it owns: the ImageView of the core's tests.
-#include "tetdsr/Renderer.h"
+#include "tetdsr/render/Renderer.h"
 
 #include <cstdint>
 #include <vector>

@@ -2,7 +2,7 @@
 // into 6 tetrahedra around its main diagonal (Kuhn), with mid-edge nodes, in VTK node order.
 #pragma once
 
-#include "tetdsr/Scene.h"
+#include "tetdsr/index/Scene.h"
 
 #include <glm/glm.hpp>
 

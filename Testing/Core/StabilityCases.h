@@ -15,9 +15,9 @@
 
 #include "LatticeMesh.h"
 
-#include "tetdsr/Camera.h"
-#include "tetdsr/Scene.h"
-#include "tetdsr/SurfaceIndex.h"
+#include "tetdsr/common/Camera.h"
+#include "tetdsr/index/Scene.h"
+#include "tetdsr/index/SurfaceIndex.h"
 
 #include <glm/glm.hpp>
 

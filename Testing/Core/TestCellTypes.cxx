@@ -5,10 +5,10 @@
 // - the messages name every type read and none refused;
 // - the plugin's XML, the filters' and Python package's docstrings, the package's metadata and
 //   the README name every type read (or, where a line is short, every shape and the orders).
-#include "tetdsr/CellKinds.h"
-#include "tetdsr/CellTypes.h"
-#include "tetdsr/HexahedronCell.h"
-#include "tetdsr/SplitCells.h"
+#include "tetdsr/cells/CellKinds.h"
+#include "tetdsr/common/CellTypes.h"
+#include "tetdsr/cells/HexahedronCell.h"
+#include "tetdsr/cells/SplitCells.h"
 
 #include <gtest/gtest.h>
 

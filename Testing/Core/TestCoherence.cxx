@@ -4,7 +4,7 @@
 // cameras near and far.
 #include "ImageBuffers.h"
 #include "LatticeMesh.h"
-#include "tetdsr/Renderer.h"
+#include "tetdsr/render/Renderer.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>

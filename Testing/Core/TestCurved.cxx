@@ -11,12 +11,12 @@
 // sampling of t -> Q(W^-1(o + t d)) and bisection. Neither truth uses the code under test.
 #include "LatticeMesh.h"
 
-#include "tetdsr/Camera.h"
-#include "tetdsr/CurvedTet.h"
-#include "tetdsr/QuadraticTet.h"
-#include "tetdsr/Renderer.h"
-#include "tetdsr/Scene.h"
-#include "tetdsr/SurfaceIndex.h"
+#include "tetdsr/common/Camera.h"
+#include "tetdsr/math/CurvedTet.h"
+#include "tetdsr/math/QuadraticTet.h"
+#include "tetdsr/render/Renderer.h"
+#include "tetdsr/index/Scene.h"
+#include "tetdsr/index/SurfaceIndex.h"
 
 #include <gtest/gtest.h>
 

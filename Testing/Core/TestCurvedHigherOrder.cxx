@@ -8,10 +8,10 @@
 // under test: a world point's preimage is found by Newton on the analytic map (finite-difference
 // Jacobian, exact residual), a linear field's isosurface is the plane a . x = c, and a field's
 // crossings along a ray are found by dense sampling of f(x^-1(o + t d)) and bisection.
-#include "tetdsr/CurvedHigherOrderTetCell.h"
-#include "tetdsr/CurvedTetCell.h"
-#include "tetdsr/HigherOrderTet.h"
-#include "tetdsr/QuadraticTet.h"
+#include "tetdsr/cells/CurvedHigherOrderTetCell.h"
+#include "tetdsr/cells/CurvedTetCell.h"
+#include "tetdsr/math/HigherOrderTet.h"
+#include "tetdsr/math/QuadraticTet.h"
 
 #include <gtest/gtest.h>
 

@@ -4,8 +4,8 @@
 // linear field is held exactly by curved cells).
 #include "LatticeMesh.h"
 
-#include "tetdsr/ExactSurface.h"
-#include "tetdsr/Scene.h"
+#include "tetdsr/surface/ExactSurface.h"
+#include "tetdsr/index/Scene.h"
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
 //   hit; a ray aimed at the plane outside the cell misses;
 // - contains / coordinates (the map's inverse), the exact gradient, and det J's sign: inverted
 //   cells rendered, folded ones refused.
-#include "tetdsr/HexahedronCell.h"
+#include "tetdsr/cells/HexahedronCell.h"
 
 #include <gtest/gtest.h>
 

@@ -4,10 +4,10 @@
 // itself, found here by dense sampling and bisection of the analytic field (not of the mesh).
 #include "HigherOrderLattice.h"
 
-#include "tetdsr/Camera.h"
-#include "tetdsr/MeshInput.h"
-#include "tetdsr/Scene.h"
-#include "tetdsr/SurfaceIndex.h"
+#include "tetdsr/common/Camera.h"
+#include "tetdsr/input/MeshInput.h"
+#include "tetdsr/index/Scene.h"
+#include "tetdsr/index/SurfaceIndex.h"
 
 #include <gtest/gtest.h>
 

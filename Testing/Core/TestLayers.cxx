@@ -3,7 +3,7 @@
 // ray (compositeLayers), as one Renderer composites a ray's crossings.
 #include "ImageBuffers.h"
 #include "LatticeMesh.h"
-#include "tetdsr/Renderer.h"
+#include "tetdsr/render/Renderer.h"
 
 #include <gtest/gtest.h>
 

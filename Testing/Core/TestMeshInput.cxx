@@ -3,8 +3,8 @@
 // claim is checked before anything is read; every skipped cell is counted and told.
 #include "LatticeMesh.h"
 
-#include "tetdsr/MeshInput.h"
-#include "tetdsr/SurfaceIndex.h"
+#include "tetdsr/input/MeshInput.h"
+#include "tetdsr/index/SurfaceIndex.h"
 
 #include <gtest/gtest.h>
 

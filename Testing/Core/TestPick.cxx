@@ -3,7 +3,7 @@
 // clipping plane; and picks at pixel centres against the rendered image, bit for bit.
 #include "ImageBuffers.h"
 #include "LatticeMesh.h"
-#include "tetdsr/Renderer.h"
+#include "tetdsr/render/Renderer.h"
 
 #include <gtest/gtest.h>
 

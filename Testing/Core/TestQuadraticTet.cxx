@@ -3,11 +3,11 @@
 #include "LatticeMesh.h"
 #include "StabilityCases.h"
 
-#include "tetdsr/Camera.h"
-#include "tetdsr/QuadraticTet.h"
-#include "tetdsr/Roots.h"
-#include "tetdsr/Scene.h"
-#include "tetdsr/SurfaceIndex.h"
+#include "tetdsr/common/Camera.h"
+#include "tetdsr/math/QuadraticTet.h"
+#include "tetdsr/math/Roots.h"
+#include "tetdsr/index/Scene.h"
+#include "tetdsr/index/SurfaceIndex.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // The renderer's colour table: what the VTK adapter samples a lookup table into.
-#include "tetdsr/Renderer.h"
+#include "tetdsr/render/Renderer.h"
 
 #include <gtest/gtest.h>
 

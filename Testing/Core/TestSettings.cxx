@@ -1,6 +1,6 @@
-// The settings' checks every face shares (tetdsr/Settings.h): what each refuses, and the exact
+// The settings' checks every face shares (tetdsr/input/Settings.h): what each refuses, and the exact
 // sentence a user reads (the faces' tests compare these texts too).
-#include "tetdsr/Settings.h"
+#include "tetdsr/input/Settings.h"
 
 #include "LatticeMesh.h"
 

@@ -3,9 +3,9 @@
 // domain's diagonal; normal error <= 1e-6 rad where |grad f| is not near zero.
 #include "StabilityCases.h"
 
-#include "tetdsr/QuadraticTet.h"
-#include "tetdsr/Scene.h"
-#include "tetdsr/SurfaceIndex.h"
+#include "tetdsr/math/QuadraticTet.h"
+#include "tetdsr/index/Scene.h"
+#include "tetdsr/index/SurfaceIndex.h"
 
 #include <gtest/gtest.h>
 

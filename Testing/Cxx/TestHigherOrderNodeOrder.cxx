@@ -12,8 +12,8 @@
 #include "vtkPoints.h"
 #include "vtkIdList.h"
 
-#include "tetdsr/HigherOrderTet.h"
-#include "tetdsr/Scene.h"
+#include "tetdsr/math/HigherOrderTet.h"
+#include "tetdsr/index/Scene.h"
 
 #include <glm/glm.hpp>
 

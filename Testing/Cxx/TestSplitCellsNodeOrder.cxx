@@ -15,9 +15,9 @@
 #include "vtkPoints.h"
 #include "vtkUnstructuredGrid.h"
 
-#include "tetdsr/HexahedronCell.h"
-#include "tetdsr/HigherOrderTet.h"
-#include "tetdsr/SplitCells.h"
+#include "tetdsr/cells/HexahedronCell.h"
+#include "tetdsr/math/HigherOrderTet.h"
+#include "tetdsr/cells/SplitCells.h"
 
 #include <algorithm>
 #include <array>

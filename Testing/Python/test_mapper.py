@@ -259,7 +259,7 @@ class Mapper(unittest.TestCase):
         caster.SetCamera(camera)
         caster.Update()
         t = vtk_to_numpy(caster.GetOutput().GetPointData().GetArray("Depth"))
-        # The filter's rays (see tetdsr/Camera.h): from the camera position (perspective) or
+        # The filter's rays (see tetdsr/common/Camera.h): from the camera position (perspective) or
         # its plane (parallel); the hit point, then its window depth.
         position = np.array(camera.GetPosition())
         forward = np.array(camera.GetFocalPoint()) - position

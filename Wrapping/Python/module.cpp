@@ -5,14 +5,14 @@
 // arrays, keeps the surface it casts into and the arrays it writes alive, and casts on
 // std::threads without the GIL. The Python filter (tetdsr/filter.py) only gets arrays out of VTK
 // objects and passes the messages on.
-#include "tetdsr/Camera.h"
-#include "tetdsr/ExactSurface.h"
-#include "tetdsr/MeshInput.h"
-#include "tetdsr/Messages.h"
-#include "tetdsr/Renderer.h"
-#include "tetdsr/Scene.h"
-#include "tetdsr/Settings.h"
-#include "tetdsr/SurfaceIndex.h"
+#include "tetdsr/common/Camera.h"
+#include "tetdsr/surface/ExactSurface.h"
+#include "tetdsr/input/MeshInput.h"
+#include "tetdsr/common/Messages.h"
+#include "tetdsr/render/Renderer.h"
+#include "tetdsr/index/Scene.h"
+#include "tetdsr/input/Settings.h"
+#include "tetdsr/index/SurfaceIndex.h"
 
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>

@@ -2,7 +2,7 @@
 as data (the C++ build's Filters/vtkDirectSurfaceContour.h) on the pip build's core.
 
 From the grid the ray caster reads, a vtkPolyData holding the core's watertight triangle surface
-(Filters/Core/tetdsr/ExactSurface.h): vertices that are certified roots of each cell's own
+(Filters/Core/tetdsr/surface/ExactSurface.h): vertices that are certified roots of each cell's own
 polynomial field, triangles within a certified distance of the true surface (every piece found,
 also where no nodal value crosses the iso-value), and the area, enclosed volume and point-array
 integrals of the curved surface. As in filter.py, this file only moves arrays between VTK objects

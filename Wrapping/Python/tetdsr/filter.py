@@ -4,7 +4,7 @@ interface and outputs (Filters/vtkDirectSurfaceRayCaster.h) on the pip build's c
 This file is VTK plumbing only: it gets arrays out of VTK objects (numpy views of VTK's memory),
 keeps the stamps that decide when the mesh is prepared again, observes the objects whose edits
 re-execute it, makes the output image's arrays and turns the core's messages into VTK's events.
-Every check and every sentence is the core's (tetdsr._core, Filters/Core/tetdsr/Settings.h and
+Every check and every sentence is the core's (tetdsr._core, Filters/Core/tetdsr/input/Settings.h and
 MeshInput.h), as for the C++ filter: the core checks every size the input claims, views its
 arrays where their layout allows and converts them once where not, and casts the image tile by
 tile on all cores, writing straight into the output's VTK arrays.

@@ -68,7 +68,7 @@ def _number(name, value, lo=-math.inf, hi=math.inf, low_open=False):
 
 
 def _range(setting):
-    """The core's range of a shading number (Filters/Core/tetdsr/Settings.h)."""
+    """The core's range of a shading number (Filters/Core/tetdsr/input/Settings.h)."""
     number = _core.NUMBER_SETTINGS[setting]
     return number.lo, number.hi
 
