@@ -41,6 +41,7 @@
 #include "vtkDirectSurfaceAdapter.h"
 #include "vtkDirectSurfacePick.h"
 #include "vtkDirectSurfaceReporting.h"
+#include "tetdsr/render/Upsampling.h"
 
 #include <algorithm>
 #include <atomic>
@@ -175,114 +176,83 @@ void ChooseColors(vtkMapper* mapper, vtkUnstructuredGrid* grid, adapter::Prepare
   }
 }
 
-/// The colour and depth images drawn by a full-screen quad: colour as RGBA8, window depth as
+/// The colour and depth images drawn by full-screen quads: colour as RGBA8, window depth as
 /// R32F; a depth of 1 (a miss) is discarded. An image of the viewport's size is drawn pixel for
-/// pixel; a smaller one (interaction) is upsampled edge- and depth-aware (`upsample`).
+/// pixel (kQuadFull); a smaller one (interaction) is upsampled without blending across
+/// silhouettes, by the core's rule (tetdsr/render/Upsampling.h), in two draws: the blocks of
+/// 2 x 2 cast pixels on one surface filtered bilinearly by the texture unit (kQuadSurface), then
+/// the blocks with a silhouette or a miss, where each output pixel keeps only the corners on its
+/// nearest cast pixel's surface (the masks' bits) and the nearest cast pixel decides coverage
+/// (kQuadMixed). Three programs without branches between them: a software rasteriser (Mesa's
+/// llvmpipe) runs both sides of a branch, so one program with all three cost an interactive
+/// frame at 1024 x 1024 about 20 ms more than these.
 const char* const kQuadDeclarations = R"(
 uniform sampler2D colorTexture;
 uniform sampler2D depthTexture;
-uniform int upsample;
+)";
+const char* const kQuadUpsampleDeclarations = R"(
+uniform sampler2D colorTexture;
+uniform sampler2D depthTexture;
+uniform sampler2D maskTexture;
+uniform sampler2D blockTexture;
 
-// Window depth of the cast pixel p; 2 outside the image (a miss is 1).
-float castDepth(ivec2 p)
+int byteAt(sampler2D bytes, ivec2 p)
 {
-  ivec2 size = textureSize(depthTexture, 0);
-  if (any(lessThan(p, ivec2(0))) || any(greaterThanEqual(p, size)))
-  {
-    return 2.0;
-  }
-  return texelFetch(depthTexture, p, 0).r;
-}
-
-// Whether cast pixel n (depth dn) and its neighbour n + o (depth dt) show one surface, judged
-// from the four depths along the line through them: n - o, n, n + o, n + 2o. A continuous
-// surface changes its depth by similar steps from pixel to pixel; a silhouette or a depth
-// discontinuity between n and n + o is a step out of line with those on both sides of it (also
-// for a feature one pixel wide: the step beyond it is the other surface's own). So the step is
-// one surface's when it is at most twice the smaller step beside it (the tolerance scales with
-// the local depth slope: steep and flat surfaces alike), or, where the slope itself changes
-// (near a depth extremum the steps shrink towards 0), when the two second differences agree in
-// sign and size, as a smooth curve's do (a jump makes them opposite). A side that is a miss or
-// outside the image says nothing. 2^-20 covers the rounding of float depths (24-bit mantissa)
-// below 1.
-bool sameSurface(ivec2 n, ivec2 o, float dn, float dt)
-{
-  if (dt >= 1.0)
-  {
-    return false;
-  }
-  float before = castDepth(n - o);
-  float after = castDepth(n + 2 * o);
-  float step = dt - dn;
-  float besideStep = 0.0; // (0 when neither side tells: then only equal depths pass)
-  if (before < 1.0 && after < 1.0)
-  {
-    besideStep = min(abs(dn - before), abs(after - dt));
-  }
-  else if (before < 1.0)
-  {
-    besideStep = abs(dn - before);
-  }
-  else if (after < 1.0)
-  {
-    besideStep = abs(after - dt);
-  }
-  if (abs(step) <= 2.0 * besideStep + 1.0 / 1048576.0)
-  {
-    return true;
-  }
-  if (before >= 1.0 || after >= 1.0)
-  {
-    return false;
-  }
-  float curveBefore = step - (dn - before);
-  float curveAfter = (after - dt) - step;
-  return curveBefore * curveAfter > 0.0 &&
-    abs(curveAfter - curveBefore) <= 0.5 * (abs(curveBefore) + abs(curveAfter));
+  return int(texelFetch(bytes, p, 0).r * 255.0 + 0.5);
 }
 )";
-const char* const kQuadImplementation = R"(
-  if (upsample == 0)
+const char* const kQuadFull = R"(
+  ivec2 nearest = min(ivec2(texCoord * vec2(textureSize(depthTexture, 0))),
+    textureSize(depthTexture, 0) - 1);
+  float depth = texelFetch(depthTexture, nearest, 0).r;
+  if (depth >= 1.0) { discard; }
+  gl_FragDepth = depth;
+  gl_FragData[0] = texelFetch(colorTexture, nearest, 0);
+)";
+const char* const kQuadUpsample = R"(
+  ivec2 size = textureSize(depthTexture, 0);
+  vec2 castPoint = texCoord * vec2(size); // cast pixel k spans [k, k + 1)
+  ivec2 corner = ivec2(floor(castPoint - 0.5));
+  int block = byteAt(blockTexture, corner + 1);
+  if (block == 2) { discard; } // every corner a miss
+  // One surface (block 1): the texture unit's bilinear filter.
+  vec4 color = texture(colorTexture, texCoord);
+  float depth = texture(depthTexture, texCoord).r;
+  // A silhouette or a miss among the corners (block 0): only the corners on the nearest cast
+  // pixel's surface. (A loop run once or never, not an if: a software rasteriser such as Mesa's
+  // llvmpipe runs both sides of an if for every pixel, but leaves a loop that no pixel of its
+  // group enters.)
+  for (int mixed = block == 0 ? 1 : 0; mixed > 0; --mixed)
   {
-    float depth = texture(depthTexture, texCoord).r;
-    if (depth >= 1.0) { discard; }
-    gl_FragDepth = depth;
-    gl_FragData[0] = texture(colorTexture, texCoord);
-  }
-  else
-  {
-    // A joint bilateral filter: the bilinear weights of the 2 x 2 cast pixels around this one,
-    // keeping only those on the nearest cast pixel's surface, so that colour and depth never
-    // blend across a silhouette or a depth discontinuity and a miss never contributes. The
-    // nearest cast pixel decides coverage: silhouettes stay as the cast has them.
-    ivec2 size = textureSize(depthTexture, 0);
-    vec2 castPoint = texCoord * vec2(size); // cast pixel k spans [k, k + 1)
     ivec2 nearest = min(ivec2(castPoint), size - 1);
     float nearestDepth = texelFetch(depthTexture, nearest, 0).r;
     if (nearestDepth >= 1.0) { discard; }
-    ivec2 corner = ivec2(floor(castPoint - 0.5));
+    int mask = byteAt(maskTexture, nearest);
     vec2 f = castPoint - 0.5 - vec2(corner);
-    vec4 color = vec4(0.0);
-    float depth = 0.0;
+    color = vec4(0.0);
+    depth = 0.0;
     float weight = 0.0;
     for (int k = 0; k < 4; ++k)
     {
       ivec2 offset = ivec2(k & 1, k >> 1);
       ivec2 p = clamp(corner + offset, ivec2(0), size - 1);
-      float d = texelFetch(depthTexture, p, 0).r;
-      if (p == nearest || sameSurface(nearest, p - nearest, nearestDepth, d))
+      ivec2 o = p - nearest; // each component in -1..1
+      int bit = (o.y + 1) * 3 + (o.x + 1);
+      if (bit == 4 || ((mask >> (bit < 4 ? bit : bit - 1)) & 1) != 0)
       {
         vec2 axes = mix(1.0 - f, f, vec2(offset));
         float w = axes.x * axes.y;
         color += w * texelFetch(colorTexture, p, 0);
-        depth += w * d;
+        depth += w * texelFetch(depthTexture, p, 0).r;
         weight += w;
       }
     }
     // (weight > 0: the nearest cast pixel's bilinear weight is at least 1/4.)
-    gl_FragDepth = depth / weight;
-    gl_FragData[0] = color / weight;
+    color /= weight;
+    depth /= weight;
   }
+  gl_FragDepth = depth;
+  gl_FragData[0] = color;
 )";
 }
 
@@ -633,7 +603,13 @@ struct vtkDirectSurfaceMapper::Internals
     vtkWeakPointer<vtkActor> Actor;
     vtkSmartPointer<vtkTextureObject> ColorTexture;
     vtkSmartPointer<vtkTextureObject> DepthTexture;
-    std::unique_ptr<vtkOpenGLQuadHelper> Quad;
+    /// For an image smaller than the viewport: per cast pixel its same-surface bits, per 2 x 2
+    /// block its kind (tetdsr/render/Upsampling.h), and those as textures.
+    std::vector<std::uint8_t> Masks, Blocks;
+    vtkSmartPointer<vtkTextureObject> MaskTexture;
+    vtkSmartPointer<vtkTextureObject> BlockTexture;
+    bool UpsamplingValid = false;
+    std::unique_ptr<vtkOpenGLQuadHelper> Quads[2]; ///< kQuadFull, kQuadUpsample
     bool TexturesValid = false;
     std::vector<double> Signature;
     int ImageSize[2] = { 0, 0 };
@@ -671,12 +647,16 @@ struct vtkDirectSurfaceMapper::Internals
         }
       }
       this->Selection.Signature.clear();
-      if (this->Quad)
+      for (auto& quad : this->Quads)
       {
-        this->Quad->ReleaseGraphicsResources(window);
-        this->Quad.reset();
+        if (quad)
+        {
+          quad->ReleaseGraphicsResources(window);
+          quad.reset();
+        }
       }
-      for (auto* texture : { &this->ColorTexture, &this->DepthTexture })
+      for (auto* texture :
+        { &this->ColorTexture, &this->DepthTexture, &this->MaskTexture, &this->BlockTexture })
       {
         if (*texture)
         {
@@ -685,6 +665,7 @@ struct vtkDirectSurfaceMapper::Internals
         }
       }
       this->TexturesValid = false;
+      this->UpsamplingValid = false;
       this->Signature.clear();
     }
   };
@@ -787,34 +768,68 @@ struct vtkDirectSurfaceMapper::Internals
     });
   }
 
-  /// Loads an RGBA8 image and a float depth image of width x height into two nearest-sampled
-  /// textures of the window's context (made on first use).
+  /// A texture of the window's context (made on first use), clamped to its edge, read as
+  /// `filter` says.
+  static void Ready(vtkSmartPointer<vtkTextureObject>& texture, vtkOpenGLRenderWindow* window,
+    int filter = vtkTextureObject::Nearest)
+  {
+    if (!texture)
+    {
+      texture = vtkSmartPointer<vtkTextureObject>::New();
+      texture->SetMinificationFilter(filter);
+      texture->SetMagnificationFilter(filter);
+      texture->SetWrapS(vtkTextureObject::ClampToEdge);
+      texture->SetWrapT(vtkTextureObject::ClampToEdge);
+    }
+    texture->SetContext(window);
+  }
+
+  /// Loads an RGBA8 image and a float depth image of width x height into two textures of the
+  /// window's context (made on first use; the quad reads them texel by texel, and filters them
+  /// when `filter` is Linear and the image is upsampled).
   static void LoadTextures(vtkOpenGLRenderWindow* window, vtkSmartPointer<vtkTextureObject>& color,
     vtkSmartPointer<vtkTextureObject>& depth, int width, int height, const std::uint8_t* colors,
-    const float* depths)
+    const float* depths, int filter = vtkTextureObject::Nearest)
   {
-    for (auto* texture : { &color, &depth })
-    {
-      if (!*texture)
-      {
-        *texture = vtkSmartPointer<vtkTextureObject>::New();
-        (*texture)->SetMinificationFilter(vtkTextureObject::Nearest);
-        (*texture)->SetMagnificationFilter(vtkTextureObject::Nearest);
-        (*texture)->SetWrapS(vtkTextureObject::ClampToEdge);
-        (*texture)->SetWrapT(vtkTextureObject::ClampToEdge);
-      }
-      (*texture)->SetContext(window);
-    }
+    Ready(color, window, filter);
+    Ready(depth, window, filter);
     // (Create2DFromRaw only reads the pixels; its parameter is not const.)
     color->Create2DFromRaw(width, height, 4, VTK_UNSIGNED_CHAR, const_cast<std::uint8_t*>(colors));
     depth->Create2DFromRaw(width, height, 1, VTK_FLOAT, const_cast<float*>(depths));
+  }
+
+  /// The upsampling's masks and blocks of the image just loaded (the core's rule, rows on
+  /// vtkSMPTools' threads), as two byte textures.
+  static void LoadUpsampling(ViewResources& gl, vtkOpenGLRenderWindow* window, const float* depth,
+    int width, int height)
+  {
+    gl.Masks.resize(static_cast<std::size_t>(width) * height);
+    gl.Blocks.resize(static_cast<std::size_t>(width + 1) * (height + 1));
+    vtkSMPTools::For(0, height, [&](vtkIdType begin, vtkIdType end) {
+      tetdsr::sameSurfaceMasks(depth, width, height, gl.Masks.data(), static_cast<int>(begin),
+        static_cast<int>(end));
+    });
+    vtkSMPTools::For(0, height + 1, [&](vtkIdType begin, vtkIdType end) {
+      tetdsr::upsampleBlocks(depth, gl.Masks.data(), width, height, gl.Blocks.data(),
+        static_cast<int>(begin), static_cast<int>(end));
+    });
+    Ready(gl.MaskTexture, window);
+    Ready(gl.BlockTexture, window);
+    gl.MaskTexture->Create2DFromRaw(width, height, 1, VTK_UNSIGNED_CHAR, gl.Masks.data());
+    gl.BlockTexture->Create2DFromRaw(width + 1, height + 1, 1, VTK_UNSIGNED_CHAR, gl.Blocks.data());
+    gl.UpsamplingValid = true;
   }
 
   static void Upload(ViewResources& gl, vtkOpenGLRenderWindow* window, const ImageCast& images,
     int width, int height, double sampleDistance)
   {
     LoadTextures(window, gl.ColorTexture, gl.DepthTexture, width, height, images.Colors.data(),
-      images.WindowDepth.data());
+      images.WindowDepth.data(), vtkTextureObject::Linear);
+    gl.UpsamplingValid = false;
+    if (sampleDistance > 1.0) // (a cast of the viewport's size is drawn texel for texel)
+    {
+      LoadUpsampling(gl, window, images.WindowDepth.data(), width, height);
+    }
     gl.TexturesValid = true;
     gl.ImageSize[0] = width;
     gl.ImageSize[1] = height;
@@ -824,8 +839,26 @@ struct vtkDirectSurfaceMapper::Internals
   static bool Draw(
     ViewResources& gl, vtkOpenGLRenderWindow* window, bool translucent, const int viewport[4])
   {
+    // (An image of another size without its upsampling, which no Upload makes, is drawn from
+    // its nearest cast pixels.)
+    const bool upsample = gl.ImageSize[0] != viewport[2] || gl.ImageSize[1] != viewport[3];
     return DrawTextures(gl, window, translucent, viewport, gl.ColorTexture, gl.DepthTexture,
-      gl.ImageSize[0] != viewport[2] || gl.ImageSize[1] != viewport[3]);
+      upsample && gl.UpsamplingValid);
+  }
+
+  /// The quad drawing with `implementation` (made on first use); false if it does not compile.
+  static bool ReadyQuad(std::unique_ptr<vtkOpenGLQuadHelper>& quad, vtkOpenGLRenderWindow* window,
+    const char* declarations, const char* implementation)
+  {
+    if (!quad)
+    {
+      std::string fragment = vtkOpenGLRenderUtilities::GetFullScreenQuadFragmentShaderTemplate();
+      vtkShaderProgram::Substitute(fragment, "//VTK::FSQ::Decl", declarations);
+      vtkShaderProgram::Substitute(fragment, "//VTK::FSQ::Impl", implementation);
+      quad.reset(new vtkOpenGLQuadHelper(window,
+        vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), fragment.c_str(), ""));
+    }
+    return quad->Program && quad->Program->GetCompiled();
   }
 
   /// Draws `color` at `depth` (a texture each, of the viewport's size unless `upsample`) with
@@ -833,19 +866,9 @@ struct vtkDirectSurfaceMapper::Internals
   static bool DrawTextures(ViewResources& gl, vtkOpenGLRenderWindow* window, bool translucent,
     const int viewport[4], vtkTextureObject* color, vtkTextureObject* depth, bool upsample)
   {
-    if (!gl.Quad)
-    {
-      std::string fragment = vtkOpenGLRenderUtilities::GetFullScreenQuadFragmentShaderTemplate();
-      vtkShaderProgram::Substitute(fragment, "//VTK::FSQ::Decl", kQuadDeclarations);
-      vtkShaderProgram::Substitute(fragment, "//VTK::FSQ::Impl", kQuadImplementation);
-      gl.Quad.reset(new vtkOpenGLQuadHelper(window,
-        vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), fragment.c_str(), ""));
-    }
-    else
-    {
-      window->GetShaderCache()->ReadyShaderProgram(gl.Quad->Program);
-    }
-    if (!gl.Quad->Program || !gl.Quad->Program->GetCompiled())
+    const int k = upsample ? 1 : 0;
+    if (!ReadyQuad(gl.Quads[k], window, upsample ? kQuadUpsampleDeclarations : kQuadDeclarations,
+          upsample ? kQuadUpsample : kQuadFull))
     {
       return false;
     }
@@ -877,11 +900,27 @@ struct vtkDirectSurfaceMapper::Internals
     }
     color->Activate();
     depth->Activate();
-    gl.Quad->Program->SetUniformi("colorTexture", color->GetTextureUnit());
-    gl.Quad->Program->SetUniformi("depthTexture", depth->GetTextureUnit());
+    if (upsample)
+    {
+      gl.MaskTexture->Activate();
+      gl.BlockTexture->Activate();
+    }
     // Full resolution is drawn texel for texel, exactly as cast.
-    gl.Quad->Program->SetUniformi("upsample", upsample ? 1 : 0);
-    gl.Quad->Render();
+    vtkShaderProgram* program = gl.Quads[k]->Program;
+    window->GetShaderCache()->ReadyShaderProgram(program);
+    program->SetUniformi("colorTexture", color->GetTextureUnit());
+    program->SetUniformi("depthTexture", depth->GetTextureUnit());
+    if (upsample)
+    {
+      program->SetUniformi("maskTexture", gl.MaskTexture->GetTextureUnit());
+      program->SetUniformi("blockTexture", gl.BlockTexture->GetTextureUnit());
+    }
+    gl.Quads[k]->Render();
+    if (upsample)
+    {
+      gl.BlockTexture->Deactivate();
+      gl.MaskTexture->Deactivate();
+    }
     depth->Deactivate();
     color->Deactivate();
     return true;
