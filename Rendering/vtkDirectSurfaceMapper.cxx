@@ -48,6 +48,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <map>
 #include <string>
@@ -605,7 +606,7 @@ struct vtkDirectSurfaceMapper::Internals
     vtkSmartPointer<vtkTextureObject> DepthTexture;
     /// For an image smaller than the viewport: per cast pixel its same-surface bits, per 2 x 2
     /// block its kind (tetdsr/render/Upsampling.h), and those as textures.
-    std::vector<std::uint8_t> Masks, Blocks;
+    tetdsr::UpsampleMaps Upsampling;
     vtkSmartPointer<vtkTextureObject> MaskTexture;
     vtkSmartPointer<vtkTextureObject> BlockTexture;
     bool UpsamplingValid = false;
@@ -803,20 +804,16 @@ struct vtkDirectSurfaceMapper::Internals
   static void LoadUpsampling(ViewResources& gl, vtkOpenGLRenderWindow* window, const float* depth,
     int width, int height)
   {
-    gl.Masks.resize(static_cast<std::size_t>(width) * height);
-    gl.Blocks.resize(static_cast<std::size_t>(width + 1) * (height + 1));
-    vtkSMPTools::For(0, height, [&](vtkIdType begin, vtkIdType end) {
-      tetdsr::sameSurfaceMasks(depth, width, height, gl.Masks.data(), static_cast<int>(begin),
-        static_cast<int>(end));
-    });
-    vtkSMPTools::For(0, height + 1, [&](vtkIdType begin, vtkIdType end) {
-      tetdsr::upsampleBlocks(depth, gl.Masks.data(), width, height, gl.Blocks.data(),
-        static_cast<int>(begin), static_cast<int>(end));
-    });
+    tetdsr::upsampleMaps(depth, width, height, gl.Upsampling,
+      [](tetdsr::NodeId count, const std::function<void(tetdsr::NodeId, tetdsr::NodeId)>& body) {
+        vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) { body(begin, end); });
+      });
     Ready(gl.MaskTexture, window);
     Ready(gl.BlockTexture, window);
-    gl.MaskTexture->Create2DFromRaw(width, height, 1, VTK_UNSIGNED_CHAR, gl.Masks.data());
-    gl.BlockTexture->Create2DFromRaw(width + 1, height + 1, 1, VTK_UNSIGNED_CHAR, gl.Blocks.data());
+    gl.MaskTexture->Create2DFromRaw(
+      width, height, 1, VTK_UNSIGNED_CHAR, gl.Upsampling.masks.data());
+    gl.BlockTexture->Create2DFromRaw(
+      width + 1, height + 1, 1, VTK_UNSIGNED_CHAR, gl.Upsampling.blocks.data());
     gl.UpsamplingValid = true;
   }
 

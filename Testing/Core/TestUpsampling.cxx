@@ -22,14 +22,12 @@ struct Image
 {
   int width, height;
   std::vector<float> depth;
-  std::vector<std::uint8_t> masks, blocks;
+  tetdsr::UpsampleMaps maps;
 
   Image(int w, int h, const std::function<float(int, int)>& depthAt)
     : width(w)
     , height(h)
     , depth(static_cast<std::size_t>(w) * h)
-    , masks(depth.size())
-    , blocks(static_cast<std::size_t>(w + 1) * (h + 1))
   {
     for (int j = 0; j < h; ++j)
     {
@@ -38,17 +36,22 @@ struct Image
         depth[static_cast<std::size_t>(j) * w + i] = depthAt(i, j);
       }
     }
-    tetdsr::sameSurfaceMasks(depth.data(), w, h, masks.data(), 0, h);
-    tetdsr::upsampleBlocks(depth.data(), masks.data(), w, h, blocks.data(), 0, h + 1);
+    // (Rows in parts of 3, as threads would split them.)
+    tetdsr::upsampleMaps(depth.data(), w, h, maps, [](tetdsr::NodeId count, const auto& body) {
+      for (tetdsr::NodeId begin = 0; begin < count; begin += 3)
+      {
+        body(begin, std::min<tetdsr::NodeId>(begin + 3, count));
+      }
+    });
   }
   /// Whether pixel (i, j) is joined to (i + dx, j + dy).
   bool joined(int i, int j, int dx, int dy) const
   {
-    return (masks[static_cast<std::size_t>(j) * width + i] >> tetdsr::neighbourBit(dx, dy)) & 1u;
+    return (maps.masks[static_cast<std::size_t>(j) * width + i] >> tetdsr::neighbourBit(dx, dy)) & 1u;
   }
   UpsampleBlock block(int i, int j) const // lower-left corner (i, j), -1 <= i, j
   {
-    return static_cast<UpsampleBlock>(blocks[static_cast<std::size_t>(j + 1) * (width + 1) + i + 1]);
+    return static_cast<UpsampleBlock>(maps.blocks[static_cast<std::size_t>(j + 1) * (width + 1) + i + 1]);
   }
 };
 

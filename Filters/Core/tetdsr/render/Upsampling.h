@@ -4,6 +4,8 @@
 // textures); the rule itself is written only here.
 #pragma once
 
+#include "tetdsr/index/Scene.h" // ParallelFor
+
 #include <cstdint>
 #include <vector>
 
@@ -36,26 +38,32 @@ constexpr int neighbourBit(int dx, int dy)
 /// Single precision throughout, as the depths are stored.
 bool sameSurface(float before, float dn, float dt, float after);
 
-/// Per cast pixel (width x height, row j from the bottom), bit k set when the pixel is a hit
-/// and its neighbour at kNeighbourOffsets[k] is inside the image, a hit, and on the same surface
-/// (sameSurface). Rows [rowBegin, rowEnd) of `masks` (sized width x height by the caller).
-void sameSurfaceMasks(const float* depth, int width, int height, std::uint8_t* masks, int rowBegin,
-  int rowEnd);
-
 /// What the upsampling filter does in each 2 x 2 block of cast pixels: the block with lower-left
 /// corner (i, j), -1 <= i < width and -1 <= j < height, its corners clamped to the image (as a
 /// texture read clamped to its edge), is stored at ((j + 1) * (width + 1) + i + 1).
 enum class UpsampleBlock : std::uint8_t
 {
   Mixed = 0,   ///< a silhouette or a miss among its corners: each output pixel keeps only the
-               ///< corners on its nearest corner's surface (sameSurfaceMasks)
+               ///< corners on its nearest corner's surface (the masks)
   Surface = 1, ///< every corner a hit and each on the same surface as each other: bilinear
   Miss = 2     ///< every corner a miss: nothing drawn
 };
 
-/// The blocks' kinds from the masks, rows [rowBegin, rowEnd) of the (height + 1) block rows of
-/// `blocks` (sized (width + 1) x (height + 1) by the caller).
-void upsampleBlocks(const float* depth, const std::uint8_t* masks, int width, int height,
-  std::uint8_t* blocks, int rowBegin, int rowEnd);
+/// The upsampling's maps of one cast image (width x height window depths, row j from the
+/// bottom, a miss 1):
+/// - masks, per cast pixel: bit k set when the pixel is a hit and its neighbour at
+///   kNeighbourOffsets[k] is inside the image, a hit, and on the same surface (sameSurface);
+/// - blocks, per 2 x 2 block (UpsampleBlock's layout), its kind.
+struct UpsampleMaps
+{
+  std::vector<std::uint8_t> masks;
+  std::vector<std::uint8_t> blocks;
+  std::vector<float> padded;          ///< (work space: the depths with a border of 2)
+  std::vector<std::uint8_t> forward;  ///< (work space: the four forward directions' bits)
+};
+
+/// Fills `maps` for `depth` (width x height), rows on `parallelFor`'s threads.
+void upsampleMaps(
+  const float* depth, int width, int height, UpsampleMaps& maps, const ParallelFor& parallelFor);
 
 } // namespace tetdsr
