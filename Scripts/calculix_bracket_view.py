@@ -9,21 +9,15 @@ VTK has no off-screen GL of its own) and a TetDSR build:
 
 writes <prefix>_contour.png and <prefix>_tetdsr.png and prints what each shows.
 """
+import os
 import sys
 
 import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkLogger
-from vtkmodules.vtkFiltersCore import vtkCleanPolyData, vtkContourFilter, vtkExtractEdges, vtkPolyDataConnectivityFilter
-from vtkmodules.vtkFiltersGeometry import vtkUnstructuredGridGeometryFilter
-from vtkmodules.vtkIOImage import vtkPNGWriter
-from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
-from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow, vtkWindowToImageFilter
-import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (registers the OpenGL render window)
 
-from tetdsr import vtkDirectSurfaceMapper
-
-vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_WARNING)  # vtkExtractEdges logs at INFO
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import views  # noqa: E402
+from vtkmodules.vtkRenderingCore import vtkActor  # noqa: E402
+from tetdsr import vtkDirectSurfaceMapper  # noqa: E402
 
 ARRAY = "S_Mises"
 ISO_VALUE = 20.0  # MPa: the arm's low-stress core, the upper leg's, and a pocket at the bend
@@ -43,74 +37,28 @@ def set_camera(camera, bounds):
 
 
 def render(reader, surface_actor, png_path):
-    renderer = vtkRenderer()
-    renderer.SetBackground(1.0, 1.0, 1.0)
-    renderer.AddActor(surface_actor)
-    boundary = vtkUnstructuredGridGeometryFilter()
-    boundary.SetInputConnection(reader.GetOutputPort())
-    edges = vtkExtractEdges()
-    edges.SetInputConnection(boundary.GetOutputPort())
-    mesh = vtkActor()
-    mesh.SetMapper(vtkPolyDataMapper())
-    mesh.GetMapper().SetInputConnection(edges.GetOutputPort())
-    mesh.GetMapper().ScalarVisibilityOff()
-    mesh.GetProperty().SetColor(0.55, 0.6, 0.7)
-    mesh.GetProperty().SetOpacity(0.3)
-    mesh.GetProperty().LightingOff()
-    renderer.AddActor(mesh)
-    set_camera(renderer.GetActiveCamera(), reader.GetOutput().GetBounds())
-    renderer.ResetCameraClippingRange()
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetSize(*IMAGE_SIZE)
-    window.SetMultiSamples(0)
-    window.AddRenderer(renderer)
-    window.Render()
-    grab = vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.ReadFrontBufferOff()
-    writer = vtkPNGWriter()
-    writer.SetFileName(png_path)
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
-    window.Finalize()
+    views.write_picture([surface_actor, views.mesh_edges_actor(reader.GetOutputPort(), 0.3)],
+                        lambda camera: set_camera(camera, reader.GetOutput().GetBounds()),
+                        IMAGE_SIZE, png_path)
 
 
 def main(vtu_path, prefix):
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(vtu_path)
-    reader.Update()
-    contour = vtkContourFilter()
-    contour.SetInputConnection(reader.GetOutputPort())
-    contour.SetInputArrayToProcess(0, 0, 0, 0, ARRAY)
-    contour.SetValue(0, ISO_VALUE)
-    contour.ComputeScalarsOff()
-    contour.ComputeNormalsOff()
-    clean = vtkCleanPolyData()
-    clean.SetInputConnection(contour.GetOutputPort())
-    pieces = vtkPolyDataConnectivityFilter()
-    pieces.SetInputConnection(clean.GetOutputPort())
-    pieces.SetExtractionModeToAllRegions()
-    pieces.Update()
-    actor = vtkActor()
-    actor.SetMapper(vtkPolyDataMapper())
-    actor.GetMapper().SetInputConnection(clean.GetOutputPort())
-    actor.GetProperty().SetColor(*SURFACE_COLOR)
-    actor.GetProperty().EdgeVisibilityOn()
-    actor.GetProperty().SetEdgeColor(0.45, 0.2, 0.05)
-    render(reader, actor, prefix + "_contour.png")
-    print(f"vtkContourFilter, {ARRAY} = {ISO_VALUE:g}: {clean.GetOutput().GetNumberOfCells()} triangles, "
-          f"{pieces.GetNumberOfExtractedRegions()} pieces")
+    reader = views.read(vtu_path, update=True)
+    surface, pieces = views.contour(reader.GetOutputPort(), ARRAY, ISO_VALUE)
+    render(reader, views.triangles_actor(surface.GetOutputPort(), SURFACE_COLOR),
+           prefix + "_contour.png")
+    print(f"vtkContourFilter, {ARRAY} = {ISO_VALUE:g}: {surface.GetOutput().GetNumberOfCells()} "
+          f"triangles, {pieces} pieces")
 
     mapper = vtkDirectSurfaceMapper()
     mapper.SetInputConnection(reader.GetOutputPort())
     mapper.SetInputArrayToProcess(0, 0, 0, 0, ARRAY)
     mapper.SetValue(0, ISO_VALUE)
     mapper.ScalarVisibilityOff()  # the actor's colour, as the contour picture's
-    surface = vtkActor()
-    surface.SetMapper(mapper)
-    surface.GetProperty().SetColor(*SURFACE_COLOR)
-    render(reader, surface, prefix + "_tetdsr.png")
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetColor(*SURFACE_COLOR)
+    render(reader, actor, prefix + "_tetdsr.png")
     print(f"TetDSR, {ARRAY} = {ISO_VALUE:g}: {mapper.GetNumberOfRenderedCells()} cells rendered")
 
 

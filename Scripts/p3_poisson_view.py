@@ -13,14 +13,11 @@ off-screen GL of its own):
 
 (TetDSR's picture needs no X server: the filter ray casts on the CPU.)
 """
+import os
 import sys
 
-from vtkmodules.vtkFiltersCore import vtkContourFilter
-from vtkmodules.vtkIOImage import vtkPNGWriter
-from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderer,
-                                         vtkRenderWindow, vtkWindowToImageFilter)
-import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (registers the OpenGL render window)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import views  # noqa: E402
 
 # The level of the point array "u" whose isosurface the pictures show.
 ISO_VALUE = 0.5
@@ -30,97 +27,29 @@ IMAGE_SIZE = (600, 600)
 # them (the ball itself, radius 1, reaches beyond it).
 CAMERA = {"position": (-0.7, 1.4, 2.8), "focal_point": (0.1, 0.0, 0.0),
           "view_up": (0.0, 0.0, 1.0), "view_angle": 30.0}
+SURFACE_COLOR = (0.85, 0.45, 0.2)
 
 
 def set_camera(camera):
     """Puts CAMERA on a vtkCamera (clipping range left to the renderer)."""
-    camera.SetPosition(CAMERA["position"])
-    camera.SetFocalPoint(CAMERA["focal_point"])
-    camera.SetViewUp(CAMERA["view_up"])
-    camera.SetViewAngle(CAMERA["view_angle"])
+    views.place_camera(camera, CAMERA)
 
 
 def render_contour(vtu_path, png_path):
     """vtkContourFilter's isosurface u = ISO_VALUE of the file, flat shaded with its triangles'
-    edges drawn, written as a PNG; returns the triangle count."""
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(vtu_path)
-    contour = vtkContourFilter()
-    contour.SetInputConnection(reader.GetOutputPort())
-    contour.SetInputArrayToProcess(0, 0, 0, 0, "u")  # 0: points
-    contour.SetValue(0, ISO_VALUE)
-    contour.ComputeScalarsOff()
-    contour.ComputeNormalsOff()  # flat facets: the picture shows what the triangles are
-    contour.Update()
-
-    renderer = vtkRenderer()
-    renderer.SetBackground(1.0, 1.0, 1.0)
-    surface = vtkActor()
-    surface.SetMapper(vtkPolyDataMapper())
-    surface.GetMapper().SetInputConnection(contour.GetOutputPort())
-    surface.GetProperty().SetColor(0.85, 0.45, 0.2)
-    surface.GetProperty().EdgeVisibilityOn()
-    surface.GetProperty().SetEdgeColor(0.45, 0.2, 0.05)
-    renderer.AddActor(surface)
-    set_camera(renderer.GetActiveCamera())
-    renderer.ResetCameraClippingRange()
-
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetSize(*IMAGE_SIZE)
-    window.SetMultiSamples(0)  # the same pixels on every run
-    window.AddRenderer(renderer)
-    window.Render()
-    grab = vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.ReadFrontBufferOff()
-    writer = vtkPNGWriter()
-    writer.SetFileName(png_path)
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
-    return contour.GetOutput().GetNumberOfCells()
+    edges drawn, written as a PNG; returns the triangle count (a sentence)."""
+    reader = views.read(vtu_path)
+    surface, _ = views.contour(reader.GetOutputPort(), "u", ISO_VALUE, clean=False)
+    views.write_picture([views.triangles_actor(surface.GetOutputPort(), SURFACE_COLOR)],
+                        set_camera, IMAGE_SIZE, png_path)
+    return f"{surface.GetOutput().GetNumberOfCells()} triangles"
 
 
 def render_tetdsr(vtu_path, png_path):
-    """TetDSR's exact isosurface u = ISO_VALUE of the file (vtkDirectSurfaceRayCaster, exact
-    gradient normals), written as a PNG; returns (pixels on the surface, cells rendered, curved
-    cells, uncertified hits)."""
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-    from vtkmodules.vtkRenderingCore import vtkCamera
-    from tetdsr import vtkDirectSurfaceRayCaster
-
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(vtu_path)
-    caster = vtkDirectSurfaceRayCaster()
-    caster.SetInputConnection(reader.GetOutputPort())
-    caster.SetInputArrayToProcess(0, 0, 0, 0, "u")  # 0: points
-    caster.SetValue(0, ISO_VALUE)
-    caster.SetImageSize(*IMAGE_SIZE)
-    caster.SetSurfaceColor(0.85, 0.45, 0.2)  # as the contour picture's
-    camera = vtkCamera()
-    set_camera(camera)
-    caster.SetCamera(camera)
-    caster.Update()
-    writer = vtkPNGWriter()
-    writer.SetFileName(png_path)
-    writer.SetInputConnection(caster.GetOutputPort())
-    writer.Write()
-    depth = vtk_to_numpy(caster.GetOutput().GetPointData().GetArray("Depth"))
-    return (int((depth != float("inf")).sum()), caster.GetNumberOfRenderedCells(),
-            caster.GetNumberOfCurvedCells(), caster.GetNumberOfUncertifiedHits())
+    """TetDSR's exact isosurface u = ISO_VALUE of the file (views.tetdsr_picture)."""
+    return views.tetdsr_picture(vtu_path, png_path, "u", ISO_VALUE, IMAGE_SIZE, CAMERA,
+                                SURFACE_COLOR)
 
 
 if __name__ == "__main__":
-    arguments = sys.argv[1:]
-    tetdsr = arguments[:1] == ["--tetdsr"]
-    if tetdsr:
-        arguments = arguments[1:]
-    if len(arguments) != 2:
-        sys.exit(f"usage: {sys.argv[0]} [--tetdsr] input.vtu output.png")
-    if tetdsr:
-        pixels, cells, curved, uncertified = render_tetdsr(*arguments)
-        print(f"wrote {arguments[1]}: TetDSR, u = {ISO_VALUE}: {pixels} pixels on the surface, "
-              f"{cells} cells rendered ({curved} curved), {uncertified} uncertified hits")
-    else:
-        triangles = render_contour(*arguments)
-        print(f"wrote {arguments[1]}: vtkContourFilter, u = {ISO_VALUE}: {triangles} triangles")
+    views.command_line(render_contour, render_tetdsr, f"u = {ISO_VALUE}")
