@@ -244,6 +244,19 @@ struct vtkDirectSurfaceMapper::Internals
       vtkSmartPointer<vtkTextureObject> IdTexture;
       vtkSmartPointer<vtkTextureObject> DepthTexture;
       std::vector<std::uint8_t> Ids; ///< the pass's colours
+
+      /// Keeps what `frame`'s cast shows at each pixel (cell, block, depth), for every pass of
+      /// the selection whose `signature` it is.
+      void Keep(const Frame& frame, const ImageCast& cast, std::vector<double> signature);
+      /// A point pass's ids: each covered pixel's node of its cell nearest to its hit (once per
+      /// cast).
+      void FindNearestPoints(
+        const std::vector<std::pair<unsigned int, vtkUnstructuredGrid*>>& blocks);
+      /// Ids: each pixel's value in `pass` as vtkHardwareSelector reads it (24 bits in the red,
+      /// green and blue bytes, low byte first): the cell's or the point's id (low or high 24
+      /// bits), the block's flat index (`composite`; else 1), or the selector's colour for the
+      /// actor's and the process's passes (`propColor`).
+      void EncodePass(int pass, const float* propColor, bool composite);
     } Selection;
 
     void Release(vtkWindow* window);

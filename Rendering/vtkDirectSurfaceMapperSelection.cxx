@@ -16,6 +16,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <utility>
 #include <vector>
 
 //------------------------------------------------------------------------------
@@ -72,27 +73,10 @@ void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* acto
     }
     image.FailedSignature.clear();
     in.ComputeWindowDepth(frame);
-    ImageCast& cast = in.Cast;
-    image.Width = frame.CastWidth;
-    image.Height = frame.CastHeight;
-    image.Rays = frame.Rays;
-    image.CellIds = cast.CellIds;
-    image.Depth = cast.Depth;
-    image.WindowDepth = cast.WindowDepth;
-    if (frame.SeveralBlocks())
-    {
-      image.Blocks = cast.PixelBlocks;
-    }
-    else
-    {
-      image.Blocks.assign(frame.Pixels(), frame.Blocks.front().first);
-    }
-    image.PointIds.clear();
-    image.Signature = std::move(signature);
+    image.Keep(frame, in.Cast, std::move(signature));
   }
 
   const int pass = selector->GetCurrentPass();
-  const bool composite = vtkCompositeDataSet::SafeDownCast(frame.Input) != nullptr;
   if (pass == vtkHardwareSelector::ACTOR_PASS)
   {
     // The id passes of more than 24 bits are asked for from these.
@@ -103,51 +87,86 @@ void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* acto
         pass == vtkHardwareSelector::POINT_ID_HIGH24) &&
     image.PointIds.empty())
   {
-    // A pixel's point: the node of its cell nearest to its hit.
-    std::map<unsigned int, vtkUnstructuredGrid*> grids(frame.Blocks.begin(), frame.Blocks.end());
-    image.PointIds.assign(image.CellIds.size(), -1);
-    vtkNew<vtkIdList> nodes;
-    for (int j = 0; j < image.Height; ++j)
+    image.FindNearestPoints(frame.Blocks);
+  }
+  selector->BeginRenderProp();
+  image.EncodePass(pass, selector->GetPropColorValue(),
+    vtkCompositeDataSet::SafeDownCast(frame.Input) != nullptr);
+  Internals::LoadTextures(window, image.IdTexture, image.DepthTexture, image.Width, image.Height,
+    image.Ids.data(), image.WindowDepth.data());
+  Internals::DrawTextures(
+    gl, window, false, frame.Viewport, image.IdTexture, image.DepthTexture, false);
+  selector->EndRenderProp();
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceMapper::Internals::ViewResources::SelectionImage::Keep(
+  const Frame& frame, const ImageCast& cast, std::vector<double> signature)
+{
+  this->Width = frame.CastWidth;
+  this->Height = frame.CastHeight;
+  this->Rays = frame.Rays;
+  this->CellIds = cast.CellIds;
+  this->Depth = cast.Depth;
+  this->WindowDepth = cast.WindowDepth;
+  if (frame.SeveralBlocks())
+  {
+    this->Blocks = cast.PixelBlocks;
+  }
+  else
+  {
+    this->Blocks.assign(frame.Pixels(), frame.Blocks.front().first);
+  }
+  this->PointIds.clear();
+  this->Signature = std::move(signature);
+}
+
+void vtkDirectSurfaceMapper::Internals::ViewResources::SelectionImage::FindNearestPoints(
+  const std::vector<std::pair<unsigned int, vtkUnstructuredGrid*>>& blocks)
+{
+  std::map<unsigned int, vtkUnstructuredGrid*> grids(blocks.begin(), blocks.end());
+  this->PointIds.assign(this->CellIds.size(), -1);
+  vtkNew<vtkIdList> nodes;
+  for (int j = 0; j < this->Height; ++j)
+  {
+    for (int i = 0; i < this->Width; ++i)
     {
-      for (int i = 0; i < image.Width; ++i)
+      const std::size_t p = static_cast<std::size_t>(j) * this->Width + i;
+      const auto grid = grids.find(this->Blocks[p]);
+      if (this->WindowDepth[p] >= 1.0f || this->CellIds[p] < 0 || grid == grids.end() ||
+        this->CellIds[p] >= grid->second->GetNumberOfCells())
       {
-        const std::size_t p = static_cast<std::size_t>(j) * image.Width + i;
-        const auto grid = grids.find(image.Blocks[p]);
-        if (image.WindowDepth[p] >= 1.0f || image.CellIds[p] < 0 || grid == grids.end() ||
-          image.CellIds[p] >= grid->second->GetNumberOfCells())
+        continue;
+      }
+      const tetdsr::Ray ray = this->Rays.pixelRay(i, j);
+      const glm::dvec3 hit = ray.origin + this->Depth[p] * ray.direction;
+      grid->second->GetCellPoints(this->CellIds[p], nodes);
+      double nearest = std::numeric_limits<double>::infinity();
+      for (vtkIdType k = 0; k < nodes->GetNumberOfIds(); ++k)
+      {
+        double x[3];
+        grid->second->GetPoint(nodes->GetId(k), x);
+        const double d = glm::distance(glm::dvec3(x[0], x[1], x[2]), hit);
+        if (d < nearest)
         {
-          continue;
-        }
-        const tetdsr::Ray ray = image.Rays.pixelRay(i, j);
-        const glm::dvec3 hit = ray.origin + image.Depth[p] * ray.direction;
-        grid->second->GetCellPoints(image.CellIds[p], nodes);
-        double nearest = std::numeric_limits<double>::infinity();
-        for (vtkIdType k = 0; k < nodes->GetNumberOfIds(); ++k)
-        {
-          double x[3];
-          grid->second->GetPoint(nodes->GetId(k), x);
-          const double d = glm::distance(glm::dvec3(x[0], x[1], x[2]), hit);
-          if (d < nearest)
-          {
-            nearest = d;
-            image.PointIds[p] = nodes->GetId(k);
-          }
+          nearest = d;
+          this->PointIds[p] = nodes->GetId(k);
         }
       }
     }
   }
+}
 
-  // This pass's value of each covered pixel, as vtkHardwareSelector reads it: 24 bits in the
-  // red, green and blue bytes, low byte first.
-  selector->BeginRenderProp();
-  const float* propColor = selector->GetPropColorValue();
+void vtkDirectSurfaceMapper::Internals::ViewResources::SelectionImage::EncodePass(
+  int pass, const float* propColor, bool composite)
+{
   std::uint8_t propBytes[3];
   for (int c = 0; c < 3; ++c)
   {
     propBytes[c] = static_cast<std::uint8_t>(std::lround(255.0 * propColor[c]));
   }
-  const std::size_t pixels = image.CellIds.size();
-  image.Ids.assign(4 * pixels, 0);
+  const std::size_t pixels = this->CellIds.size();
+  this->Ids.assign(4 * pixels, 0);
   // The id passes: the cells' or the points' ids, their low or high 24 bits.
   const bool cellPass =
     pass == vtkHardwareSelector::CELL_ID_LOW24 || pass == vtkHardwareSelector::CELL_ID_HIGH24;
@@ -156,10 +175,10 @@ void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* acto
   const int shift =
     pass == vtkHardwareSelector::CELL_ID_HIGH24 || pass == vtkHardwareSelector::POINT_ID_HIGH24 ? 24 : 0;
   const std::vector<tetdsr::NodeId>* ids =
-    cellPass ? &image.CellIds : (pointPass ? &image.PointIds : nullptr);
+    cellPass ? &this->CellIds : (pointPass ? &this->PointIds : nullptr);
   for (std::size_t p = 0; p < pixels; ++p)
   {
-    std::uint8_t* rgba = &image.Ids[4 * p];
+    std::uint8_t* rgba = &this->Ids[4 * p];
     rgba[3] = 255;
     long long value = 0;
     if (ids)
@@ -170,7 +189,7 @@ void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* acto
     {
       // (vtkCompositePolyDataMapper2's flat index of a block; 1 for a dataset, as VTK's
       // polygon mappers write it.)
-      value = composite ? image.Blocks[p] : 1;
+      value = composite ? this->Blocks[p] : 1;
     }
     else // the actor's and the process's passes: the selector's colour
     {
@@ -181,9 +200,4 @@ void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* acto
     rgba[1] = static_cast<std::uint8_t>((value >> 8) & 0xff);
     rgba[2] = static_cast<std::uint8_t>((value >> 16) & 0xff);
   }
-  Internals::LoadTextures(window, image.IdTexture, image.DepthTexture, image.Width, image.Height,
-    image.Ids.data(), image.WindowDepth.data());
-  Internals::DrawTextures(
-    gl, window, false, frame.Viewport, image.IdTexture, image.DepthTexture, false);
-  selector->EndRenderProp();
 }
