@@ -290,7 +290,8 @@ public:
           }
         }
       });
-    // The crossings, packed (the core's LayerExchange) at the pixel's index in the receiver's extent.
+    // The crossings, packed by the core's LayerExchange at the pixel's index in the receiver's
+    // extent.
     const std::vector<double> crossings =
       this->SendToOwners(extent, [&](const Block& block, std::vector<double>& records) {
         for (const auto& tile : layers)
