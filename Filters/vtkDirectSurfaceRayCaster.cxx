@@ -30,6 +30,7 @@
 
 #include "vtkDirectSurfaceAdapter.h"
 #include "vtkDirectSurfaceReporting.h"
+#include "tetdsr/render/LayerExchange.h"
 
 #include <algorithm>
 #include <cmath>
@@ -289,7 +290,8 @@ public:
           }
         }
       });
-    // The crossings: the pixel's index in the receiver's extent, t, colour (3), opacity.
+    // The crossings, packed by the core's LayerExchange at the pixel's index in the receiver's
+    // extent.
     const std::vector<double> crossings =
       this->SendToOwners(extent, [&](const Block& block, std::vector<double>& records) {
         for (const auto& tile : layers)
@@ -300,8 +302,7 @@ public:
             const int j = static_cast<int>(layer.pixel / static_cast<std::uint32_t>(width));
             if (block.Contains(i, j))
             {
-              records.insert(records.end(), { static_cast<double>(block.Index(i, j)), layer.t,
-                layer.color.x, layer.color.y, layer.color.z, layer.opacity });
+              tetdsr::packLayer(layer, static_cast<std::uint32_t>(block.Index(i, j)), records);
             }
           }
         }
@@ -328,12 +329,8 @@ public:
         WriteNearest(records[r], composited);
       }
     }
-    std::vector<tetdsr::PixelLayer> pixelLayers(crossings.size() / 6);
-    for (std::size_t k = 0; k < pixelLayers.size(); ++k)
-    {
-      const double* v = &crossings[6 * k];
-      pixelLayers[k] = { static_cast<std::uint32_t>(v[0]), v[1], glm::dvec3(v[2], v[3], v[4]), v[5] };
-    }
+    std::vector<tetdsr::PixelLayer> pixelLayers;
+    tetdsr::unpackLayers(crossings.data(), crossings.size(), pixelLayers);
     tetdsr::compositeLayers(pixelLayers, static_cast<std::size_t>(own.Pixels()), gap, nullptr,
       composited.Colors->GetPointer(0));
     return true;

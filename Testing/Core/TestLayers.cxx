@@ -3,6 +3,7 @@
 // ray (compositeLayers), as one Renderer composites a ray's crossings.
 #include "ImageBuffers.h"
 #include "LatticeMesh.h"
+#include "tetdsr/render/LayerExchange.h"
 #include "tetdsr/render/Renderer.h"
 
 #include <gtest/gtest.h>
@@ -139,8 +140,10 @@ TEST(Layers, PiecesCompositeToTheWhole)
       std::vector<std::vector<tetdsr::PixelLayer>> layers;
       const tetdsr::Renderer renderer(surface, rays, settings, image.view(&layers));
       renderer.renderTiles(0, renderer.numberOfTiles());
-      const std::vector<tetdsr::PixelLayer> pieceLayers = flatten(layers);
-      all.insert(all.end(), pieceLayers.begin(), pieceLayers.end());
+      // As a process sends its crossings: packed into doubles, read back by the receiver.
+      std::vector<double> packed;
+      tetdsr::packLayers(layers, packed);
+      tetdsr::unpackLayers(packed.data(), packed.size(), all);
       pieceColors.push_back(image.colors);
     }
     std::vector<std::uint8_t> colors(whole.colors.size());
@@ -172,6 +175,32 @@ TEST(Layers, PiecesCompositeToTheWhole)
     EXPECT_GT(multiLayer, 400u);
     EXPECT_LE(worst, 1); // rounding of the sum's order only
     EXPECT_GT(naiveDiffering, 400);
+  }
+}
+
+TEST(Layers, PackedCrossingsReadBackExactly)
+{
+  // Crossings with every field distinct, at pixels up to 2^32 - 1, renumbered and not.
+  std::vector<std::vector<tetdsr::PixelLayer>> tiles(2);
+  tiles[0].push_back({ 7u, 0.125, glm::dvec3(0.1, 0.2, 0.3), 0.45 });
+  tiles[0].push_back({ 4294967295u, 1e300, glm::dvec3(1.0 / 3.0, 2.0 / 3.0, 1.0), 1.0 });
+  tiles[1].push_back({ 0u, -0.0, glm::dvec3(0.0), 1e-300 });
+  std::vector<double> packed;
+  tetdsr::packLayers(tiles, packed);
+  tetdsr::packLayer(tiles[0][0], 12345u, packed);
+  ASSERT_EQ(packed.size(), 4 * tetdsr::kPackedLayerSize);
+  packed.push_back(99.0); // a partial record: not read
+  std::vector<tetdsr::PixelLayer> layers;
+  tetdsr::unpackLayers(packed.data(), packed.size(), layers);
+  ASSERT_EQ(layers.size(), 4u) << "expected 4 crossings, got " << layers.size();
+  const tetdsr::PixelLayer expected[4] = { tiles[0][0], tiles[0][1], tiles[1][0],
+    { 12345u, tiles[0][0].t, tiles[0][0].color, tiles[0][0].opacity } };
+  for (int k = 0; k < 4; ++k)
+  {
+    EXPECT_EQ(layers[k].pixel, expected[k].pixel) << "crossing " << k;
+    EXPECT_EQ(layers[k].t, expected[k].t) << "crossing " << k;
+    EXPECT_EQ(layers[k].color, expected[k].color) << "crossing " << k;
+    EXPECT_EQ(layers[k].opacity, expected[k].opacity) << "crossing " << k;
   }
 }
 

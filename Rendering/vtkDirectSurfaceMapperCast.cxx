@@ -1,0 +1,675 @@
+// vtkDirectSurfaceMapper's view and cast: the frame path (Draw: level of detail, re-use of the
+// last image, the cast, its upload and drawing), the view a frame is cast from (Frame: viewport,
+// matrices, lights), the stages every job shares (the input's blocks, the settings, each block's
+// prepared mesh, the casters and their images: ImageCast) and the sample distance interactive
+// frames are cast at, from the time the last cast took.
+#include "vtkDirectSurfaceMapper.h"
+#include "vtkDirectSurfaceMapperInternals.h"
+
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkContourValues.h"
+#include "vtkDataArray.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
+#include "vtkMath.h"
+#include "vtkNew.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkProperty.h"
+#include "vtkRenderWindowInteractor.h"
+#include "vtkRenderer.h"
+#include "vtkSMPTools.h"
+#include "vtkScalarsToColors.h"
+#include "vtkTimerLog.h"
+#include "vtkUnstructuredGrid.h"
+
+#include "vtkDirectSurfaceReporting.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace
+{
+/// Whether two image signatures describe one scene up to rounding: a camera set again from its
+/// own parameters (as ParaView does before a still render) moves the matrices and lights by an
+/// ulp or two; 1e-12 of the numbers' size (at least 1) is far below a visible change, and keeps
+/// modification times below 1e12 apart.
+bool SameScene(const std::vector<double>& a, const std::vector<double>& b)
+{
+  if (a.size() != b.size())
+  {
+    return false;
+  }
+  for (std::size_t k = 0; k < a.size(); ++k)
+  {
+    if (!(std::abs(a[k] - b[k]) <= 1e-12 * std::max({ 1.0, std::abs(a[k]), std::abs(b[k]) })))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+/// A world point, and a world direction (made unit), in model coordinates: rays are cast there.
+glm::dvec3 ToModelPoint(const glm::dmat4& worldToModel, const double p[3])
+{
+  return glm::dvec3(worldToModel * glm::dvec4(p[0], p[1], p[2], 1.0));
+}
+glm::dvec3 ToModelDirection(const glm::dmat4& worldToModel, const glm::dvec3& d)
+{
+  return tetdsr::unitVector(glm::dvec3(worldToModel * glm::dvec4(d, 0.0)));
+}
+
+/// A switched-on VTK light as the core's, in model coordinates.
+tetdsr::Light CoreLight(vtkLight* light, const glm::dmat4& worldToModel)
+{
+  tetdsr::Light entry;
+  double color[3], position[3], focalPoint[3];
+  light->GetDiffuseColor(color);
+  light->GetTransformedPosition(position);
+  light->GetTransformedFocalPoint(focalPoint);
+  entry.color = light->GetIntensity() * glm::dvec3(color[0], color[1], color[2]);
+  entry.positional = light->GetPositional() != 0;
+  entry.position = ToModelPoint(worldToModel, position);
+  entry.direction = ToModelDirection(worldToModel,
+    glm::dvec3(
+      focalPoint[0] - position[0], focalPoint[1] - position[1], focalPoint[2] - position[2]));
+  return entry;
+}
+
+/// The colour of a block's surface from `mapper`'s scalars on `grid`, as a polygon mapper would
+/// map them (direct colours, or through its lookup table and scalar range); none, with a
+/// warning, for a cell array, which has no value at a hit.
+void ChooseColors(vtkMapper* mapper, vtkUnstructuredGrid* grid, adapter::PreparedMesh& prepared,
+  tetdsr::RenderSettings& settings, adapter::Messages& messages)
+{
+  settings.colorBy = tetdsr::ColorByArray();
+  int cellFlag = 0;
+  vtkDataArray* colors = mapper->GetScalarVisibility()
+    ? vtkAbstractMapper::GetScalars(grid, mapper->GetScalarMode(), mapper->GetArrayAccessMode(),
+        mapper->GetArrayId(), mapper->GetArrayName(), cellFlag)
+    : nullptr;
+  if (colors && cellFlag != 0)
+  {
+    messages.warnings.push_back(std::string("Cell array '") +
+      (colors->GetName() ? colors->GetName() : "") +
+      "' cannot colour the surface: it needs a point array; drawn in the actor's colour.");
+    return;
+  }
+  if (!colors)
+  {
+    return;
+  }
+  vtkScalarsToColors* table = mapper->GetLookupTable();
+  const int colorMode = mapper->GetColorMode();
+  const bool direct = colorMode == VTK_COLOR_MODE_DIRECT_SCALARS ||
+    (colorMode == VTK_COLOR_MODE_DEFAULT && colors->GetDataType() == VTK_UNSIGNED_CHAR);
+  int colorComponent =
+    table->GetVectorMode() == vtkScalarsToColors::COMPONENT ? table->GetVectorComponent() : -1;
+  if (colors->GetNumberOfComponents() == 1)
+  {
+    colorComponent = 0;
+  }
+  const double* colorValues = prepared.PointArrayValues(colors, "colour array", messages);
+  if (colorValues && colorComponent < colors->GetNumberOfComponents())
+  {
+    settings.colorBy.values = colorValues;
+    settings.colorBy.components = colors->GetNumberOfComponents();
+    settings.colorBy.component = colorComponent;
+    settings.colorBy.directColors = direct;
+    if (!direct)
+    {
+      const double* range =
+        mapper->GetUseLookupTableScalarRange() ? table->GetRange() : mapper->GetScalarRange();
+      table->Build();
+      settings.colorTable = adapter::SampleColorTable(table, range[0], range[1]);
+    }
+  }
+}
+}
+
+//------------------------------------------------------------------------------
+bool vtkDirectSurfaceMapper::Frame::SetUpView(vtkRenderer* renderer, double sampleDistance)
+{
+  int width, height, originX, originY;
+  renderer->GetTiledSizeAndOrigin(&width, &height, &originX, &originY);
+  if (width <= 0 || height <= 0)
+  {
+    return false;
+  }
+  this->Viewport[0] = originX;
+  this->Viewport[1] = originY;
+  this->Viewport[2] = width;
+  this->Viewport[3] = height;
+  this->CastWidth = std::max(1, static_cast<int>(std::ceil(width / sampleDistance)));
+  this->CastHeight = std::max(1, static_cast<int>(std::ceil(height / sampleDistance)));
+  vtkCamera* camera = renderer->GetActiveCamera();
+  const glm::dmat4 worldToNdc = ToGlm(
+    camera->GetCompositeProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1.0, 1.0));
+  this->Identity = this->Actor->GetIsIdentity() != 0;
+  this->ModelToWorld = this->Identity ? glm::dmat4(1.0) : ToGlm(this->Actor->GetMatrix());
+  this->WorldToModel = glm::inverse(this->ModelToWorld);
+  this->ModelToNdc = worldToNdc * this->ModelToWorld;
+  this->NdcToModel = glm::inverse(this->ModelToNdc);
+  this->Rays = tetdsr::RayGenerator(this->NdcToModel, this->CastWidth, this->CastHeight);
+  return true;
+}
+
+void vtkDirectSurfaceMapper::Frame::CollectLights(vtkRenderer* renderer)
+{
+  tetdsr::Lighting& lighting = this->Settings.lighting;
+  double eye[3];
+  renderer->GetActiveCamera()->GetPosition(eye);
+  lighting.hasEye = true;
+  lighting.eye = ToModelPoint(this->WorldToModel, eye);
+  if (!this->Actor->GetProperty()->GetLighting())
+  {
+    return;
+  }
+  vtkLightCollection* lights = renderer->GetLights();
+  vtkCollectionSimpleIterator it;
+  lights->InitTraversal(it);
+  int count = 0;
+  bool headlight = false;
+  while (vtkLight* light = lights->GetNextLight(it))
+  {
+    if (!light->GetSwitch())
+    {
+      continue;
+    }
+    ++count;
+    headlight = light->LightTypeIsHeadlight();
+    const tetdsr::Light entry = CoreLight(light, this->WorldToModel);
+    lighting.lights.push_back(entry);
+    this->LightState.insert(this->LightState.end(),
+      { entry.color.x, entry.color.y, entry.color.z, entry.direction.x, entry.direction.y,
+        entry.direction.z, entry.position.x, entry.position.y, entry.position.z,
+        entry.positional ? 1.0 : 0.0 });
+  }
+  lighting.headlightOnly = count == 1 && headlight;
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceMapper::ImageCast::Resize(std::size_t pixels, bool severalBlocks)
+{
+  this->Layers.clear();
+  this->Colors.resize(4 * pixels);
+  this->Depth.resize(pixels);
+  this->Normals.resize(3 * pixels);
+  this->CellIds.resize(pixels);
+  this->WindowDepth.resize(pixels);
+  if (severalBlocks)
+  {
+    std::fill(this->Depth.begin(), this->Depth.end(), std::numeric_limits<double>::infinity());
+    std::fill(this->Colors.begin(), this->Colors.end(), 0);
+    this->BlockColors.resize(4 * pixels);
+    this->BlockDepth.resize(pixels);
+    this->BlockCellIds.resize(pixels);
+  }
+}
+
+void vtkDirectSurfaceMapper::ImageCast::ComputeRayLimits(
+  const Frame& frame, const std::vector<float>& opaqueDepth)
+{
+  const int width = frame.Viewport[2], height = frame.Viewport[3];
+  const int castWidth = frame.CastWidth, castHeight = frame.CastHeight;
+  this->RayLimits.resize(frame.Pixels());
+  vtkSMPTools::For(0, castHeight, [&](vtkIdType rowBegin, vtkIdType rowEnd) {
+    for (int j = static_cast<int>(rowBegin); j < static_cast<int>(rowEnd); ++j)
+    {
+      const int fullJ = std::min(height - 1, static_cast<int>((j + 0.5) * height / castHeight));
+      for (int i = 0; i < castWidth; ++i)
+      {
+        const int fullI = std::min(width - 1, static_cast<int>((i + 0.5) * width / castWidth));
+        const double z = opaqueDepth[static_cast<std::size_t>(fullJ) * width + fullI];
+        double limit = std::numeric_limits<double>::infinity();
+        if (z < 1.0)
+        {
+          const tetdsr::Ray ray = frame.Rays.pixelRay(i, j);
+          const glm::dvec4 ndc(2.0 * (i + 0.5) / castWidth - 1.0,
+            2.0 * (j + 0.5) / castHeight - 1.0, 2.0 * z - 1.0, 1.0);
+          const glm::dvec4 point = frame.NdcToModel * ndc;
+          limit = glm::dot(glm::dvec3(point) / point.w - ray.origin, ray.direction);
+        }
+        this->RayLimits[static_cast<std::size_t>(j) * castWidth + i] = limit;
+      }
+    }
+  });
+}
+
+tetdsr::ImageView vtkDirectSurfaceMapper::ImageCast::BlockImage(const Frame& frame)
+{
+  const bool several = frame.SeveralBlocks();
+  tetdsr::ImageView image;
+  image.width = frame.CastWidth;
+  image.height = frame.CastHeight;
+  image.colors = several ? this->BlockColors.data() : this->Colors.data();
+  image.depth = several ? this->BlockDepth.data() : this->Depth.data();
+  image.normals = this->Normals.data();
+  image.cellIds = several ? this->BlockCellIds.data() : this->CellIds.data();
+  image.rayLimits = frame.Translucent && !frame.CollectLayers ? this->RayLimits.data() : nullptr;
+  if (frame.CollectLayers)
+  {
+    this->Layers.emplace_back(new std::vector<std::vector<tetdsr::PixelLayer>>);
+    image.layers = this->Layers.back().get();
+  }
+  return image;
+}
+
+void vtkDirectSurfaceMapper::ImageCast::KeepNearest(std::size_t pixels, unsigned int block)
+{
+  const bool blocks = !this->PixelBlocks.empty();
+  for (std::size_t p = 0; p < pixels; ++p)
+  {
+    if (this->BlockDepth[p] < this->Depth[p])
+    {
+      this->Depth[p] = this->BlockDepth[p];
+      this->CellIds[p] = this->BlockCellIds[p];
+      std::copy_n(&this->BlockColors[4 * p], 4, &this->Colors[4 * p]);
+      if (blocks)
+      {
+        this->PixelBlocks[p] = block;
+      }
+    }
+  }
+}
+
+void vtkDirectSurfaceMapper::ImageCast::ComputeWindowDepth(const tetdsr::RayGenerator& rays,
+  const glm::dmat4& modelToNdc, int castWidth, int rowBegin, int rowEnd)
+{
+  tetdsr::windowDepths(rays, modelToNdc, this->Depth.data(), this->WindowDepth.data(),
+    castWidth, rowBegin, rowEnd);
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceMapper::Internals::CancelRefinements()
+{
+  for (const auto& view : this->Views)
+  {
+    view->Refining.reset();
+  }
+}
+
+adapter::PreparedMesh& vtkDirectSurfaceMapper::Internals::MeshOf(unsigned int block)
+{
+  auto& mesh = this->Meshes[block];
+  if (!mesh)
+  {
+    mesh.reset(new adapter::PreparedMesh);
+  }
+  return *mesh;
+}
+
+void vtkDirectSurfaceMapper::Internals::ComputeWindowDepth(const Frame& frame)
+{
+  vtkSMPTools::For(0, frame.CastHeight, [&](vtkIdType rowBegin, vtkIdType rowEnd) {
+    this->Cast.ComputeWindowDepth(frame.Rays, frame.ModelToNdc, frame.CastWidth,
+      static_cast<int>(rowBegin), static_cast<int>(rowEnd));
+  });
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool translucent)
+{
+  vtkNew<vtkTimerLog> timer; // the cast's time sizes the next interactive frame's sample distance
+  timer->StartTimer();
+  auto* window = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
+  if (!window || renderer->GetSelector())
+  {
+    return; // no OpenGL window, or a hardware-selection pass: nothing to draw
+  }
+  if (!this->Static)
+  {
+    this->Update();
+  }
+  Frame frame(window, actor, translucent);
+  if (!this->CollectBlocks(frame))
+  {
+    return;
+  }
+  const double distance = this->ChooseSampleDistance(frame);
+  if (!frame.SetUpView(renderer, distance))
+  {
+    return; // an empty viewport
+  }
+  frame.CollectLights(renderer);
+
+  Internals& in = *this->Internal;
+  Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor);
+  vtkRenderWindowInteractor* interactor = window->GetInteractor();
+  const bool eventLoop =
+    this->ProgressiveRefinement && interactor && this->EventLoopRuns(interactor);
+  this->ComputeSignature(frame, true);
+  this->LastRenderRefining = false;
+  // The image this view holds: of the same scene (camera, data, settings), and of the size.
+  const bool sameSize = gl.ImageSize[0] == frame.CastWidth && gl.ImageSize[1] == frame.CastHeight;
+  auto drawImage = [&]() {
+    Internals::Draw(gl, window, translucent, frame.Viewport);
+    timer->StopTimer();
+    this->TimeToDraw = timer->GetElapsedTime();
+  };
+
+  // This view's background cast: shown once finished, waited for while it runs (the upscaled
+  // image drawn again), and dropped when the frame is anything else.
+  if (gl.Refining)
+  {
+    Refinement& refinement = *gl.Refining;
+    if (SameScene(refinement.Signature, frame.Signature) && refinement.Width == frame.CastWidth &&
+      refinement.Height == frame.CastHeight)
+    {
+      this->LastRenderReusedImage = !refinement.Finished;
+      this->LastRenderRefining = !refinement.Finished;
+      if (refinement.Finished)
+      {
+        refinement.Worker.join(); // (it has returned)
+        Internals::Upload(
+          gl, window, refinement.Cast, refinement.Width, refinement.Height, distance);
+        gl.Signature = refinement.Signature;
+        in.LastCastSeconds = refinement.Seconds;
+        in.SampleDistance = distance;
+        this->LastImageSampleDistance = distance;
+        this->LastCastSize[0] = frame.CastWidth;
+        this->LastCastSize[1] = frame.CastHeight;
+        gl.Refining.reset();
+      }
+      drawImage();
+      return;
+    }
+    gl.Refining.reset();
+  }
+
+  // Re-use the image this view holds when nothing it depends on changed.
+  this->LastRenderReusedImage = gl.TexturesValid && sameSize && frame.Signature == gl.Signature;
+  if (this->LastRenderReusedImage)
+  {
+    drawImage();
+    return;
+  }
+  if (!this->ConvertSettings(frame))
+  {
+    return;
+  }
+  // Any cast below may rebuild the prepared meshes that background casts read.
+  in.CancelRefinements();
+
+  // A still frame of the scene the last interactive frame showed: that image, upscaled, until the
+  // full resolution cast in the background is done, when the event loop can ask for the render
+  // that shows it.
+  if (eventLoop && gl.TexturesValid && gl.ImageSampleDistance > 1.0 && distance == 1.0 &&
+    SameScene(gl.Signature, frame.Signature))
+  {
+    gl.Refining = this->StartRefinement(frame, interactor);
+    if (gl.Refining)
+    {
+      this->LastRenderReusedImage = true;
+      this->LastRenderRefining = true;
+      drawImage();
+    }
+    return;
+  }
+
+  if (!this->CastBlocks(frame))
+  {
+    return;
+  }
+  in.ComputeWindowDepth(frame);
+  Internals::Upload(gl, window, in.Cast, frame.CastWidth, frame.CastHeight, distance);
+  Internals::Draw(gl, window, translucent, frame.Viewport);
+  gl.Signature = std::move(frame.Signature);
+  timer->StopTimer();
+  this->CastFinished(frame, distance, timer->GetElapsedTime());
+}
+
+void vtkDirectSurfaceMapper::CastFinished(const Frame& frame, double sampleDistance, double seconds)
+{
+  this->Internal->LastCastSeconds = seconds;
+  this->Internal->SampleDistance = sampleDistance;
+  this->TimeToDraw = seconds;
+  this->LastImageSampleDistance = sampleDistance;
+  this->LastCastSize[0] = frame.CastWidth;
+  this->LastCastSize[1] = frame.CastHeight;
+}
+
+bool vtkDirectSurfaceMapper::CollectBlocks(Frame& frame)
+{
+  frame.Input = this->GetInputDataObject(0, 0);
+  if (auto* grid = vtkUnstructuredGrid::SafeDownCast(frame.Input))
+  {
+    frame.Blocks.emplace_back(0, grid);
+  }
+  int otherBlocks = 0; // of a composite input, not drawn
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(frame.Input))
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      if (auto* block = vtkUnstructuredGrid::SafeDownCast(it->GetCurrentDataObject()))
+      {
+        frame.Blocks.emplace_back(it->GetCurrentFlatIndex(), block);
+      }
+      else
+      {
+        ++otherBlocks;
+      }
+    }
+    if (frame.Blocks.empty() && otherBlocks == 0)
+    {
+      adapter::Messages messages; // a composite dataset without blocks
+      tetdsr::checkMeshNotEmpty(0, 0, messages);
+      adapter::ReportMessages(this, messages);
+      return false;
+    }
+  }
+  // Scenes of blocks the input no longer has are dropped, with the arrays they keep alive
+  // (after the background casts that read them).
+  auto& meshes = this->Internal->Meshes;
+  for (auto it = meshes.begin(); it != meshes.end();)
+  {
+    const bool kept = std::any_of(frame.Blocks.begin(), frame.Blocks.end(),
+      [&](const auto& block) { return block.first == it->first; });
+    if (!kept)
+    {
+      this->Internal->CancelRefinements();
+    }
+    it = kept ? std::next(it) : meshes.erase(it);
+  }
+  if (frame.Blocks.empty())
+  {
+    vtkErrorMacro("The input is neither a vtkUnstructuredGrid nor a composite dataset of them.");
+    return false;
+  }
+  if (otherBlocks > 0)
+  {
+    vtkWarningMacro(<< otherBlocks << " of " << otherBlocks + frame.Blocks.size()
+                    << " blocks of the composite input are not vtkUnstructuredGrid: not drawn.");
+  }
+  return true;
+}
+
+double vtkDirectSurfaceMapper::ChooseSampleDistance(const Frame& frame)
+{
+  Internals& in = *this->Internal;
+  const double now = vtkTimerLog::GetUniversalTime();
+  vtkRenderWindowInteractor* interactor = frame.Window->GetInteractor();
+  const double stillRate = interactor ? interactor->GetStillUpdateRate() : 0.0001;
+  // Interacting: a desired rate above the still one and of at least one frame a second (VTK's
+  // interactor asks 15 while the camera moves and 0.0001 when it stops; ParaView's view 5 and
+  // 0.002, with its interactor's still rate left at 0.0001).
+  const double desired = frame.Window->GetDesiredUpdateRate();
+  const bool interacting = desired > stillRate && desired >= 1.0;
+  double distance = 1.0;
+  if (interacting && !this->AutoAdjustSampleDistances)
+  {
+    distance = this->InteractiveImageSampleDistance;
+  }
+  else if (interacting)
+  {
+    // The frame must fit the actor's allocated time; what the rest of the last frame took
+    // (other props, clearing, the window's swap: the time between two renders minus the cast)
+    // is not the cast's to spend. A quarter of the allocation is always left to it.
+    const double allocated = frame.Actor->GetAllocatedRenderTime();
+    const double period = now - in.LastRenderStart;
+    const double others =
+      in.LastWasInteractive && period < 1.0 ? std::max(0.0, period - in.LastCastSeconds) : 0.0;
+    const double budget = std::max(allocated - others, 0.25 * allocated);
+    distance = in.SampleDistance;
+    if (budget > 0.0 && in.LastCastSeconds > 0.0)
+    {
+      // The cast's time goes as its number of rays, 1 / distance^2.
+      distance *= std::sqrt(in.LastCastSeconds / budget);
+    }
+    distance = vtkMath::ClampValue(distance, 1.0, this->MaximumImageSampleDistance);
+  }
+  in.LastRenderStart = now;
+  in.LastWasInteractive = interacting;
+  return distance;
+}
+
+void vtkDirectSurfaceMapper::ComputeSignature(Frame& frame, bool shading)
+{
+  // What decides which cell each pixel shows: the view, the mapper's, the property's, the
+  // input's and the meshes' modification times.
+  std::vector<double>& signature = frame.Signature;
+  const glm::dmat4& modelToNdc = frame.ModelToNdc;
+  signature.assign(&modelToNdc[0][0], &modelToNdc[0][0] + 16);
+  signature.insert(signature.end(),
+    { static_cast<double>(this->GetMTime()),
+      static_cast<double>(frame.Actor->GetProperty()->GetMTime()),
+      static_cast<double>(frame.Input->GetMTime()) });
+  for (const auto& block : frame.Blocks)
+  {
+    signature.push_back(static_cast<double>(adapter::MeshModifiedTime(block.second)));
+  }
+  if (!shading)
+  {
+    return;
+  }
+  // And what decides its colour: the lights, and the opaque depth translucent rays stop at.
+  signature.push_back(frame.Settings.lighting.headlightOnly ? 1.0 : 0.0);
+  signature.insert(signature.end(), frame.LightState.begin(), frame.LightState.end());
+  if (frame.Translucent)
+  {
+    signature.push_back(this->Internal->ReadOpaqueDepth(frame));
+  }
+}
+
+bool vtkDirectSurfaceMapper::ConvertSettings(Frame& frame)
+{
+  std::vector<tetdsr::ClipPlane> clipPlanes;
+  if (!adapter::ConvertIsoValues(this->ContourValues, frame.Values, frame.Messages) ||
+    !adapter::ConvertClipPlanes(this->ClippingPlanes, clipPlanes, frame.Messages))
+  {
+    adapter::ReportMessages(this, frame.Messages);
+    return false;
+  }
+  if (!frame.Identity)
+  {
+    // World planes n . (x - o) >= 0 become n' . (x_m - o') >= 0 with o' = M^-1 o, n' = M^T n.
+    for (tetdsr::ClipPlane& plane : clipPlanes)
+    {
+      plane.origin = glm::dvec3(frame.WorldToModel * glm::dvec4(plane.origin, 1.0));
+      plane.normal = glm::transpose(glm::dmat3(frame.ModelToWorld)) * plane.normal;
+    }
+  }
+  tetdsr::RenderSettings& settings = frame.Settings;
+  vtkProperty* property = frame.Actor->GetProperty();
+  double diffuseColor[3], specularColor[3];
+  property->GetDiffuseColor(diffuseColor);
+  property->GetSpecularColor(specularColor);
+  settings.material.color = glm::dvec3(diffuseColor[0], diffuseColor[1], diffuseColor[2]);
+  settings.material.specularColor =
+    glm::dvec3(specularColor[0], specularColor[1], specularColor[2]);
+  settings.material.ambient = property->GetAmbient();
+  settings.material.diffuse = property->GetDiffuse();
+  settings.material.specular = property->GetSpecular();
+  settings.material.specularPower = property->GetSpecularPower();
+  settings.clipPlanes = std::move(clipPlanes);
+  settings.isoStyles =
+    this->Internal->Styles.Styles(frame.Values.size(), diffuseColor, property->GetOpacity());
+  return true;
+}
+
+bool vtkDirectSurfaceMapper::PrepareCast(Frame& frame, ImageCast& cast)
+{
+  Internals& in = *this->Internal;
+  cast.Resize(frame.Pixels(), frame.SeveralBlocks());
+  cast.PixelBlocks.assign(frame.Selecting && frame.SeveralBlocks() ? frame.Pixels() : 0, 0);
+  if (frame.Translucent && !frame.CollectLayers)
+  {
+    cast.ComputeRayLimits(frame, in.OpaqueDepth);
+  }
+  cast.Casters.clear();
+  cast.CasterBlocks.clear();
+  this->NumberOfRenderedCells = 0;
+  for (const auto& block : frame.Blocks)
+  {
+    if (!this->PrepareBlock(frame, block.first, block.second))
+    {
+      continue; // skipped: the messages say why
+    }
+    adapter::PreparedMesh& prepared = in.MeshOf(block.first);
+    this->NumberOfRenderedCells += prepared.GetSummary().validCells;
+    ChooseColors(this, block.second, prepared, frame.Settings, frame.Messages);
+    cast.Casters.emplace_back(
+      new tetdsr::Renderer(prepared.GetSurface(frame.Values, this->NumberOfThreads), frame.Rays,
+        frame.Settings, cast.BlockImage(frame)));
+    cast.CasterBlocks.push_back(block.first);
+  }
+  adapter::ReportMessages(this, frame.Messages);
+  return this->NumberOfRenderedCells > 0;
+}
+
+bool vtkDirectSurfaceMapper::CastBlocks(Frame& frame)
+{
+  ImageCast& cast = this->Internal->Cast;
+  if (!this->PrepareCast(frame, cast))
+  {
+    return false;
+  }
+  vtkOpenGLRenderWindow* window = frame.Window;
+  for (std::size_t k = 0; k < cast.Casters.size(); ++k)
+  {
+    tetdsr::Renderer* caster = cast.Casters[k].get();
+    const tetdsr::NodeId done = adapter::Cast(
+      *caster, false, this->NumberOfThreads, [window]() { return window->CheckAbortStatus() != 0; },
+      [](double) {});
+    if (done < caster->numberOfTiles())
+    {
+      return false;
+    }
+    if (frame.SeveralBlocks())
+    {
+      cast.KeepNearest(frame.Pixels(), cast.CasterBlocks[k]);
+    }
+  }
+  return true;
+}
+
+bool vtkDirectSurfaceMapper::PrepareBlock(Frame& frame, unsigned int index, vtkUnstructuredGrid* grid)
+{
+  if (!tetdsr::checkMeshNotEmpty(grid->GetNumberOfPoints(), grid->GetNumberOfCells(), frame.Messages))
+  {
+    return false; // (before the field: an empty grid has none)
+  }
+  int association = -1;
+  vtkDataArray* field = this->GetInputArrayToProcess(0, grid, association);
+  int component = 0;
+  if (!field)
+  {
+    frame.Messages.errors.push_back(
+      "No scalar field: choose a point array with "
+      "SetInputArrayToProcess(0, 0, 0, FIELD_ASSOCIATION_POINTS, name).");
+  }
+  adapter::PreparedMesh& prepared = this->Internal->MeshOf(index);
+  return field &&
+    adapter::CheckPointArray(field, association, -1, false, nullptr, component, frame.Messages) &&
+    prepared.Prepare(
+      grid, field, component, tetdsr::TransverseTest(), this->NumberOfThreads, frame.Messages);
+}

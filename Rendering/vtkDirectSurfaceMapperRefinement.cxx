@@ -1,0 +1,156 @@
+// vtkDirectSurfaceMapper's progressive refinement: after interaction, a still frame shows the
+// last reduced image while the full resolution is cast on worker threads (Refinement); the
+// interactor's one-shot timers tell whether its event loop runs at all, and poll the worker, to
+// ask for the render that shows the finished image.
+#include "vtkDirectSurfaceMapper.h"
+#include "vtkDirectSurfaceMapperInternals.h"
+
+#include "vtkCommand.h"
+#include "vtkRenderWindowInteractor.h"
+
+#include <algorithm>
+#include <chrono>
+#include <thread>
+#include <vector>
+
+namespace
+{
+/// How often the event loop asks whether a background cast is done: 25 times a second, so the
+/// refined frame follows within a frame time of a fluid interaction.
+constexpr unsigned long kRefinementPollMilliseconds = 40;
+}
+
+vtkDirectSurfaceMapper::Refinement::~Refinement()
+{
+  this->Cancelled = true;
+  if (this->Worker.joinable())
+  {
+    this->Worker.join();
+  }
+  if (this->Interactor && this->TimerId)
+  {
+    this->Interactor->DestroyTimer(this->TimerId);
+  }
+}
+
+void vtkDirectSurfaceMapper::Refinement::Run(int threads)
+{
+  const auto start = std::chrono::steady_clock::now();
+  for (const auto& caster : this->Cast.Casters)
+  {
+    const tetdsr::NodeId tiles = caster->numberOfTiles();
+    std::atomic<tetdsr::NodeId> next{ 0 };
+    auto castTiles = [&]() {
+      tetdsr::NodeId tile;
+      while (!this->Cancelled && (tile = next++) < tiles)
+      {
+        caster->renderTiles(tile, tile + 1);
+      }
+    };
+    std::vector<std::thread> helpers;
+    for (int t = 1; t < threads; ++t)
+    {
+      helpers.emplace_back(castTiles);
+    }
+    castTiles();
+    for (std::thread& helper : helpers)
+    {
+      helper.join();
+    }
+    if (this->Cancelled)
+    {
+      return;
+    }
+    if (this->SeveralBlocks)
+    {
+      this->Cast.KeepNearest(this->Cast.Depth.size(), 0);
+    }
+  }
+  this->Cast.ComputeWindowDepth(this->Rays, this->ModelToNdc, this->Width, 0, this->Height);
+  this->Seconds =
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  this->Finished = true;
+}
+
+std::unique_ptr<vtkDirectSurfaceMapper::Refinement> vtkDirectSurfaceMapper::StartRefinement(
+  Frame& frame, vtkRenderWindowInteractor* interactor)
+{
+  std::unique_ptr<Refinement> refinement(new Refinement);
+  if (!this->PrepareCast(frame, refinement->Cast))
+  {
+    return nullptr;
+  }
+  refinement->Signature = frame.Signature;
+  refinement->Width = frame.CastWidth;
+  refinement->Height = frame.CastHeight;
+  refinement->Rays = frame.Rays;
+  refinement->ModelToNdc = frame.ModelToNdc;
+  refinement->SeveralBlocks = frame.SeveralBlocks();
+  // The worker cannot render (the window's context belongs to this thread): the event loop
+  // polls it.
+  refinement->Interactor = interactor;
+  refinement->TimerId = interactor->CreateOneShotTimer(kRefinementPollMilliseconds);
+  const int threads = this->NumberOfThreads > 0
+    ? this->NumberOfThreads
+    : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  refinement->Worker = std::thread(&Refinement::Run, refinement.get(), threads);
+  return refinement;
+}
+
+bool vtkDirectSurfaceMapper::EventLoopRuns(vtkRenderWindowInteractor* interactor)
+{
+  auto& loops = this->Internal->EventLoops;
+  loops.erase(std::remove_if(loops.begin(), loops.end(),
+                [](const Internals::EventLoop& loop) { return !loop.Interactor; }),
+    loops.end());
+  for (const auto& loop : loops)
+  {
+    if (loop.Interactor == interactor)
+    {
+      return loop.Runs;
+    }
+  }
+  Internals::EventLoop loop;
+  loop.Interactor = interactor;
+  loop.ObserverTag =
+    interactor->AddObserver(vtkCommand::TimerEvent, this, &vtkDirectSurfaceMapper::TimerFired);
+  loop.ProbeTimerId = interactor->CreateOneShotTimer(1); // (forgotten by the interactor once fired)
+  loops.push_back(loop);
+  return false;
+}
+
+void vtkDirectSurfaceMapper::TimerFired(vtkObject* caller, unsigned long, void* callData)
+{
+  const int timerId = callData ? *static_cast<int*>(callData) : 0;
+  if (timerId == 0)
+  {
+    return;
+  }
+  for (auto& loop : this->Internal->EventLoops)
+  {
+    if (loop.ProbeTimerId == timerId)
+    {
+      loop.Runs = true;
+      loop.ProbeTimerId = 0;
+      return;
+    }
+  }
+  for (const auto& view : this->Internal->Views)
+  {
+    Refinement* refinement = view->Refining.get();
+    if (refinement && refinement->TimerId == timerId)
+    {
+      auto* interactor = static_cast<vtkRenderWindowInteractor*>(caller);
+      refinement->TimerId = 0; // (fired: the interactor forgets it)
+      if (!refinement->Finished)
+      {
+        refinement->TimerId = interactor->CreateOneShotTimer(kRefinementPollMilliseconds);
+        return;
+      }
+      // Asked once: the render shows it; if it does not draw this view, the view's next render
+      // shows it, or a cast drops it.
+      interactor->Render();
+      return;
+    }
+  }
+}
