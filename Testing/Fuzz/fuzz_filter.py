@@ -42,6 +42,9 @@ import numpy as np
 
 import higher_order_cases as ho
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
+from kuhn_lattice import lattice  # noqa: E402
+
 VTK_TETRA, VTK_HEXAHEDRON, VTK_QUADRATIC_TETRA, VTK_LAGRANGE_TETRAHEDRON = 10, 12, 24, 71
 # Node pairs of the six mid-edge nodes of a VTK quadratic tet (nodes 4..9).
 MID_EDGES = np.array([(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)])
@@ -177,26 +180,8 @@ def quadratic_nodes(vertices):
 
 
 def lattice_mesh(n):
-    """A cube of n^3 boxes, each cut into 6 tets around its main diagonal, with shared nodes."""
-    m = 2 * n + 1  # nodes per axis: vertices on even, mid-edge nodes on odd indices
-    axis = np.linspace(0.0, 1.0, m)
-    grid = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), axis=-1).reshape(-1, 3)
-    paths = [(0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)]
-    cells = []
-    for box in np.ndindex(n, n, n):
-        for path in paths:
-            corner = 2 * np.array(box)
-            verts = [corner.copy()]
-            for step in path:
-                corner = corner.copy()
-                corner[step] += 2
-                verts.append(corner)
-            verts = np.array(verts)
-            if np.linalg.det((verts[1:] - verts[0]).astype(float)) < 0:
-                verts[[1, 2]] = verts[[2, 1]]
-            nodes = np.vstack([verts, (verts[MID_EDGES[:, 0]] + verts[MID_EDGES[:, 1]]) // 2])
-            cells.append(np.ravel_multi_index(nodes.T, (m, m, m)))
-    return Mesh(grid, cells)
+    """A cube [0, 1]^3 of n^3 boxes, each cut into 6 tets around its main diagonal, with shared nodes."""
+    return Mesh(*lattice(n, 0.0, 1.0))
 
 
 def soup_mesh(count, rng):

@@ -31,8 +31,10 @@ import zlib
 
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
+from kuhn_lattice import lattice  # noqa: E402
+
 VTK_TETRA, VTK_QUADRATIC_TETRA = 10, 24
-MID_EDGES = np.array([(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)])
 SIZES = [(64, 48), (96, 72), (33, 17), (1, 1), (2, 120), (160, 120)]
 
 # Knobs in the order they are applied, with the probability that a case switches each on (the
@@ -94,26 +96,6 @@ def pick(rng, choices):
     return choices[int(rng.integers(len(choices)))]
 
 
-def lattice(n):
-    """[-1, 1]^3 as n^3 cubes of 6 quadratic tets (VTK node order): points, cells."""
-    m = 2 * n + 1
-    g = np.linspace(-1, 1, m)
-    points = np.stack(np.meshgrid(g, g, g, indexing="ij"), -1).reshape(-1, 3)
-    cells = []
-    for box in np.ndindex(n, n, n):
-        for path in [(0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)]:
-            corner = 2 * np.array(box)
-            verts = [corner.copy()]
-            for step in path:
-                corner = corner.copy()
-                corner[step] += 2
-                verts.append(corner)
-            verts = np.array(verts)
-            nodes = np.vstack([verts, (verts[MID_EDGES[:, 0]] + verts[MID_EDGES[:, 1]]) // 2])
-            cells.append(np.ravel_multi_index(nodes.T, (m, m, m)))
-    return points, np.array(cells, dtype=np.int64)
-
-
 # ---------------------------------------------------------------------------------------------
 # The scene (VTK imported in the case's process only)
 
@@ -171,7 +153,7 @@ def make_grid(points, cells, field, types=None, name="f"):
 def build_input(case, scene):
     rng = case.knob("mesh")
     n = int(rng.integers(1, 4))
-    points, cells = lattice(n)
+    points, cells = lattice(n, oriented=False)  # (as walked: the odd tets inverted)
     scene.centre = rng.uniform(-0.2, 0.2, 3)
     radius = rng.uniform(0.2, 0.7)
     field = np.sum((points - scene.centre) ** 2, axis=1)
