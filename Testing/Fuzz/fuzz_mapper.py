@@ -27,9 +27,10 @@ import re
 import subprocess
 import sys
 import time
-import zlib
 
 import numpy as np
+
+from fuzz_common import SANITIZER, X_REFUSALS, Case as BaseCase, pick
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
 from kuhn_lattice import lattice  # noqa: E402
@@ -64,36 +65,18 @@ HOSTILE = {"nonfinite", "conn_garbage", "cell_types", "empty", "field_array", "s
 COVERAGE = {"iso_styles", "clipping", "detail"}
 
 
-class Case:
+class Case(BaseCase):
+    """A case's choices (fuzz_common.Case): a profile, then one random stream per knob."""
+
+    KNOBS = KNOBS
+
     def __init__(self, seed, index, without=()):
-        self.seed, self.index, self.without = seed, index, set(without)
+        super().__init__(seed, index, without)
         profile = np.random.default_rng([seed, index, 0]).random()
         self.profile = "clean" if profile < 0.4 else "hostile"
-        self.active, self.log = [], []
 
-    def knob(self, name):
-        rng = np.random.default_rng([self.seed, self.index, zlib.crc32(name.encode())])
-        on = rng.random() < KNOBS[name]
-        if self.profile == "clean" and (name in HOSTILE or name in COVERAGE):
-            on = False
-        if not on or name in self.without:
-            return None
-        self.active.append(name)
-        return rng
-
-    def note(self, text):
-        self.log.append(text)
-
-
-def active_knobs(seed, index, without=()):
-    case = Case(seed, index, without)
-    for name in KNOBS:
-        case.knob(name)
-    return case.active
-
-
-def pick(rng, choices):
-    return choices[int(rng.integers(len(choices)))]
+    def allows(self, name):
+        return not (self.profile == "clean" and (name in HOSTILE or name in COVERAGE))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -582,7 +565,7 @@ def run_case(seed, index, without=(), verbose=False):
     set_mapper_options(case, scene, values)
     build_views(case, scene)
     if verbose:
-        print("profile %s, knobs %s" % (case.profile, " ".join(active_knobs(seed, index, without))))
+        print("profile %s, knobs %s" % (case.profile, " ".join(Case.active_knobs(seed, index, without))))
         print("\n".join("  " + line for line in case.log), flush=True)
     broken = {}
     started = time.time()
@@ -604,11 +587,6 @@ def run_case(seed, index, without=(), verbose=False):
 # ---------------------------------------------------------------------------------------------
 # The parent: one process per case
 
-REFUSED = ("bad X server connection", "unable to open display", "cannot connect to X server")
-SANITIZER = re.compile(r"ERROR: (AddressSanitizer|LeakSanitizer): ([\w -]+?)(?: on | 0x|$)|"
-                       r"runtime error: (.*)")
-
-
 def run_child(seed, index, without, timeout):
     """Runs one case in a process of its own; retries X refusals. Returns a result dict."""
     command = [sys.executable, os.path.abspath(__file__), "--seed", str(seed), "--replay",
@@ -619,7 +597,7 @@ def run_child(seed, index, without, timeout):
                                  timeout=timeout, text=True, errors="replace")
         except subprocess.TimeoutExpired:
             return dict(status="hang", signature="hang (> %g s)" % timeout)
-        if run.returncode != 0 and any(text in run.stderr for text in REFUSED):
+        if run.returncode != 0 and any(text in run.stderr for text in X_REFUSALS):
             time.sleep(1.0 + attempt)
             continue
         sanitizer = SANITIZER.search(run.stderr)
