@@ -74,7 +74,7 @@ def array_range(array):
     return array.GetRange(0) if array.GetNumberOfComponents() == 1 else array.GetRange(-1)
 
 
-def main():
+def parse_arguments():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter,
                                      epilog="\n".join(__doc__.splitlines()[1:]))
@@ -98,12 +98,17 @@ def main():
     parser.add_argument("--pick", nargs=2, type=float, metavar=("X", "Y"),
                         help="with --screenshot: pick the surface at this display position first")
     args = parser.parse_args()
-
     if args.mesh is None:
         args.mesh = DEFAULT_MESH
         args.array = args.array or "speed"
         args.iso = args.iso or [0.25]
         args.color_by = args.color_by or "pressure"
+    return args
+
+
+def read_mesh(args):
+    """The mesh's reader and grid; fills in args.array (the active scalars, else the first point
+    array) and exits with a message when the file, its cells or the arrays are missing."""
     if not os.path.isfile(args.mesh):
         sys.exit(f"no such file: {args.mesh}")
     reader = vtkXMLUnstructuredGridReader()
@@ -113,17 +118,24 @@ def main():
     point_data = grid.GetPointData()
     if grid.GetNumberOfCells() == 0 or point_data.GetNumberOfArrays() == 0:
         sys.exit(f"{args.mesh}: no cells or no point arrays")
-    names = [point_data.GetArrayName(i) for i in range(point_data.GetNumberOfArrays())]
     if args.array is None:
         scalars = point_data.GetScalars()
-        args.array = scalars.GetName() if scalars is not None and scalars.GetName() else names[0]
-    field = point_data.GetArray(args.array)
-    if field is None:
-        sys.exit(f"no point array '{args.array}' (point arrays: {', '.join(names)})")
-    field_range = array_range(field)
-    span = field_range[1] - field_range[0] or 1.0
-    isos = list(args.iso) if args.iso else [0.5 * (field_range[0] + field_range[1])]
+        args.array = scalars.GetName() if scalars is not None and scalars.GetName() else \
+            point_array_names(grid)[0]
+    if point_data.GetArray(args.array) is None:
+        sys.exit(f"no point array '{args.array}' (point arrays: {', '.join(point_array_names(grid))})")
+    if args.color_by and point_data.GetArray(args.color_by) is None:
+        sys.exit(f"no point array '{args.color_by}' (point arrays: {', '.join(point_array_names(grid))})")
+    return reader, grid
 
+
+def point_array_names(grid):
+    point_data = grid.GetPointData()
+    return [point_data.GetArrayName(i) for i in range(point_data.GetNumberOfArrays())]
+
+
+def make_surface(args, reader, isos):
+    """The exact isosurfaces' mapper and actor (one opacity per iso-value)."""
     mapper = vtkDirectSurfaceMapper()
     mapper.SetInputConnection(reader.GetOutputPort())
     mapper.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS, args.array)
@@ -136,15 +148,13 @@ def main():
     actor.SetMapper(mapper)
     actor.GetProperty().SetSpecular(0.3)
     actor.GetProperty().SetSpecularPower(30.0)
+    return mapper, actor
 
-    renderer = vtkRenderer()
-    renderer.SetBackground(0.32, 0.34, 0.43)
-    renderer.AddActor(actor)
 
+def color_surface(args, grid, mapper, actor, renderer, isos):
+    """Colours by args.color_by with a scalar bar, or each iso-value's surface in a colour of its own."""
     if args.color_by:
-        color_array = point_data.GetArray(args.color_by)
-        if color_array is None:
-            sys.exit(f"no point array '{args.color_by}' (point arrays: {', '.join(names)})")
+        color_array = grid.GetPointData().GetArray(args.color_by)
         color_range = array_range(color_array)
         lut = color_map(args.color_map, color_range)
         mapper.ScalarVisibilityOn()
@@ -168,6 +178,9 @@ def main():
             for i in range(len(isos)):
                 mapper.SetIsoValueColor(i, *SURFACE_COLORS[i % len(SURFACE_COLORS)])
 
+
+def add_outline(reader, renderer):
+    """The mesh's bounding box, in white."""
     outline = vtkOutlineFilter()
     outline.SetInputConnection(reader.GetOutputPort())
     outline_mapper = vtkPolyDataMapper()
@@ -178,14 +191,9 @@ def main():
     outline_actor.GetProperty().SetLineWidth(1.5)
     renderer.AddActor(outline_actor)
 
-    text = vtkTextActor()
-    text.GetTextProperty().SetFontSize(18)
-    text.GetTextProperty().SetColor(1.0, 1.0, 1.0)
-    text.GetTextProperty().SetVerticalJustificationToTop()
-    text.GetPositionCoordinate().SetCoordinateSystemToNormalizedDisplay()
-    text.GetPositionCoordinate().SetValue(0.015, 0.98)
-    renderer.AddActor2D(text)
 
+def make_window(args, renderer):
+    """The render window (offscreen for --screenshot) and its trackball interactor."""
     window = vtkRenderWindow()
     window.SetSize(*args.size)
     window.SetWindowName(f"TetDSR: {os.path.basename(args.mesh)}")
@@ -195,103 +203,130 @@ def main():
     interactor = vtkRenderWindowInteractor()
     interactor.SetRenderWindow(window)
     interactor.SetInteractorStyle(vtkInteractorStyleTrackballCamera())
+    return window, interactor
 
+
+def place_camera(renderer, room_for_scalar_bar):
     camera = renderer.GetActiveCamera()
     renderer.ResetCamera()
     camera.Azimuth(30.0)
     camera.Elevation(25.0)
     camera.OrthogonalizeViewUp()
     renderer.ResetCamera()
-    if args.color_by:  # room for the scalar bar on the right
+    if room_for_scalar_bar:  # on the right
         camera.Zoom(0.95)
         camera.SetWindowCenter(0.08, 0.0)
 
-    # The slider sets the selected iso-value.
-    slider_rep = vtkSliderRepresentation2D()
-    slider_rep.SetMinimumValue(field_range[0])
-    slider_rep.SetMaximumValue(field_range[1])
-    slider_rep.SetTitleText(f"{args.array} iso-value")
-    slider_rep.GetPoint1Coordinate().SetCoordinateSystemToNormalizedDisplay()
-    slider_rep.GetPoint1Coordinate().SetValue(0.30, 0.07)
-    slider_rep.GetPoint2Coordinate().SetCoordinateSystemToNormalizedDisplay()
-    slider_rep.GetPoint2Coordinate().SetValue(0.80, 0.07)
-    slider_rep.SetSliderLength(0.02)
-    slider_rep.SetSliderWidth(0.03)
-    slider_rep.SetTubeWidth(0.005)
-    slider_rep.SetLabelHeight(0.025)
-    slider_rep.SetTitleHeight(0.025)
-    slider_rep.SetLabelFormat("%.4g")
-    slider = vtkSliderWidget()
-    slider.SetInteractor(interactor)
-    slider.SetRepresentation(slider_rep)
-    slider.SetAnimationModeToJump()
 
-    state = {"selected": 0}
+class IsoValueControls:
+    """The iso-values the keys (Up, Down, Tab) and the slider at the bottom change, and the text
+    at the top left that lists them."""
 
-    def update(announce=True):
-        i = state["selected"]
-        values = ", ".join(("> %.4g <" if k == i and len(isos) > 1 else "%.4g") % v
-                           for k, v in enumerate(isos))
-        text.SetInput(f"{args.array} = {values}\nUp/Down: +/-2% of range"
-                      + (", Tab: next iso-value" if len(isos) > 1 else ""))
-        slider_rep.SetValue(isos[i])
+    def __init__(self, array, isos, field_range, mapper, renderer, interactor):
+        self.array, self.isos, self.field_range = array, isos, field_range
+        self.span = field_range[1] - field_range[0] or 1.0
+        self.mapper, self.window = mapper, interactor.GetRenderWindow()
+        self.selected = 0
+        self.text = vtkTextActor()
+        self.text.GetTextProperty().SetFontSize(18)
+        self.text.GetTextProperty().SetColor(1.0, 1.0, 1.0)
+        self.text.GetTextProperty().SetVerticalJustificationToTop()
+        self.text.GetPositionCoordinate().SetCoordinateSystemToNormalizedDisplay()
+        self.text.GetPositionCoordinate().SetValue(0.015, 0.98)
+        renderer.AddActor2D(self.text)
+        self.slider_rep = vtkSliderRepresentation2D()
+        self.slider_rep.SetMinimumValue(field_range[0])
+        self.slider_rep.SetMaximumValue(field_range[1])
+        self.slider_rep.SetTitleText(f"{array} iso-value")
+        self.slider_rep.GetPoint1Coordinate().SetCoordinateSystemToNormalizedDisplay()
+        self.slider_rep.GetPoint1Coordinate().SetValue(0.30, 0.07)
+        self.slider_rep.GetPoint2Coordinate().SetCoordinateSystemToNormalizedDisplay()
+        self.slider_rep.GetPoint2Coordinate().SetValue(0.80, 0.07)
+        self.slider_rep.SetSliderLength(0.02)
+        self.slider_rep.SetSliderWidth(0.03)
+        self.slider_rep.SetTubeWidth(0.005)
+        self.slider_rep.SetLabelHeight(0.025)
+        self.slider_rep.SetTitleHeight(0.025)
+        self.slider_rep.SetLabelFormat("%.4g")
+        self.slider = vtkSliderWidget()
+        self.slider.SetInteractor(interactor)
+        self.slider.SetRepresentation(self.slider_rep)
+        self.slider.SetAnimationModeToJump()
+        interactor.AddObserver(vtkCommand.KeyPressEvent, self.on_key)
+        self.slider.AddObserver(vtkCommand.InteractionEvent, self.on_slider)
+        self.update(announce=False)
+        self.slider.EnabledOn()
+
+    def update(self, announce=True):
+        i = self.selected
+        values = ", ".join(("> %.4g <" if k == i and len(self.isos) > 1 else "%.4g") % v
+                           for k, v in enumerate(self.isos))
+        self.text.SetInput(f"{self.array} = {values}\nUp/Down: +/-2% of range"
+                           + (", Tab: next iso-value" if len(self.isos) > 1 else ""))
+        self.slider_rep.SetValue(self.isos[i])
         if announce:
-            print(f"iso-value {i}: {args.array} = {isos[i]:.6g}", flush=True)
+            print(f"iso-value {i}: {self.array} = {self.isos[i]:.6g}", flush=True)
 
-    def set_iso(value):
-        i = state["selected"]
-        isos[i] = min(max(value, field_range[0]), field_range[1])
-        mapper.SetValue(i, isos[i])
-        update()
-        window.Render()
+    def set_iso(self, value):
+        i = self.selected
+        self.isos[i] = min(max(value, self.field_range[0]), self.field_range[1])
+        self.mapper.SetValue(i, self.isos[i])
+        self.update()
+        self.window.Render()
 
-    def on_key(caller, event):
+    def on_key(self, caller, event):
         key = caller.GetKeySym()
-        step = 0.02 * span
+        step = 0.02 * self.span
         if key == "Up":
-            set_iso(isos[state["selected"]] + step)
+            self.set_iso(self.isos[self.selected] + step)
         elif key == "Down":
-            set_iso(isos[state["selected"]] - step)
-        elif key == "Tab" and len(isos) > 1:
-            state["selected"] = (state["selected"] + 1) % len(isos)
-            update()
-            window.Render()
+            self.set_iso(self.isos[self.selected] - step)
+        elif key == "Tab" and len(self.isos) > 1:
+            self.selected = (self.selected + 1) % len(self.isos)
+            self.update()
+            self.window.Render()
 
-    def on_slider(caller, event):
-        set_iso(caller.GetRepresentation().GetValue())
+    def on_slider(self, caller, event):
+        self.set_iso(caller.GetRepresentation().GetValue())
 
-    # Picking (p, or --pick): the exact hit, marked, and what the mesh holds there.
-    marker_source = vtkSphereSource()
-    marker_source.SetThetaResolution(24)
-    marker_source.SetPhiResolution(12)
-    bounds = grid.GetBounds()
-    marker_source.SetRadius(0.008 * sum((bounds[2 * k + 1] - bounds[2 * k]) ** 2
-                                        for k in range(3)) ** 0.5)
-    marker_mapper = vtkPolyDataMapper()
-    marker_mapper.SetInputConnection(marker_source.GetOutputPort())
-    marker = vtkActor()
-    marker.SetMapper(marker_mapper)
-    marker.GetProperty().SetColor(1.0, 0.85, 0.1)
-    marker.PickableOff()
-    marker.VisibilityOff()
-    renderer.AddActor(marker)
-    picked = vtkTextActor()
-    picked.GetTextProperty().SetFontSize(16)
-    picked.GetTextProperty().SetColor(1.0, 0.85, 0.1)
-    picked.GetPositionCoordinate().SetCoordinateSystemToNormalizedDisplay()
-    picked.GetPositionCoordinate().SetValue(0.015, 0.13)
-    renderer.AddActor2D(picked)
-    picker = vtkDirectSurfacePicker()
-    interactor.SetPicker(picker)
 
-    def on_pick(caller, event):
-        pick = picker.GetLastPick()
+class PickReport:
+    """Picking (p, or --pick): the exact hit marked with a small sphere, and what the mesh holds
+    there shown at the bottom left and printed."""
+
+    def __init__(self, grid, renderer, interactor):
+        marker_source = vtkSphereSource()
+        marker_source.SetThetaResolution(24)
+        marker_source.SetPhiResolution(12)
+        bounds = grid.GetBounds()
+        marker_source.SetRadius(0.008 * sum((bounds[2 * k + 1] - bounds[2 * k]) ** 2
+                                            for k in range(3)) ** 0.5)
+        marker_mapper = vtkPolyDataMapper()
+        marker_mapper.SetInputConnection(marker_source.GetOutputPort())
+        self.marker = vtkActor()
+        self.marker.SetMapper(marker_mapper)
+        self.marker.GetProperty().SetColor(1.0, 0.85, 0.1)
+        self.marker.PickableOff()
+        self.marker.VisibilityOff()
+        renderer.AddActor(self.marker)
+        self.picked = vtkTextActor()
+        self.picked.GetTextProperty().SetFontSize(16)
+        self.picked.GetTextProperty().SetColor(1.0, 0.85, 0.1)
+        self.picked.GetPositionCoordinate().SetCoordinateSystemToNormalizedDisplay()
+        self.picked.GetPositionCoordinate().SetValue(0.015, 0.13)
+        renderer.AddActor2D(self.picked)
+        self.picker = vtkDirectSurfacePicker()
+        interactor.SetPicker(self.picker)
+        self.picker.AddObserver(vtkCommand.EndPickEvent, self.on_pick)
+
+    def on_pick(self, caller, event):
+        pick = self.picker.GetLastPick()
         if not pick.GetHit():
-            marker.VisibilityOff()
-            picked.SetInput("")
+            self.marker.VisibilityOff()
+            self.picked.SetInput("")
             return
-        marker.SetPosition(pick.GetPosition())
-        marker.VisibilityOn()
+        self.marker.SetPosition(pick.GetPosition())
+        self.marker.VisibilityOn()
         data = pick.GetPointData()
         values = ", ".join(
             f"{data.GetArrayName(k)} = " + ", ".join(
@@ -300,38 +335,54 @@ def main():
             for k in range(data.GetNumberOfArrays()))
         x = ", ".join("%.6g" % v for v in pick.GetPosition())
         line = f"picked cell {pick.GetCellId()} at ({x})\n{values}"
-        picked.SetInput(line)
+        self.picked.SetInput(line)
         print(line.replace("\n", "; "), flush=True)
 
-    picker.AddObserver(vtkCommand.EndPickEvent, on_pick)
-    interactor.AddObserver(vtkCommand.KeyPressEvent, on_key)
-    slider.AddObserver(vtkCommand.InteractionEvent, on_slider)
-    update(announce=False)
-    slider.EnabledOn()
+
+def write_screenshot(args, window, interactor, picker, renderer, mapper, isos):
+    """One frame: the keys of --press, the pick of --pick, then the window to args.screenshot."""
+    window.Render()
+    for key in args.press:  # as the interactor delivers a key press
+        interactor.SetKeySym(key)
+        interactor.InvokeEvent(vtkCommand.KeyPressEvent)
+    if args.pick:
+        picker.Pick(args.pick[0], args.pick[1], 0.0, renderer)
+        window.Render()
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(window)
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    writer = vtkPNGWriter()
+    writer.SetFileName(args.screenshot)
+    writer.SetInputConnection(grab.GetOutputPort())
+    writer.Write()
+    print(f"wrote {args.screenshot} ({args.size[0]} x {args.size[1]}; "
+          f"{mapper.GetNumberOfRenderedCells()} cells, {args.array} = "
+          f"{', '.join('%.4g' % v for v in isos)})")
+
+
+def main():
+    args = parse_arguments()
+    reader, grid = read_mesh(args)
+    field_range = array_range(grid.GetPointData().GetArray(args.array))
+    isos = list(args.iso) if args.iso else [0.5 * (field_range[0] + field_range[1])]
+
+    mapper, actor = make_surface(args, reader, isos)
+    renderer = vtkRenderer()
+    renderer.SetBackground(0.32, 0.34, 0.43)
+    renderer.AddActor(actor)
+    color_surface(args, grid, mapper, actor, renderer, isos)
+    add_outline(reader, renderer)
+    window, interactor = make_window(args, renderer)
+    place_camera(renderer, room_for_scalar_bar=bool(args.color_by))
+    controls = IsoValueControls(args.array, isos, field_range, mapper, renderer, interactor)
+    picking = PickReport(grid, renderer, interactor)
 
     if args.screenshot:
-        window.Render()
-        for key in args.press:  # as the interactor delivers a key press
-            interactor.SetKeySym(key)
-            interactor.InvokeEvent(vtkCommand.KeyPressEvent)
-        if args.pick:
-            picker.Pick(args.pick[0], args.pick[1], 0.0, renderer)
-            window.Render()
-        grab = vtkWindowToImageFilter()
-        grab.SetInput(window)
-        grab.ReadFrontBufferOff()
-        grab.Update()
-        writer = vtkPNGWriter()
-        writer.SetFileName(args.screenshot)
-        writer.SetInputConnection(grab.GetOutputPort())
-        writer.Write()
-        print(f"wrote {args.screenshot} ({args.size[0]} x {args.size[1]}; "
-              f"{mapper.GetNumberOfRenderedCells()} cells, {args.array} = "
-              f"{', '.join('%.4g' % v for v in isos)})")
+        write_screenshot(args, window, interactor, picking.picker, renderer, mapper, isos)
         return 0
-
     print(f"{args.mesh}: {grid.GetNumberOfCells()} cells; {args.array} in "
-          f"[{field_range[0]:.6g}, {field_range[1]:.6g}]; Up/Down step {0.02 * span:.6g}")
+          f"[{field_range[0]:.6g}, {field_range[1]:.6g}]; Up/Down step {0.02 * controls.span:.6g}")
     window.Render()
     interactor.Start()
     return 0

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Creates (or reuses) build/flow-venv (gmsh, scikit-fem, pyamg at pinned versions) and runs its
+# Creates (or reuses) build/flow-venv, or the folder $TETDSR_FLOW_VENV names (a test of another
+# build folder passes its own), with gmsh, scikit-fem, pyamg at pinned versions, and runs its
 # Python with the given arguments; the dataset scripts (make-expansion-flow.sh,
 # make-cylinder-flow.sh, make-p3-poisson.sh) go through it. The venv sees Debian's site packages
 # for ParaView's VTK 9.2 (python3-paraview), which writes and checks the .vtu; its own numpy stays
@@ -21,7 +22,7 @@ if ! dpkg -s "${EXTRA[@]}" > /dev/null 2>&1; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${EXTRA[@]}"
 fi
 
-VENV=build/flow-venv
+VENV="${TETDSR_FLOW_VENV:-build/flow-venv}"
 if [ ! -x "$VENV/bin/python" ]; then
   /usr/bin/python3 -m venv --system-site-packages "$VENV"
 fi

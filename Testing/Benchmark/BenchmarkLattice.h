@@ -2,6 +2,7 @@
 // tets with three fields sampled at its nodes.
 #pragma once
 
+#include "LatticeMesh.h" // forEachKuhnTet
 #include "tetdsr/index/Scene.h"
 
 #include <cmath>
@@ -58,40 +59,16 @@ struct Lattice
           }
           blobs[p] = sum;
         }
-    // Each cube is cut along its main diagonal into the 6 tets of the axis permutations; the
-    // odd permutations swap two vertices to keep the orientation positive.
-    const int permutations[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 },
-      { 2, 0, 1 }, { 2, 1, 0 } };
-    const bool odd[6] = { false, true, true, false, false, true };
-    const int edges[6][2] = { { 0, 1 }, { 1, 2 }, { 0, 2 }, { 0, 3 }, { 1, 3 }, { 2, 3 } };
+    // The Kuhn lattice (Testing/Core/LatticeMesh.h) with the point ids above, cubes with x fastest.
     cells = 6LL * n * n * n;
-    cellNodes.resize(static_cast<std::size_t>(10 * cells));
-    tetdsr::NodeId* ids = cellNodes.data();
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i)
-          for (int p = 0; p < 6; ++p, ids += 10)
-          {
-            int v[4][3];
-            v[0][0] = 2 * i, v[0][1] = 2 * j, v[0][2] = 2 * k;
-            for (int s = 0; s < 3; ++s)
-            {
-              for (int a = 0; a < 3; ++a)
-                v[s + 1][a] = v[s][a];
-              v[s + 1][permutations[p][s]] += 2;
-            }
-            if (odd[p])
-              for (int a = 0; a < 3; ++a)
-                std::swap(v[1][a], v[2][a]);
-            for (int c = 0; c < 4; ++c)
-              ids[c] = id(v[c][0], v[c][1], v[c][2]);
-            for (int e = 0; e < 6; ++e)
-            {
-              const int* a = v[edges[e][0]];
-              const int* b = v[edges[e][1]];
-              ids[4 + e] = id((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2);
-            }
-          }
+    cellNodes.reserve(static_cast<std::size_t>(10 * cells));
+    tetdsr_test::forEachKuhnTet(n, 2, tetdsr_test::CubeOrder::XFastest,
+      [&](const std::array<tetdsr_test::LatticeKey, 4>& vertices) {
+        for (const auto& key : tetdsr_test::quadraticTetKeys(vertices))
+        {
+          cellNodes.push_back(id(key[0], key[1], key[2]));
+        }
+      });
     // VTK's layout: every cell a VTK_QUADRATIC_TETRA at offsets 0, 10, 20, ...
     cellTypes.assign(static_cast<std::size_t>(cells), tetdsr::kVtkQuadraticTetra);
     offsets.resize(static_cast<std::size_t>(cells) + 1);

@@ -31,7 +31,7 @@ from tetdsr import vtkDirectSurfaceRayCaster
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(ROOT, "Testing", "Python"))
-from shared_helpers import lattice  # noqa: E402
+from kuhn_lattice import lattice  # noqa: E402
 
 
 def digest(array):

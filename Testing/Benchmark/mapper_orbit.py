@@ -53,39 +53,22 @@ import vtkmodules.vtkRenderingUI  # noqa: F401 (the platform's vtkRenderWindowIn
 from tetdsr import vtkDirectSurfaceMapper
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+sys.path.insert(0, os.path.join(ROOT, "Testing", "Python"))
+from kuhn_lattice import kuhn_quadratic_tets  # noqa: E402
 
 
 def lattice(n):
-    """tetdsr_benchmark.cxx's MakeMesh(n), vectorised: n^3 cubes over [0,1]^3, 6 positively
-    oriented quadratic tets each (the cube's 6 monotone paths from corner to corner), nodes on the
-    half-step lattice with point id i + m (j + m k), m = 2 n + 1; cells in the order k, j, i,
-    path. Point arrays "wave" (active scalars) and "quadric"."""
+    """tetdsr_benchmark.cxx's MakeMesh(n) (Testing/Benchmark/BenchmarkLattice.h): n^3 cubes over
+    [0,1]^3, 6 positively oriented quadratic tets each, nodes on the half-step lattice with point
+    id i + m (j + m k), m = 2 n + 1; cells in the order k, j, i, tet (kuhn_lattice.py). Point
+    arrays "wave" (active scalars) and "quadric"."""
     m = 2 * n + 1
-    t = np.arange(m) / (m - 1.0)
-    z, y, x = np.meshgrid(t, t, t, indexing="ij")  # x varies fastest: id = i + m (j + m k)
-    points = np.column_stack([x.ravel(), y.ravel(), z.ravel()])
+    keys, ids = kuhn_quadratic_tets(n, x_fastest=True)
+    points = (np.arange(m) / (m - 1.0))[keys]  # i / (m - 1), as the C++ computes it
+    x, y, z = points.T
     wave = np.sin(7.0 * x) * np.cos(5.0 * y) + np.sin(6.0 * z + 1.0)
     quadric = (x - 0.5) ** 2 + (y - 0.45) ** 2 + (z - 0.52) ** 2
 
-    permutations = [(0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)]
-    odd = [False, True, True, False, False, True]
-    edges = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
-    k, j, i = np.meshgrid(np.arange(n), np.arange(n), np.arange(n), indexing="ij")
-    corner = np.stack([2 * i.ravel(), 2 * j.ravel(), 2 * k.ravel()], axis=-1)  # (n^3, 3) in i, j, k
-    ids = np.empty((n ** 3, 6, 10), dtype=np.int64)
-    for p, perm in enumerate(permutations):
-        v = [corner]
-        for s in range(3):
-            step = np.zeros(3, dtype=np.int64)
-            step[perm[s]] = 2
-            v.append(v[-1] + step)
-        if odd[p]:
-            v[1], v[2] = v[2], v[1]
-        node = lambda c: c[:, 0] + m * (c[:, 1] + m * c[:, 2])  # noqa: E731
-        for c in range(4):
-            ids[:, p, c] = node(v[c])
-        for e, (a, b) in enumerate(edges):
-            ids[:, p, 4 + e] = node((v[a] + v[b]) // 2)
     cells = 6 * n ** 3
     connectivity = numpy_support.numpy_to_vtkIdTypeArray(ids.reshape(-1), deep=True)
     offsets = numpy_support.numpy_to_vtkIdTypeArray(

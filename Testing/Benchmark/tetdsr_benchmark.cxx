@@ -368,59 +368,42 @@ vtkSmartPointer<vtkUnstructuredGrid> MakeOrderMesh(int n, int type, bool curved)
         points->SetPoint(id, x, y, z);
         wave->SetValue(id, waveAt(x, y, z));
       }
-  const int permutations[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 },
-    { 2, 0, 1 }, { 2, 1, 0 } };
-  const bool odd[6] = { false, true, true, false, false, true };
   constexpr int kNodes = tetdsr::HigherOrderTet<P>::kNodes;
   vtkNew<vtkCellArray> cells;
   std::vector<vtkIdType> ids(kNodes);
   // A Bezier cell's non-vertex control points are points of their own (coefficients, not
   // values of the field): appended after the lattice's.
   std::vector<double> nodal(kNodes);
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-        for (int p = 0; p < 6; ++p)
+  tetdsr_test::forEachKuhnTet(n, P, tetdsr_test::CubeOrder::XFastest,
+    [&](const std::array<tetdsr_test::LatticeKey, 4>& v) {
+      for (int node = 0; node < kNodes; ++node)
+      {
+        double L[4];
+        tetdsr::HigherOrderTet<P>::nodePoint(node, L);
+        int key[3];
+        for (int a = 0; a < 3; ++a)
         {
-          int v[4][3];
-          v[0][0] = P * i, v[0][1] = P * j, v[0][2] = P * k;
-          for (int s = 0; s < 3; ++s)
-          {
-            for (int a = 0; a < 3; ++a)
-              v[s + 1][a] = v[s][a];
-            v[s + 1][permutations[p][s]] += P;
-          }
-          if (odd[p])
-            for (int a = 0; a < 3; ++a)
-              std::swap(v[1][a], v[2][a]);
-          for (int node = 0; node < kNodes; ++node)
-          {
-            double L[4];
-            tetdsr::HigherOrderTet<P>::nodePoint(node, L);
-            int key[3];
-            for (int a = 0; a < 3; ++a)
-            {
-              double sum = 0.0;
-              for (int q = 0; q < 4; ++q)
-                sum += L[q] * v[q][a];
-              key[a] = static_cast<int>(std::lround(sum));
-            }
-            ids[node] = key[0] + static_cast<vtkIdType>(m) * (key[1] + static_cast<vtkIdType>(m) * key[2]);
-            nodal[node] = wave->GetValue(ids[node]);
-          }
-          if (type == VTK_BEZIER_TETRAHEDRON)
-          {
-            tetdsr::HigherOrderTet<P>::toBezier(nodal.data());
-            for (int node = 4; node < kNodes; ++node)
-            {
-              double x[3];
-              points->GetPoint(ids[node], x);
-              ids[node] = points->InsertNextPoint(x);
-              wave->InsertNextValue(nodal[node]);
-            }
-          }
-          cells->InsertNextCell(kNodes, ids.data());
+          double sum = 0.0;
+          for (int q = 0; q < 4; ++q)
+            sum += L[q] * v[q][a];
+          key[a] = static_cast<int>(std::lround(sum));
         }
+        ids[node] = key[0] + static_cast<vtkIdType>(m) * (key[1] + static_cast<vtkIdType>(m) * key[2]);
+        nodal[node] = wave->GetValue(ids[node]);
+      }
+      if (type == VTK_BEZIER_TETRAHEDRON)
+      {
+        tetdsr::HigherOrderTet<P>::toBezier(nodal.data());
+        for (int node = 4; node < kNodes; ++node)
+        {
+          double x[3];
+          points->GetPoint(ids[node], x);
+          ids[node] = points->InsertNextPoint(x);
+          wave->InsertNextValue(nodal[node]);
+        }
+      }
+      cells->InsertNextCell(kNodes, ids.data());
+    });
   auto mesh = vtkSmartPointer<vtkUnstructuredGrid>::New();
   mesh->SetPoints(points);
   mesh->GetPointData()->AddArray(wave);

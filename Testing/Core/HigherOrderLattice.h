@@ -10,6 +10,7 @@
 // system (Bernstein basis at the nodes, Gaussian elimination), not by the core's conversion.
 #pragma once
 
+#include "LatticeMesh.h" // forEachKuhnTet
 #include "tetdsr/math/HigherOrderTet.h"
 #include "tetdsr/index/Scene.h"
 
@@ -154,75 +155,57 @@ inline HigherOrderLattice makeHigherOrderLattice(int n, const glm::dvec3& origin
     mesh.values.push_back(value);
     return id;
   };
-  const int permutations[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 },
-    { 2, 1, 0 } };
-  const bool odd[6] = { false, true, true, false, false, true };
   int cell = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k)
-        for (int t = 0; t < 6; ++t)
+  forEachKuhnTet(n, kSteps, CubeOrder::ZFastest, [&](const std::array<LatticeKey, 4>& v) {
+    const HigherOrderCell kind = pick(cell++);
+    const int count = tetdsr::latticeCount(kind.order);
+    std::vector<std::array<int, 3>> keys(count);
+    std::vector<double> nodal(count);
+    for (int node = 0; node < count; ++node)
+    {
+      double L[4];
+      nodeBarycentric(kind.order, node, L);
+      for (int a = 0; a < 3; ++a)
+      {
+        int sum = 0;
+        for (int q = 0; q < 4; ++q)
         {
-          std::array<std::array<int, 3>, 4> v;
-          v[0] = { kSteps * i, kSteps * j, kSteps * k };
-          for (int s = 0; s < 3; ++s)
-          {
-            v[s + 1] = v[s];
-            v[s + 1][permutations[t][s]] += kSteps;
-          }
-          if (odd[t])
-          {
-            std::swap(v[1], v[2]); // positively oriented
-          }
-          const HigherOrderCell kind = pick(cell++);
-          const int count = tetdsr::latticeCount(kind.order);
-          std::vector<std::array<int, 3>> keys(count);
-          std::vector<double> nodal(count);
-          for (int node = 0; node < count; ++node)
-          {
-            double L[4];
-            nodeBarycentric(kind.order, node, L);
-            for (int a = 0; a < 3; ++a)
-            {
-              int sum = 0;
-              for (int q = 0; q < 4; ++q)
-              {
-                sum += static_cast<int>(std::lround(L[q] * kind.order)) * v[q][a];
-              }
-              keys[node][a] = sum / kind.order;
-            }
-            nodal[node] = field(position(keys[node]));
-          }
-          std::array<glm::dvec3, 4> corners;
-          for (int q = 0; q < 4; ++q)
-          {
-            corners[q] = position(v[q]);
-          }
-          mesh.vertices.push_back(corners);
-          const std::vector<double> coefficients =
-            kind.bezier ? bezierCoefficients(kind.order, nodal) : nodal;
-          for (int node = 0; node < count; ++node)
-          {
-            // Vertices are shared by every cell; other nodes only between nodal (non-Bezier) cells.
-            const bool vertex = node < 4;
-            if (!kind.bezier || vertex)
-            {
-              auto it = shared.find(keys[node]);
-              if (it == shared.end())
-              {
-                it = shared.emplace(keys[node], newPoint(position(keys[node]), nodal[node])).first;
-              }
-              mesh.connectivity.push_back(it->second);
-            }
-            else
-            {
-              mesh.connectivity.push_back(newPoint(position(keys[node]), coefficients[node]));
-            }
-          }
-          mesh.offsets.push_back(static_cast<tetdsr::NodeId>(mesh.connectivity.size()));
-          mesh.cellTypes.push_back(static_cast<std::uint8_t>(kind.vtkType));
-          mesh.cells.push_back(kind);
+          sum += static_cast<int>(std::lround(L[q] * kind.order)) * v[q][a];
         }
+        keys[node][a] = sum / kind.order;
+      }
+      nodal[node] = field(position(keys[node]));
+    }
+    std::array<glm::dvec3, 4> corners;
+    for (int q = 0; q < 4; ++q)
+    {
+      corners[q] = position(v[q]);
+    }
+    mesh.vertices.push_back(corners);
+    const std::vector<double> coefficients =
+      kind.bezier ? bezierCoefficients(kind.order, nodal) : nodal;
+    for (int node = 0; node < count; ++node)
+    {
+      // Vertices are shared by every cell; other nodes only between nodal (non-Bezier) cells.
+      const bool vertex = node < 4;
+      if (!kind.bezier || vertex)
+      {
+        auto it = shared.find(keys[node]);
+        if (it == shared.end())
+        {
+          it = shared.emplace(keys[node], newPoint(position(keys[node]), nodal[node])).first;
+        }
+        mesh.connectivity.push_back(it->second);
+      }
+      else
+      {
+        mesh.connectivity.push_back(newPoint(position(keys[node]), coefficients[node]));
+      }
+    }
+    mesh.offsets.push_back(static_cast<tetdsr::NodeId>(mesh.connectivity.size()));
+    mesh.cellTypes.push_back(static_cast<std::uint8_t>(kind.vtkType));
+    mesh.cells.push_back(kind);
+  });
   return mesh;
 }
 

@@ -1,5 +1,8 @@
 // Test meshes built independently of the filter: an n x n x n lattice of cubes, each split
 // into 6 tetrahedra around its main diagonal (Kuhn), with mid-edge nodes, in VTK node order.
+// forEachKuhnTet is the one walk over the lattice's tetrahedra that every C++ test and benchmark
+// mesh of this kind uses (HigherOrderLattice.h, Testing/Benchmark, Testing/Cxx); the Python twin
+// is Testing/Python/kuhn_lattice.py.
 #pragma once
 
 #include "tetdsr/index/Scene.h"
@@ -15,6 +18,75 @@
 
 namespace tetdsr_test
 {
+
+/// Integer coordinates of a lattice node, in steps of (cube edge / steps per edge).
+using LatticeKey = std::array<int, 3>;
+
+/// The order in which forEachKuhnTet visits the cubes: cube (i, j, k) with k fastest (i outer),
+/// or with i fastest (k outer, the order of VTK's image data and of the benchmarks' point ids).
+enum class CubeOrder
+{
+  ZFastest,
+  XFastest
+};
+
+/// Calls visit(vertices) for each of the 6 n^3 tetrahedra of the lattice, cube after cube in
+/// `order`, a cube's 6 in the order of the axis permutations (012, 021, 102, 120, 201, 210): tet
+/// p walks from the cube's lowest corner along the axes in permutation p's order. Vertices are in
+/// steps of 1 / stepsPerEdge of a cube's edge, and positively oriented (the odd permutations get
+/// vertices 1 and 2 swapped: a walk's orientation is its permutation's sign).
+template <typename Visit>
+void forEachKuhnTet(int n, int stepsPerEdge, CubeOrder order, Visit&& visit)
+{
+  static const int permutations[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 },
+    { 2, 0, 1 }, { 2, 1, 0 } };
+  static const bool odd[6] = { false, true, true, false, false, true };
+  for (int outer = 0; outer < n; ++outer)
+    for (int middle = 0; middle < n; ++middle)
+      for (int inner = 0; inner < n; ++inner)
+      {
+        const LatticeKey cube = order == CubeOrder::ZFastest ? LatticeKey{ outer, middle, inner }
+                                                             : LatticeKey{ inner, middle, outer };
+        for (int p = 0; p < 6; ++p)
+        {
+          std::array<LatticeKey, 4> v;
+          for (int a = 0; a < 3; ++a)
+          {
+            v[0][a] = stepsPerEdge * cube[a];
+          }
+          for (int s = 0; s < 3; ++s)
+          {
+            v[s + 1] = v[s];
+            v[s + 1][permutations[p][s]] += stepsPerEdge;
+          }
+          if (odd[p])
+          {
+            std::swap(v[1], v[2]);
+          }
+          visit(static_cast<const std::array<LatticeKey, 4>&>(v));
+        }
+      }
+}
+
+/// The 10 nodes of a quadratic tet in VTK order (vertices, then the mid-edge nodes of edges 01,
+/// 12, 02, 03, 13, 23), from vertices on the half-step lattice (stepsPerEdge 2).
+inline std::array<LatticeKey, 10> quadraticTetKeys(const std::array<LatticeKey, 4>& v)
+{
+  static const int edges[6][2] = { { 0, 1 }, { 1, 2 }, { 0, 2 }, { 0, 3 }, { 1, 3 }, { 2, 3 } };
+  std::array<LatticeKey, 10> keys;
+  for (int c = 0; c < 4; ++c)
+  {
+    keys[c] = v[c];
+  }
+  for (int e = 0; e < 6; ++e)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      keys[4 + e][a] = (v[edges[e][0]][a] + v[edges[e][1]][a]) / 2;
+    }
+  }
+  return keys;
+}
 
 struct LatticeMesh
 {
@@ -89,15 +161,15 @@ struct LatticeMesh
   }
 };
 
-/// Cubes of side `size / n` filling [origin, origin + size]^3.
+/// Cubes of side `size / n` filling [origin, origin + size]^3 (cubes with z fastest); point ids
+/// in the order the tets first reach them.
 inline LatticeMesh makeLattice(int n, const glm::dvec3& origin, double size)
 {
-  static const int edges[6][2] = { { 0, 1 }, { 1, 2 }, { 0, 2 }, { 0, 3 }, { 1, 3 }, { 2, 3 } };
   LatticeMesh mesh;
   // Nodes live on the half-step lattice; key them by integer coordinates (2n + 1 per axis).
-  std::map<std::array<int, 3>, tetdsr::NodeId> index;
+  std::map<LatticeKey, tetdsr::NodeId> index;
   const double half = 0.5 * size / n;
-  auto node = [&](const std::array<int, 3>& k) {
+  auto node = [&](const LatticeKey& k) {
     auto it = index.find(k);
     if (it != index.end())
     {
@@ -112,43 +184,12 @@ inline LatticeMesh makeLattice(int n, const glm::dvec3& origin, double size)
     index.emplace(k, id);
     return id;
   };
-  // Axis orders of the 6 Kuhn tets; the orientation of each is the sign of its permutation, so
-  // the odd ones get vertices 1 and 2 swapped: every cell is positively oriented.
-  const int permutations[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 },
-    { 2, 1, 0 } };
-  const bool odd[6] = { false, true, true, false, false, true };
-  int which = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k)
-        for (const auto& perm : permutations)
-        {
-          const bool swap12 = odd[which++ % 6];
-          std::array<std::array<int, 3>, 4> v;
-          v[0] = { 2 * i, 2 * j, 2 * k };
-          for (int s = 0; s < 3; ++s)
-          {
-            v[s + 1] = v[s];
-            v[s + 1][perm[s]] += 2;
-          }
-          if (swap12)
-          {
-            std::swap(v[1], v[2]);
-          }
-          for (int e = 0; e < 4; ++e)
-          {
-            mesh.cellNodes.push_back(node(v[e]));
-          }
-          for (const auto& edge : edges)
-          {
-            std::array<int, 3> m;
-            for (int a = 0; a < 3; ++a)
-            {
-              m[a] = (v[edge[0]][a] + v[edge[1]][a]) / 2;
-            }
-            mesh.cellNodes.push_back(node(m));
-          }
-        }
+  forEachKuhnTet(n, 2, CubeOrder::ZFastest, [&](const std::array<LatticeKey, 4>& vertices) {
+    for (const LatticeKey& key : quadraticTetKeys(vertices))
+    {
+      mesh.cellNodes.push_back(node(key));
+    }
+  });
   return mesh;
 }
 

@@ -3,6 +3,7 @@
 // analytic surface (residual |f| / |grad f| below 1e-9 of the diagonal) with the analytic normal,
 // and the image must match the baseline. (Testing/Python/test_higher_order.py compares every
 // pixel with the first root along its ray.)
+#include "LatticeMesh.h" // forEachKuhnTet
 #include "TetDSRTestSupport.h"
 
 #include "vtkCellArray.h"
@@ -51,58 +52,36 @@ vtkSmartPointer<vtkUnstructuredGrid> TorusGrid(int n)
   values->SetName("torus");
   std::map<std::array<long, 3>, vtkIdType> shared;
   vtkNew<vtkCellArray> cells;
-  const int permutations[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 },
-    { 2, 1, 0 } };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k)
-        for (const auto& axes : permutations)
+  tetdsr_test::forEachKuhnTet(n, 1, tetdsr_test::CubeOrder::ZFastest,
+    [&](const std::array<tetdsr_test::LatticeKey, 4>& v) {
+      vtkIdType ids[35];
+      for (int node = 0; node < 35; ++node)
+      {
+        const double* pc = pcoords + 3 * node;
+        const double L[4] = { 1.0 - pc[0] - pc[1] - pc[2], pc[0], pc[1], pc[2] };
+        std::array<long, 3> key{};
+        for (int a = 0; a < 3; ++a)
         {
-          std::array<std::array<long, 3>, 4> v;
-          v[0] = { i, j, k };
-          for (int s = 0; s < 3; ++s)
+          double sum = 0.0;
+          for (int q = 0; q < 4; ++q)
           {
-            v[s + 1] = v[s];
-            v[s + 1][axes[s]] += 1;
+            sum += kOrder * L[q] * v[q][a];
           }
-          const long det = (v[1][0] - v[0][0]) * ((v[2][1] - v[0][1]) * (v[3][2] - v[0][2]) -
-                               (v[2][2] - v[0][2]) * (v[3][1] - v[0][1])) -
-            (v[1][1] - v[0][1]) * ((v[2][0] - v[0][0]) * (v[3][2] - v[0][2]) -
-                                    (v[2][2] - v[0][2]) * (v[3][0] - v[0][0])) +
-            (v[1][2] - v[0][2]) * ((v[2][0] - v[0][0]) * (v[3][1] - v[0][1]) -
-                                    (v[2][1] - v[0][1]) * (v[3][0] - v[0][0]));
-          if (det < 0)
-          {
-            std::swap(v[1], v[2]);
-          }
-          vtkIdType ids[35];
-          for (int node = 0; node < 35; ++node)
-          {
-            const double* pc = pcoords + 3 * node;
-            const double L[4] = { 1.0 - pc[0] - pc[1] - pc[2], pc[0], pc[1], pc[2] };
-            std::array<long, 3> key{};
-            for (int a = 0; a < 3; ++a)
-            {
-              double sum = 0.0;
-              for (int q = 0; q < 4; ++q)
-              {
-                sum += kOrder * L[q] * v[q][a];
-              }
-              key[a] = std::lround(sum);
-            }
-            auto it = shared.find(key);
-            if (it == shared.end())
-            {
-              const double x[3] = { key[0] / double(kOrder * n), key[1] / double(kOrder * n),
-                key[2] / double(kOrder * n) };
-              double gradient[3];
-              it = shared.emplace(key, points->InsertNextPoint(x)).first;
-              values->InsertNextValue(Torus(x, gradient));
-            }
-            ids[node] = it->second;
-          }
-          cells->InsertNextCell(35, ids);
+          key[a] = std::lround(sum);
         }
+        auto it = shared.find(key);
+        if (it == shared.end())
+        {
+          const double x[3] = { key[0] / double(kOrder * n), key[1] / double(kOrder * n),
+            key[2] / double(kOrder * n) };
+          double gradient[3];
+          it = shared.emplace(key, points->InsertNextPoint(x)).first;
+          values->InsertNextValue(Torus(x, gradient));
+        }
+        ids[node] = it->second;
+      }
+      cells->InsertNextCell(35, ids);
+    });
   grid->SetPoints(points);
   grid->SetCells(VTK_LAGRANGE_TETRAHEDRON, cells);
   grid->GetPointData()->SetScalars(values);

@@ -30,17 +30,18 @@ import argparse
 import json
 import os
 import re
-import select
 import signal
-import subprocess
 import sys
-import tempfile
 import time
-import zlib
 
 import numpy as np
 
 import higher_order_cases as ho
+from fuzz_common import SANITIZER, Case as BaseCase, case_output, counter, pick, serve
+from fuzz_common import run_tasks as run_workers
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
+from kuhn_lattice import lattice  # noqa: E402
 
 VTK_TETRA, VTK_HEXAHEDRON, VTK_QUADRATIC_TETRA, VTK_LAGRANGE_TETRAHEDRON = 10, 12, 24, 71
 # Node pairs of the six mid-edge nodes of a VTK quadratic tet (nodes 4..9).
@@ -95,43 +96,22 @@ HOSTILE = {"scale_coords", "scale_field", "unused_points", "nonfinite_coords", "
            "duplicate_cells", "points_float32", "scalar_array", "reupdate"}
 
 
-class Case:
-    """The random choices of one case: a profile, then one random stream per knob."""
+class Case(BaseCase):
+    """A case's choices (fuzz_common.Case): a profile, then one random stream per knob."""
+
+    KNOBS = KNOBS
 
     def __init__(self, seed, index, without=()):
-        self.seed, self.index, self.without = seed, index, set(without)
+        super().__init__(seed, index, without)
         profile = np.random.default_rng([seed, index, 0]).random()
         # 25% clean (valid mesh, random options), 10% scale check, the rest hostile.
         self.profile = "clean" if profile < 0.25 else "scale" if profile < 0.35 else "hostile"
-        self.active, self.log = [], []
 
-    def knob(self, name):
-        """The knob's random stream if it is on in this case, else None."""
-        rng = np.random.default_rng([self.seed, self.index, zlib.crc32(name.encode())])
-        on = rng.random() < KNOBS[name]
+    def allows(self, name):
         if name in HOSTILE and self.profile != "hostile":
-            on = False
-        if name == "array_layout" and self.profile == "scale":
-            on = False  # the scale check edits the arrays in place through numpy
-        if not on or name in self.without:
-            return None
-        self.active.append(name)
-        return rng
-
-    def note(self, text):
-        self.log.append(text)
-
-
-def active_knobs(seed, index, without=()):
-    """The knobs a case would switch on (computed without building it)."""
-    case = Case(seed, index, without)
-    for name in KNOBS:
-        case.knob(name)
-    return case.active
-
-
-def pick(rng, choices):
-    return choices[int(rng.integers(len(choices)))]
+            return False
+        # The scale check edits the arrays in place through numpy.
+        return not (name == "array_layout" and self.profile == "scale")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -177,26 +157,8 @@ def quadratic_nodes(vertices):
 
 
 def lattice_mesh(n):
-    """A cube of n^3 boxes, each cut into 6 tets around its main diagonal, with shared nodes."""
-    m = 2 * n + 1  # nodes per axis: vertices on even, mid-edge nodes on odd indices
-    axis = np.linspace(0.0, 1.0, m)
-    grid = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), axis=-1).reshape(-1, 3)
-    paths = [(0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)]
-    cells = []
-    for box in np.ndindex(n, n, n):
-        for path in paths:
-            corner = 2 * np.array(box)
-            verts = [corner.copy()]
-            for step in path:
-                corner = corner.copy()
-                corner[step] += 2
-                verts.append(corner)
-            verts = np.array(verts)
-            if np.linalg.det((verts[1:] - verts[0]).astype(float)) < 0:
-                verts[[1, 2]] = verts[[2, 1]]
-            nodes = np.vstack([verts, (verts[MID_EDGES[:, 0]] + verts[MID_EDGES[:, 1]]) // 2])
-            cells.append(np.ravel_multi_index(nodes.T, (m, m, m)))
-    return Mesh(grid, cells)
+    """A cube [0, 1]^3 of n^3 boxes, each cut into 6 tets around its main diagonal, with shared nodes."""
+    return Mesh(*lattice(n, 0.0, 1.0))
 
 
 def soup_mesh(count, rng):
@@ -1010,7 +972,7 @@ def run_case(V, seed, index, without=(), verbose=False):
                           finite if len(finite) else np.zeros(1))
     set_more_options(case, caster)
     if verbose:
-        print("profile %s, knobs %s" % (case.profile, " ".join(active_knobs(
+        print("profile %s, knobs %s" % (case.profile, " ".join(Case.active_knobs(
             seed, index, without))))
         print("\n".join("  " + line for line in case.log), flush=True)
     result = dict(index=index, without=sorted(case.without), active=case.active, broken={})
@@ -1135,47 +1097,29 @@ def compare_scaled(V, case, grid, caster, msgs, camera, result):
 # Workers and the parent
 
 def worker_main(seed):
-    """Reads "index<TAB>without" lines, answers "R <json>" lines on the original stdout."""
-    import ctypes
-    import faulthandler
-    faulthandler.enable()
-    faulthandler.register(signal.SIGUSR1)  # the parent asks for the stack of a hung case
-    # Die with the parent (a killed run must not leave a hung worker spinning).
-    ctypes.CDLL(None).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
-    if os.getppid() == 1:
-        return
-    answer = os.fdopen(os.dup(1), "w", buffering=1)
-    os.dup2(2, 1)  # anything VTK prints goes to stderr
-    V = vtk_modules()
-    np.seterr(all="ignore")
-    answer.write("READY\n")
-    for line in sys.stdin:
-        index, without = line.rstrip("\n").split("\t")
+    """A worker (fuzz_common.serve): "index<TAB>without" lines in, one result each out."""
+    modules = []
+
+    def run(line):
+        index, without = line.split("\t")
         without = [k for k in without.split(",") if k]
-        print("=== case %s" % index, file=sys.stderr, flush=True)
         try:
-            result = run_case(V, seed, int(index), without)
+            return run_case(modules[0], seed, int(index), without)
         except Exception as error:  # a bug of the fuzzer itself
             import traceback
-            result = dict(index=int(index), without=without, status="harness",
-                          broken={"harness": "%s: %s" % (type(error).__name__, error)},
-                          trace=traceback.format_exc())
-        answer.write("R " + json.dumps(result, default=str) + "\n")
+            return dict(index=int(index), without=without, status="harness",
+                        broken={"harness": "%s: %s" % (type(error).__name__, error)},
+                        trace=traceback.format_exc())
+
+    serve(lambda: modules.append(vtk_modules()), run)
 
 
-SANITIZER = re.compile(r"ERROR: (AddressSanitizer|LeakSanitizer): ([\w -]+?)(?: on | 0x|$)|"
-                       r"runtime error: (.*)")
 FRAME = re.compile(r"#\d+ 0x[0-9a-f]+ in (.+?) (/\S+?:\d+)")
 
 
 def crash_signature(stderr, returncode):
     """A short stable description of a crash, and the lines that matter."""
-    lines = stderr.splitlines()
-    start = 0
-    for k, line in enumerate(lines):
-        if line.startswith("=== case"):
-            start = k + 1
-    lines = lines[start:]
+    lines = case_output(stderr)
     kind, frame = None, None
     for k, line in enumerate(lines):
         m = SANITIZER.search(line)
@@ -1205,110 +1149,24 @@ def crash_signature(stderr, returncode):
     return "%s in %s" % (kind, frame or "?"), report[-60:]
 
 
-class Worker:
-    def __init__(self, seed, startup):
-        self.stderr = tempfile.TemporaryFile()
-        self.proc = subprocess.Popen(
-            [sys.executable, os.path.abspath(__file__), "--worker", "--seed", str(seed)],
-            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self.stderr,
-            start_new_session=True)
-        self.buffer = b""
-        self.task = None
-        self.deadline = time.time() + startup
-        self.ready = False
-
-    def send(self, task, timeout):
-        index, without = task
-        self.stderr.seek(0)
-        self.stderr.truncate()
-        self.task = task
-        self.deadline = time.time() + timeout
-        self.proc.stdin.write(("%d\t%s\n" % (index, ",".join(without))).encode())
-        self.proc.stdin.flush()
-
-    def lines(self):
-        """Complete lines read so far; None at end of file."""
-        data = os.read(self.proc.stdout.fileno(), 1 << 16)
-        if not data:
-            return None
-        self.buffer += data
-        *complete, self.buffer = self.buffer.split(b"\n")
-        return [line.decode(errors="replace") for line in complete]
-
-    def stderr_text(self):
-        self.stderr.seek(0)
-        return self.stderr.read().decode(errors="replace")
-
-    def kill(self):
-        try:
-            os.kill(self.proc.pid, signal.SIGUSR1)  # where it hangs, into its stderr
-            time.sleep(1.0)
-            os.killpg(self.proc.pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
-        self.proc.wait()
-
-
 def run_tasks(tasks, seed, jobs, timeout, on_result, stop_at=None):
-    """Runs (index, without) tasks on `jobs` workers; calls on_result(task, result)."""
-    tasks = iter(tasks)
-    workers, exhausted = [], False
-    startup = max(120.0, timeout)
-    while True:
-        while len(workers) < jobs and not exhausted:
-            workers.append(Worker(seed, startup))
-        for w in workers:
-            if w.ready and w.task is None and not exhausted:
-                if stop_at and time.time() > stop_at:
-                    exhausted = True
-                    break
-                task = next(tasks, None)
-                if task is None:
-                    exhausted = True
-                    break
-                w.send(task, timeout)
-        busy = [w for w in workers if w.task is not None or not w.ready]
-        if exhausted and not any(w.task is not None for w in workers):
-            break
-        if not busy:
-            continue
-        wait = max(0.0, min(w.deadline for w in busy) - time.time())
-        readable, _, _ = select.select([w.proc.stdout for w in busy], [], [], wait)
-        for w in list(busy):
-            if w.proc.stdout in readable:
-                lines = w.lines()
-                if lines is None:  # the worker died
-                    w.proc.wait()
-                    if w.task is not None:
-                        signature, report = crash_signature(w.stderr_text(), w.proc.returncode)
-                        on_result(w.task, dict(status="crash", signature=signature,
-                                               stderr=report, returncode=w.proc.returncode))
-                    else:
-                        print("worker failed to start:\n" + w.stderr_text()[-3000:],
-                              file=sys.stderr)
-                        sys.exit(2)
-                    workers.remove(w)
-                    continue
-                for line in lines:
-                    if line == "READY":
-                        w.ready = True
-                    elif line.startswith("R "):
-                        task, w.task = w.task, None
-                        on_result(task, json.loads(line[2:]))
-            elif time.time() > w.deadline:
-                if w.task is None:
-                    print("worker did not start in %.0f s" % startup, file=sys.stderr)
-                    sys.exit(2)
-                w.kill()
-                report = crash_signature(w.stderr_text(), None)[1]
-                where = [line.strip() for line in report if line.startswith('  File "')][:1]
-                on_result(w.task, dict(status="hang", signature="hang (> %g s)%s" % (
-                    timeout, " in " + where[0].split(", ")[-1] if where else ""),
-                    stderr=report[-30:]))
-                workers.remove(w)
-    for w in workers:
-        w.proc.stdin.close()
-        w.proc.wait()
+    """Runs (index, without) tasks on `jobs` worker processes (fuzz_common.run_tasks); calls
+    on_result(task, result), a crash or a hang described by crash_signature."""
+    def crashed(worker):
+        signature, report = crash_signature(worker.stderr_text(), worker.proc.returncode)
+        return dict(status="crash", signature=signature, stderr=report,
+                    returncode=worker.proc.returncode)
+
+    def hung(worker):
+        report = crash_signature(worker.stderr_text(), None)[1]
+        where = [line.strip() for line in report if line.startswith('  File "')][:1]
+        return dict(status="hang", signature="hang (> %g s)%s" % (
+            timeout, " in " + where[0].split(", ")[-1] if where else ""), stderr=report[-30:])
+
+    run_workers(tasks, jobs, timeout, on_result, stop_at,
+                command=[sys.executable, os.path.abspath(__file__), "--worker", "--seed", str(seed)],
+                encode=lambda task: "%d\t%s" % (task[0], ",".join(task[1])),
+                startup=max(120.0, timeout), crashed=crashed, hung=hung)
 
 
 PRIORITY = ["incomplete-output", "miss-not-clean", "hit-cell-out-of-range", "hit-bad-depth",
@@ -1336,7 +1194,7 @@ def shrink(seed, index, result, timeout):
     outcome = {}
 
     def trials():
-        for knob in reversed(active_knobs(seed, index, state["without"])):
+        for knob in reversed(Case.active_knobs(seed, index, state["without"])):
             if knob == "mesh":
                 continue
             outcome.clear()
@@ -1380,7 +1238,7 @@ def main():
     stop_at = time.time() + 60 * args.minutes if args.minutes else None
     count = args.cases if args.cases is not None else (None if stop_at else 100)
     first = args.first
-    indices = range(first, first + count) if count is not None else _counter(first)
+    indices = range(first, first + count) if count is not None else counter(first)
     switched_off = [k for k in args.without.split(",") if k]
     tasks = ((i, switched_off) for i in indices)
     tally = dict(cases=0, ok=0, error=0, crash=0, hang=0, invariant=0, harness=0)
@@ -1426,7 +1284,7 @@ def main():
             without = shrink(args.seed, index, result, args.timeout)
             shrunk[sig] = True
             result = dict(result, shrunk_without=without,
-                          shrunk_active=active_knobs(args.seed, index, without))
+                          shrunk_active=Case.active_knobs(args.seed, index, without))
             classes[sig]["replay"] = "%s --seed %d --replay %d%s" % (
                 script, args.seed, index, " --without " + ",".join(without) if without else "")
         result.update(seed=args.seed, signature=sig, replay="%s %s --seed %d --replay %d" % (
@@ -1452,12 +1310,6 @@ def main():
                 print("        %s" % entry["replay"])
         print("Failing cases written to %s/; replay in this environment:\n  %s" % (args.out, env))
     return 1 if classes else 0
-
-
-def _counter(start):
-    while True:
-        yield start
-        start += 1
 
 
 if __name__ == "__main__":

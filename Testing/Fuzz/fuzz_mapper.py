@@ -27,12 +27,15 @@ import re
 import subprocess
 import sys
 import time
-import zlib
 
 import numpy as np
 
+from fuzz_common import SANITIZER, X_REFUSALS, Case as BaseCase, pick
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
+from kuhn_lattice import lattice  # noqa: E402
+
 VTK_TETRA, VTK_QUADRATIC_TETRA = 10, 24
-MID_EDGES = np.array([(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)])
 SIZES = [(64, 48), (96, 72), (33, 17), (1, 1), (2, 120), (160, 120)]
 
 # Knobs in the order they are applied, with the probability that a case switches each on (the
@@ -62,56 +65,18 @@ HOSTILE = {"nonfinite", "conn_garbage", "cell_types", "empty", "field_array", "s
 COVERAGE = {"iso_styles", "clipping", "detail"}
 
 
-class Case:
+class Case(BaseCase):
+    """A case's choices (fuzz_common.Case): a profile, then one random stream per knob."""
+
+    KNOBS = KNOBS
+
     def __init__(self, seed, index, without=()):
-        self.seed, self.index, self.without = seed, index, set(without)
+        super().__init__(seed, index, without)
         profile = np.random.default_rng([seed, index, 0]).random()
         self.profile = "clean" if profile < 0.4 else "hostile"
-        self.active, self.log = [], []
 
-    def knob(self, name):
-        rng = np.random.default_rng([self.seed, self.index, zlib.crc32(name.encode())])
-        on = rng.random() < KNOBS[name]
-        if self.profile == "clean" and (name in HOSTILE or name in COVERAGE):
-            on = False
-        if not on or name in self.without:
-            return None
-        self.active.append(name)
-        return rng
-
-    def note(self, text):
-        self.log.append(text)
-
-
-def active_knobs(seed, index, without=()):
-    case = Case(seed, index, without)
-    for name in KNOBS:
-        case.knob(name)
-    return case.active
-
-
-def pick(rng, choices):
-    return choices[int(rng.integers(len(choices)))]
-
-
-def lattice(n):
-    """[-1, 1]^3 as n^3 cubes of 6 quadratic tets (VTK node order): points, cells."""
-    m = 2 * n + 1
-    g = np.linspace(-1, 1, m)
-    points = np.stack(np.meshgrid(g, g, g, indexing="ij"), -1).reshape(-1, 3)
-    cells = []
-    for box in np.ndindex(n, n, n):
-        for path in [(0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)]:
-            corner = 2 * np.array(box)
-            verts = [corner.copy()]
-            for step in path:
-                corner = corner.copy()
-                corner[step] += 2
-                verts.append(corner)
-            verts = np.array(verts)
-            nodes = np.vstack([verts, (verts[MID_EDGES[:, 0]] + verts[MID_EDGES[:, 1]]) // 2])
-            cells.append(np.ravel_multi_index(nodes.T, (m, m, m)))
-    return points, np.array(cells, dtype=np.int64)
+    def allows(self, name):
+        return not (self.profile == "clean" and (name in HOSTILE or name in COVERAGE))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -171,7 +136,7 @@ def make_grid(points, cells, field, types=None, name="f"):
 def build_input(case, scene):
     rng = case.knob("mesh")
     n = int(rng.integers(1, 4))
-    points, cells = lattice(n)
+    points, cells = lattice(n, oriented=False)  # (as walked: the odd tets inverted)
     scene.centre = rng.uniform(-0.2, 0.2, 3)
     radius = rng.uniform(0.2, 0.7)
     field = np.sum((points - scene.centre) ** 2, axis=1)
@@ -600,7 +565,7 @@ def run_case(seed, index, without=(), verbose=False):
     set_mapper_options(case, scene, values)
     build_views(case, scene)
     if verbose:
-        print("profile %s, knobs %s" % (case.profile, " ".join(active_knobs(seed, index, without))))
+        print("profile %s, knobs %s" % (case.profile, " ".join(Case.active_knobs(seed, index, without))))
         print("\n".join("  " + line for line in case.log), flush=True)
     broken = {}
     started = time.time()
@@ -622,11 +587,6 @@ def run_case(seed, index, without=(), verbose=False):
 # ---------------------------------------------------------------------------------------------
 # The parent: one process per case
 
-REFUSED = ("bad X server connection", "unable to open display", "cannot connect to X server")
-SANITIZER = re.compile(r"ERROR: (AddressSanitizer|LeakSanitizer): ([\w -]+?)(?: on | 0x|$)|"
-                       r"runtime error: (.*)")
-
-
 def run_child(seed, index, without, timeout):
     """Runs one case in a process of its own; retries X refusals. Returns a result dict."""
     command = [sys.executable, os.path.abspath(__file__), "--seed", str(seed), "--replay",
@@ -637,7 +597,7 @@ def run_child(seed, index, without, timeout):
                                  timeout=timeout, text=True, errors="replace")
         except subprocess.TimeoutExpired:
             return dict(status="hang", signature="hang (> %g s)" % timeout)
-        if run.returncode != 0 and any(text in run.stderr for text in REFUSED):
+        if run.returncode != 0 and any(text in run.stderr for text in X_REFUSALS):
             time.sleep(1.0 + attempt)
             continue
         sanitizer = SANITIZER.search(run.stderr)

@@ -35,7 +35,8 @@ import subprocess
 import sys
 import threading
 import time
-import zlib
+
+from fuzz_common import X_REFUSALS, Case as BaseCase, pick
 
 KNOBS = {
     "mesh": 1.0,
@@ -52,44 +53,29 @@ KNOBS = {
 }
 # Knobs that may hide a valid surface without any message being owed.
 MAY_HIDE = {"camera", "transform"}
-REFUSALS = ("bad X server connection", "unable to open display", "cannot connect to X server")
 MESSAGE = re.compile(r"(ERR|WARN)\|.*vtkDirectSurface")
 CRASH_TEXT = ("Segmentation fault", "Aborted", "terminate called", "Loguru caught a signal")
 
 
-class Case:
-    """The random choices of one case: one random stream per knob."""
+class Case(BaseCase):
+    """A case's choices (fuzz_common.Case): one random stream per knob; notes are printed as
+    they come (the parent keeps the case's output)."""
+
+    KNOBS = KNOBS
 
     def __init__(self, seed, index, without=()):
-        import numpy as np
-        self.np = np
-        self.seed, self.index, self.without = seed, index, set(without)
-        self.active, self.log = [], []
+        super().__init__(seed, index, without)
         self.may_hide = False  # something chosen may hide a valid surface
 
     def knob(self, name):
-        rng = self.np.random.default_rng([self.seed, self.index, zlib.crc32(name.encode())])
-        if rng.random() >= KNOBS[name] or name in self.without:
-            return None
-        self.active.append(name)
-        if name in MAY_HIDE:
+        rng = super().knob(name)
+        if rng is not None and name in MAY_HIDE:
             self.may_hide = True
         return rng
 
     def note(self, text):
-        self.log.append(text)
+        super().note(text)
         print("  " + text, flush=True)
-
-
-def active_knobs(seed, index, without=()):
-    case = Case(seed, index, without)
-    for name in KNOBS:
-        case.knob(name)
-    return case.active
-
-
-def pick(rng, choices):
-    return choices[int(rng.integers(len(choices)))]
 
 
 def hostile_number(rng):
@@ -418,7 +404,7 @@ def x_refused(text):
     frames = [line for line in text.splitlines() if re.search(r"0x[0-9a-f]+ ", line)]
     in_xlib = any("XSync" in f for f in frames[-4:])  # (Loguru lists the innermost last)
     ours = any("DirectSurface" in f or "tetdsr" in f for f in frames)
-    return any(r in text for r in REFUSALS) or (in_xlib and not ours)
+    return any(r in text for r in X_REFUSALS) or (in_xlib and not ours)
 
 
 def verdict(text, returncode, seconds):

@@ -33,70 +33,39 @@ Exit status: 0 when every case was rendered or refused, 1 otherwise.
 import argparse
 import json
 import os
-import select
 import signal
-import subprocess
 import sys
-import tempfile
 import threading
 import time
 import traceback
-import zlib
 
 import numpy as np
 
 import higher_order_cases as ho
+from fuzz_common import Case as BaseCase, case_output, counter, pick, serve
+from fuzz_common import run_tasks as run_workers
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
+from kuhn_lattice import lattice  # noqa: E402
 
 VTK_TETRA, VTK_HEXAHEDRON, VTK_HEXAGONAL_PRISM, VTK_PENTAGONAL_PRISM, VTK_QUADRATIC_TETRA = 10, 12, 16, 15, 24
-MID_EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
 ALLOWED = (TypeError, ValueError, RuntimeError, MemoryError, OverflowError)
 DTYPES = [np.bool_, np.float16, np.float32, np.float64, np.int8, np.uint8, np.int16, np.uint16,
           np.int32, np.uint32, np.int64, np.uint64, np.complex64, object]
 
 
-class Case:
-    """The random choices of one case: one random stream per named step."""
+class Case(BaseCase):
+    """A case's choices (fuzz_common.Case): one random stream per named step, no knobs."""
 
     def __init__(self, seed, index):
-        self.seed, self.index = seed, index
+        super().__init__(seed, index)
         self.kind = "core" if np.random.default_rng([seed, index, 0]).random() < 0.6 else "filter"
-        self.log = []
-
-    def rng(self, name):
-        return np.random.default_rng([self.seed, self.index, zlib.crc32(name.encode())])
-
-    def note(self, text):
-        self.log.append(text)
-
-
-def pick(rng, choices):
-    return choices[int(rng.integers(len(choices)))]
-
-
-def lattice(n):
-    """A Kuhn lattice of n^3 boxes of 6 quadratic tets in [-1, 1]^3, nodes shared."""
-    m = 2 * n + 1
-    axis = np.linspace(-1.0, 1.0, m)
-    points = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), -1).reshape(-1, 3)
-    cells = []
-    for box in np.ndindex(n, n, n):
-        for path in ((0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)):
-            corner = 2 * np.array(box)
-            verts = [corner]
-            for step in path:
-                corner = corner.copy()
-                corner[step] += 2
-                verts.append(corner)
-            verts = np.array(verts)
-            nodes = np.vstack([verts] + [(verts[a] + verts[b]) // 2 for a, b in MID_EDGES])
-            cells.append(np.ravel_multi_index(nodes.T, (m, m, m)))
-    return points, np.array(cells, np.int64)
 
 
 def base_mesh(case):
     rng = case.rng("mesh")
     n = int(rng.integers(1, 4))
-    points, cells = lattice(n)
+    points, cells = lattice(n, oriented=False)  # (as walked: the odd tets inverted)
     centre = rng.uniform(-0.5, 0.5, 3)
     field = np.sum((points - centre) ** 2, axis=1)
     case.note("mesh: lattice %d (%d cells), field |x - c|^2" % (n, len(cells)))
@@ -651,125 +620,41 @@ def run_case(seed, index, verbose=False):
 
 
 def worker_main(seed):
-    """Reads case indices on stdin, answers "R <json>" lines on the original stdout."""
-    import ctypes
-    import faulthandler
-    faulthandler.enable()
-    faulthandler.register(signal.SIGUSR1)
-    ctypes.CDLL(None).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG: die with the parent
-    if os.getppid() == 1:
-        return
-    answer = os.fdopen(os.dup(1), "w", buffering=1)
-    os.dup2(2, 1)  # anything VTK prints goes to stderr
-    np.seterr(all="ignore")
-    import tetdsr.filter  # noqa: F401 (imports VTK once, before the first case)
-    answer.write("READY\n")
-    for line in sys.stdin:
-        index = int(line)
-        print("=== case %d" % index, file=sys.stderr, flush=True)
-        answer.write("R " + json.dumps(run_case(seed, index), default=str) + "\n")
+    """A worker (fuzz_common.serve): case indices in, one result each out."""
+    def setup():
+        import tetdsr.filter  # noqa: F401 (imports VTK once, before the first case)
 
-
-class Worker:
-    def __init__(self, seed):
-        self.stderr = tempfile.TemporaryFile()
-        self.proc = subprocess.Popen(
-            [sys.executable, os.path.abspath(__file__), "--worker", "--seed", str(seed)],
-            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self.stderr,
-            start_new_session=True)
-        self.buffer, self.task, self.ready = b"", None, False
-        self.deadline = time.time() + 120
-
-    def send(self, index, timeout):
-        self.stderr.seek(0)
-        self.stderr.truncate()
-        self.task, self.deadline = index, time.time() + timeout
-        self.proc.stdin.write(b"%d\n" % index)
-        self.proc.stdin.flush()
-
-    def lines(self):
-        data = os.read(self.proc.stdout.fileno(), 1 << 16)
-        if not data:
-            return None
-        self.buffer += data
-        *complete, self.buffer = self.buffer.split(b"\n")
-        return [line.decode(errors="replace") for line in complete]
-
-    def stderr_text(self):
-        self.stderr.seek(0)
-        return self.stderr.read().decode(errors="replace")
-
-    def kill(self):
-        try:
-            os.kill(self.proc.pid, signal.SIGUSR1)  # where it hangs, into its stderr
-            time.sleep(1.0)
-            os.killpg(self.proc.pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
-        self.proc.wait()
+    serve(setup, lambda line: run_case(seed, int(line)))
 
 
 def last_lines(text, n=25):
-    lines = text.splitlines()
-    start = max([k + 1 for k, line in enumerate(lines) if line.startswith("=== case")] or [0])
-    return [line for line in lines[start:] if line.strip()][-n:]
+    return [line for line in case_output(text) if line.strip()][-n:]
 
 
 def run_tasks(indices, seed, jobs, timeout, on_result, stop_at=None):
-    indices = iter(indices)
-    workers, exhausted = [], False
-    while True:
-        while len(workers) < jobs and not exhausted:
-            workers.append(Worker(seed))
-        for w in workers:
-            if w.ready and w.task is None and not exhausted:
-                index = next(indices, None) if not (stop_at and time.time() > stop_at) else None
-                if index is None:
-                    exhausted = True
-                    break
-                w.send(index, timeout)
-        if exhausted and not any(w.task is not None for w in workers):
-            break
-        busy = [w for w in workers if w.task is not None or not w.ready]
-        if not busy:
-            continue
-        wait = max(0.0, min(w.deadline for w in busy) - time.time())
-        readable, _, _ = select.select([w.proc.stdout for w in busy], [], [], wait)
-        for w in list(busy):
-            if w.proc.stdout in readable:
-                lines = w.lines()
-                if lines is None:  # the worker died
-                    w.proc.wait()
-                    if w.task is None:
-                        sys.exit("worker failed to start:\n" + w.stderr_text()[-3000:])
-                    code = w.proc.returncode
-                    kind = "signal %s" % signal.Signals(-code).name if code < 0 else "exit %d" % code
-                    report = last_lines(w.stderr_text())
-                    on_result(w.task, dict(status="crash", signature=kind, stderr=report))
-                    workers.remove(w)
-                    continue
-                for line in lines:
-                    if line == "READY":
-                        w.ready = True
-                    elif line.startswith("R "):
-                        task, w.task = w.task, None
-                        result = json.loads(line[2:])
-                        text = w.stderr_text()
-                        if "Traceback (most recent call last)" in text:
-                            result["status"] = "traceback"
-                            result["broken"]["traceback"] = last_lines(text, 12)[-1]
-                            result["stderr"] = last_lines(text)
-                        on_result(task, result)
-            elif time.time() > w.deadline:
-                if w.task is None:
-                    sys.exit("worker did not start in 120 s")
-                w.kill()
-                on_result(w.task, dict(status="hang", signature="hang (> %g s)" % timeout,
-                                       stderr=last_lines(w.stderr_text())))
-                workers.remove(w)
-    for w in workers:
-        w.proc.stdin.close()
-        w.proc.wait()
+    """Runs cases on `jobs` worker processes (fuzz_common.run_tasks); calls on_result(index,
+    result). A case that printed a Python traceback (a callback's exception, which VTK only
+    prints) fails as "traceback"."""
+    def crashed(worker):
+        code = worker.proc.returncode
+        kind = "signal %s" % signal.Signals(-code).name if code < 0 else "exit %d" % code
+        return dict(status="crash", signature=kind, stderr=last_lines(worker.stderr_text()))
+
+    def hung(worker):
+        return dict(status="hang", signature="hang (> %g s)" % timeout,
+                    stderr=last_lines(worker.stderr_text()))
+
+    def answered(worker, result):
+        text = worker.stderr_text()
+        if "Traceback (most recent call last)" in text:
+            result["status"] = "traceback"
+            result["broken"]["traceback"] = last_lines(text, 12)[-1]
+            result["stderr"] = last_lines(text)
+        return result
+
+    run_workers(indices, jobs, timeout, on_result, stop_at,
+                command=[sys.executable, os.path.abspath(__file__), "--worker", "--seed", str(seed)],
+                encode=str, startup=120.0, crashed=crashed, hung=hung, answered=answered)
 
 
 def signature_of(result):
@@ -802,8 +687,7 @@ def main():
 
     stop_at = time.time() + 60 * args.minutes if args.minutes else None
     count = args.cases if args.cases is not None else (None if stop_at else 100)
-    indices = range(args.first, args.first + count) if count is not None else iter(
-        lambda c=[args.first - 1]: c.__setitem__(0, c[0] + 1) or c[0], None)
+    indices = range(args.first, args.first + count) if count is not None else counter(args.first)
     tally = dict(cases=0, core=0, filter=0)
     statuses = {}
     classes = {}

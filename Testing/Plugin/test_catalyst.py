@@ -6,7 +6,8 @@ checked against VTK's shape functions (the example refuses otherwise), the pictu
 20 and 30 written and showing the surfaces, and the 2-process pictures equal the serial ones
 within 2 / 255 (a translucent surface around an opaque one).
 
-Usage: test_catalyst.py <work directory>  (creates Scripts/flow-venv.sh's venv when missing)
+Usage: test_catalyst.py <TetDSR.so> <work directory> <venv directory>
+(creates Scripts/flow-venv.sh's venv in <venv directory> when missing)
 """
 import os
 import subprocess
@@ -18,11 +19,12 @@ from vtkmodules.vtkIOImage import vtkPNGReader
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
-work = sys.argv[1]
-python = os.path.join(ROOT, "build", "flow-venv", "bin", "python")
-subprocess.run(["bash", os.path.join(ROOT, "Scripts", "flow-venv.sh"), "-c", "import skfem"], check=True)
+plugin, work, venv = sys.argv[1:4]
+python = os.path.join(venv, "bin", "python")
+subprocess.run(["bash", os.path.join(ROOT, "Scripts", "flow-venv.sh"), "-c", "import skfem"], check=True,
+               env=dict(os.environ, TETDSR_FLOW_VENV=venv))
 example = [python, os.path.join(ROOT, "Examples", "catalyst", "heat_p2.py"), "--steps", "30",
-           "--every", "10"]
+           "--every", "10", "--plugin", plugin]
 launcher = [sys.executable, os.path.join(HERE, "mpi_private_displays.py")]
 failures = []
 for ranks in (1, 2):

@@ -1,37 +1,8 @@
 """Helpers the Python tests of both routes share: the C++ build's (Testing/Python, ParaView's VTK
 9.2) and the wheel's (Testing/Wheel, pip's VTK). Only VTK API common to both is used."""
-import itertools
-
 import numpy as np
 from vtkmodules.util.misc import calldata_type
 from vtkmodules.vtkCommonCore import VTK_STRING, vtkCommand
-
-# Vertex pairs of the six edges, in the order of VTK_QUADRATIC_TETRA's mid-edge nodes.
-EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
-
-
-def lattice(n, lo=-1.0, hi=1.0):
-    """[lo, hi]^3 as n^3 cubes of 6 positively oriented quadratic tets (Kuhn), VTK node order:
-    points (an (m^3, 3) array, m = 2n + 1) and cells (an (6 n^3, 10) int64 array)."""
-    m = 2 * n + 1
-    g = np.linspace(lo, hi, m)
-    points = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
-
-    def index(v):
-        return (v[0] * m + v[1]) * m + v[2]
-
-    cells = []
-    for corner in itertools.product(range(n), repeat=3):
-        for order in itertools.permutations(range(3)):
-            v = [2 * np.array(corner)]
-            for axis in order:
-                step = v[-1].copy()
-                step[axis] += 2
-                v.append(step)
-            if np.linalg.det(np.array([points[index(x)] for x in v[1:]]) - points[index(v[0])]) < 0:
-                v[1], v[2] = v[2], v[1]
-            cells.append([index(x) for x in v] + [index((v[a] + v[b]) // 2) for a, b in EDGES])
-    return points, np.array(cells, dtype=np.int64)
 
 
 class Messages:

@@ -17,7 +17,7 @@ from vtkmodules.vtkRenderingCore import (vtkActor, vtkLightKit, vtkPolyDataMappe
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
 import vtkmodules.vtkRenderingUI  # noqa: F401 (the X interactor, whose event loop runs timers)
 
-from shared_helpers import lattice
+from kuhn_lattice import lattice
 from tetdsr import vtkDirectSurfaceMapper, vtkDirectSurfaceRayCaster
 
 W, H = 160, 120

@@ -17,7 +17,7 @@ from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 from vtkmodules.vtkRenderingCore import vtkCamera
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
-from shared_helpers import lattice  # noqa: E402 (also used by the tests through scenes)
+from kuhn_lattice import lattice  # noqa: E402 (also used by the tests through scenes)
 
 # A fixed quadric |x|_M^2 + g.x: nested ellipsoids in [-1, 1]^3 (scene "quadric_lattice").
 QUADRIC_M = np.array([[1.0, 0.3, -0.2], [0.3, 0.7, 0.1], [-0.2, 0.1, 1.3]])

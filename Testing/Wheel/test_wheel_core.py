@@ -10,7 +10,7 @@ import pytest
 from tetdsr import _core
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
-from shared_helpers import lattice  # noqa: E402
+from kuhn_lattice import lattice  # noqa: E402
 
 VTK_QUADRATIC_TETRA, VTK_TETRA, VTK_HEXAGONAL_PRISM, VTK_PENTAGONAL_PRISM = 24, 10, 16, 15
 

@@ -17,7 +17,8 @@ from vtkmodules.vtkCommonDataModel import vtkDataObject
 from vtkmodules.vtkFiltersCore import vtkContourFilter
 
 import scenes  # (puts Testing/Python, with shared_helpers, on the path)
-from shared_helpers import Messages, lattice
+from kuhn_lattice import lattice
+from shared_helpers import Messages
 from tetdsr import _core, vtkDirectSurfaceContour
 
 CUBE_VOLUME, CUBE_DIAGONAL = 8.0, math.sqrt(12.0)

@@ -17,7 +17,7 @@ PRELUDE = """
 import os, sys
 import numpy as np
 sys.path.insert(0, os.path.join(%r, "..", "Python"))
-from shared_helpers import lattice
+from kuhn_lattice import lattice
 from tetdsr import _core
 EDGES = [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]
 V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
