@@ -31,7 +31,18 @@ PY
 PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Testing/Wheel/cxx_reference.py Data \
   "$out/cxx_reference.npz"
 TETDSR_CXX_REFERENCE="$out/cxx_reference.npz" VTK_DEFAULT_OPENGL_WINDOW=vtkEGLRenderWindow \
-  "$venv/bin/python" -m pytest -p no:cacheprovider -v -s Testing/Wheel
+  "$venv/bin/python" -m pytest -p no:cacheprovider -v -s --junitxml="$out/wheel-tests.xml" \
+  Testing/Wheel
+# Here every test runs: a skip (pyvista missing, the C++ reference not found) fails the run.
+/usr/bin/python3 - "$out/wheel-tests.xml" <<'PY'
+import sys
+import xml.etree.ElementTree as ET
+suites = ET.parse(sys.argv[1]).getroot()
+tests = sum(int(s.get("tests", 0)) for s in suites.iter("testsuite"))
+skipped = sum(int(s.get("skipped", 0)) for s in suites.iter("testsuite"))
+print(f"wheel tests: {tests} run, {skipped} skipped")
+sys.exit(1 if skipped or not tests else 0)
+PY
 
 # The wheel fuzzer's short form (Testing/Fuzz/fuzz_wheel.py: the binding and the filter given
 # hostile arrays, values, call orders and threads), fixed seed, about 30-60 s on a loaded machine.
