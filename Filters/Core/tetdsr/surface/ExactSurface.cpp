@@ -1,36 +1,20 @@
 // The exact surface (ExactSurface.h): the conforming bisection of the cells that can hold an
-// iso-value, each piece certified or bisected, then the pieces' triangles. The integrals are in
-// ExactSurfaceIntegrals.cpp.
-//
-// Why a certified piece's triangles are within its bound of the surface (slabBound). In a
-// tetrahedron T of a cell's reference space, let l be the affine function equal to the field f at
-// T's corners and E a bound of |f - l| over T (from the bound G of f's gradient over T's box: along
-// any of T's edge directions e, f and l have derivatives within e.G, and f - l is 0 at a corner).
-// The surface f = c and the triangles (whose corners are roots on T's edges, so within E of l = c)
-// both lie in the slab |l - c| <= E, of width w = 2E / |grad l|. With f monotone along n = grad l /
-// |grad l| over T (n.G > 0), along an in-face direction in each face the slab meets, and along
-// every edge the slab meets, the surface in T is a graph over the plane l = c, one disc bounded by
-// the loop through the edges' roots that the marching-tetrahedra case joins; in each face its curve
-// and the case's chord are graphs over the same segment within the face's strip of width w_F =
-// 2E / |grad_F l|. Hence every point of either lies within w + 2 max w_F of the other (reference
-// units), and in the scene within L (w + 2 max w_F) + X, L bounding |dx/dr| over T and X the
-// distance between the map of a reference triangle and the flat one through its corners' images.
+// iso-value, each piece certified (ExactSurfaceCertificate.cpp: why a certified piece's triangles
+// are within its bound of the surface) or bisected, then the pieces' triangles, their roots and
+// the parts the integrals need (ExactSurfaceIntegrals.cpp), and the settings' check.
 #include "tetdsr/surface/ExactSurface.h"
 
 #include "tetdsr/cells/Cells.h"
+#include "tetdsr/surface/ExactSurfaceCertificate.h"
 #include "tetdsr/surface/ExactSurfaceCells.h"
 #include "tetdsr/surface/ExactSurfaceIntegrals.h"
 #include "tetdsr/input/Settings.h"
 
 #include <algorithm>
 #include <array>
-#include <initializer_list>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <limits>
-#include <mutex>
 #include <unordered_map>
 
 namespace tetdsr
@@ -95,212 +79,6 @@ struct Piece
   bool sizeOnly; ///< certified by its size alone (its topology not)
 };
 
-constexpr int kEdges[6][2] = { { 0, 1 }, { 0, 2 }, { 0, 3 }, { 1, 2 }, { 1, 3 }, { 2, 3 } };
-constexpr int kFaces[4][3] = { { 1, 2, 3 }, { 0, 2, 3 }, { 0, 1, 3 }, { 0, 1, 2 } };
-
-double largestAbs(const Interval& i)
-{
-  return std::max(std::abs(i.lo), std::abs(i.hi));
-}
-
-/// The bounds of d . G.
-Interval dot(const glm::dvec3& d, const Interval G[3])
-{
-  Interval s{ 0.0, 0.0 };
-  for (int i = 0; i < 3; ++i)
-  {
-    if (d[i] == 0.0)
-      continue;
-    const double a = d[i] * G[i].lo, b = d[i] * G[i].hi;
-    s.lo += std::min(a, b);
-    s.hi += std::max(a, b);
-  }
-  return s;
-}
-
-bool signDefinite(const Interval& i)
-{
-  return i.lo > 0.0 || i.hi < 0.0;
-}
-
-/// The matrix taking a polynomial's values at k / D (k = 0..D) to its Bernstein coefficients of
-/// degree D (the inverse of B_j^D(k / D)), for D up to 12; made once per degree.
-const std::vector<double>& bernsteinFromSamples(int D)
-{
-  static std::mutex mutex;
-  static std::vector<double> made[13];
-  const std::lock_guard<std::mutex> lock(mutex);
-  std::vector<double>& m = made[D];
-  if (m.empty())
-  {
-    const int n = D + 1;
-    std::vector<long double> a(static_cast<std::size_t>(n * n)), inv(static_cast<std::size_t>(n * n), 0.0L);
-    for (int k = 0; k < n; ++k)
-    {
-      const long double t = static_cast<long double>(k) / D;
-      for (int j = 0; j < n; ++j)
-      {
-        long double binomial = 1.0L;
-        for (int i = 0; i < j; ++i)
-          binomial = binomial * (D - i) / (i + 1);
-        a[static_cast<std::size_t>(k * n + j)] = binomial * std::pow(t, j) * std::pow(1.0L - t, D - j);
-      }
-      inv[static_cast<std::size_t>(k * n + k)] = 1.0L;
-    }
-    // Gauss-Jordan with partial pivoting.
-    for (int col = 0; col < n; ++col)
-    {
-      int pivot = col;
-      for (int r = col + 1; r < n; ++r)
-        if (std::abs(a[static_cast<std::size_t>(r * n + col)]) > std::abs(a[static_cast<std::size_t>(pivot * n + col)]))
-          pivot = r;
-      for (int c2 = 0; c2 < n; ++c2)
-      {
-        std::swap(a[static_cast<std::size_t>(col * n + c2)], a[static_cast<std::size_t>(pivot * n + c2)]);
-        std::swap(inv[static_cast<std::size_t>(col * n + c2)], inv[static_cast<std::size_t>(pivot * n + c2)]);
-      }
-      const long double d = a[static_cast<std::size_t>(col * n + col)];
-      for (int c2 = 0; c2 < n; ++c2)
-      {
-        a[static_cast<std::size_t>(col * n + c2)] /= d;
-        inv[static_cast<std::size_t>(col * n + c2)] /= d;
-      }
-      for (int r = 0; r < n; ++r)
-      {
-        if (r == col)
-          continue;
-        const long double f = a[static_cast<std::size_t>(r * n + col)];
-        for (int c2 = 0; c2 < n; ++c2)
-        {
-          a[static_cast<std::size_t>(r * n + c2)] -= f * a[static_cast<std::size_t>(col * n + c2)];
-          inv[static_cast<std::size_t>(r * n + c2)] -= f * inv[static_cast<std::size_t>(col * n + c2)];
-        }
-      }
-    }
-    m.assign(inv.begin(), inv.end());
-  }
-  return m;
-}
-
-/// What the Bernstein coefficients of f - c along the reference segment r0 -> r1 allow
-/// (Descartes' rule for Bernstein forms: no more roots inside than sign changes). An end whose
-/// coefficient (its value) is within rounding of 0 is a root there; the other coefficients'
-/// sign changes bound the roots inside. A pyramid's field is rational along lines of its own
-/// space: with s = 1 - z (linear along the segment, positive off the apex), the collapse's
-/// u = 1/2 + (x - 1/2) / s makes each of the form's degree-P factors in u and v a polynomial
-/// over s^P, so s^2P (f - c), of degree 3P (lineDegree), has the same roots off the apex.
-struct SegmentRoots
-{
-  int inside = -1;         ///< the sign changes inside; -1: a coefficient within rounding of 0
-  bool atStart = false;    ///< f = c at r0 (to rounding)
-  bool atEnd = false;      ///< f = c at r1 (to rounding)
-  bool everywhere = false; ///< every coefficient within rounding of 0: f = c along the segment
-
-  /// Whether the segment holds the marching case's roots: one where its ends' sides differ
-  /// (f >= c counts as above; a root at an end is that end), none where they agree, or the
-  /// whole segment in the surface.
-  bool asCase(bool crossed) const
-  {
-    if (everywhere)
-      return true;
-    if (inside == 0)
-      return !(atStart && atEnd) && (!crossed || atStart || atEnd);
-    return inside == 1 && crossed && !atStart && !atEnd;
-  }
-};
-
-SegmentRoots segmentRoots(const CellForms& forms, const glm::dvec3& r0, const glm::dvec3& r1, double c, int degree, double margin)
-{
-  SegmentRoots out;
-  if (degree > 12)
-    return out;
-  const std::vector<double>& m = bernsteinFromSamples(degree);
-  const int n = degree + 1;
-  const bool pyramid = forms.type().space == Space::Pyramid;
-  const int power = 2 * forms.type().degree;
-  double samples[13], coefficients[13];
-  for (int k = 0; k < n; ++k)
-  {
-    const glm::dvec3 r = r0 + (double(k) / degree) * (r1 - r0);
-    samples[k] = forms.fieldAtReference(r) - c;
-    if (pyramid)
-      samples[k] *= std::pow(std::max(0.0, 1.0 - r.z), power);
-  }
-  // The conversion grows the samples' rounding by its row sums (at most about 1e4 for degree
-  // 12): a coefficient within 1e-10 of the samples' magnitude (plus the forms' rounding) has
-  // no sign of its own.
-  double largest = 0.0;
-  for (int k = 0; k < n; ++k)
-    largest = std::max(largest, std::abs(samples[k]));
-  const double zero = 1e-10 * largest + margin;
-  bool allZero = true;
-  for (int j = 0; j < n; ++j)
-  {
-    double sum = 0.0;
-    for (int k = 0; k < n; ++k)
-      sum += m[static_cast<std::size_t>(j * n + k)] * samples[k];
-    coefficients[j] = sum;
-    allZero = allZero && std::abs(sum) <= zero;
-  }
-  if (allZero)
-  {
-    out.everywhere = true;
-    return out;
-  }
-  out.atStart = std::abs(coefficients[0]) <= zero;
-  out.atEnd = std::abs(coefficients[n - 1]) <= zero;
-  // A root at an end: f - c = t g (or (1 - t) g), whose coefficients have the others' signs.
-  const int first = out.atStart ? 1 : 0, last = out.atEnd ? n - 2 : n - 1;
-  int changes = 0;
-  for (int j = first; j <= last; ++j)
-  {
-    if (std::abs(coefficients[j]) <= zero)
-      return out; // inside stays -1
-    if (j > first && (coefficients[j] > 0.0) != (coefficients[j - 1] > 0.0))
-      ++changes;
-  }
-  out.inside = changes;
-  return out;
-}
-
-/// The degree of a cell's field along a line of its reference space: P for a tetrahedron (total
-/// degree P), 2P for a wedge (P on the triangle, P along the axis), 3P for a cube.
-int lineDegree(const FormMatrix& type)
-{
-  return type.space == Space::Tetrahedron ? type.degree : type.space == Space::Wedge ? 2 * type.degree : 3 * type.degree;
-}
-
-/// The root of f = c on the reference segment r0 -> r1, where f - c changes sign (rising: from
-/// below): Newton's method inside a shrinking bracket, bisection when a step leaves it.
-double edgeRoot(const CellForms& forms, const glm::dvec3& r0, const glm::dvec3& r1, double c, bool rising)
-{
-  double lo = 0.0, hi = 1.0, t = 0.5;
-  for (int iteration = 0; iteration < 200; ++iteration)
-  {
-    glm::dvec3 x, grad;
-    glm::dmat3 J;
-    double f = 0.0;
-    forms.atReference(r0 + t * (r1 - r0), x, J, f, grad);
-    const double g = f - c;
-    if (g == 0.0 || !std::isfinite(g))
-      break;
-    if ((g < 0.0) == rising)
-      lo = t;
-    else
-      hi = t;
-    if (hi - lo <= 4.0 * std::numeric_limits<double>::epsilon())
-      break;
-    const double slope = glm::dot(grad, r1 - r0);
-    double next = slope != 0.0 ? t - g / slope : 0.5 * (lo + hi);
-    if (!(next > lo && next < hi))
-      next = 0.5 * (lo + hi);
-    if (next == t)
-      break;
-    t = next;
-  }
-  return t;
-}
-
 class Extraction
 {
 public:
@@ -321,10 +99,7 @@ private:
   void bisect(std::size_t index);
   bool hanging(const Piece& piece) const;
   void classify(Piece& piece);
-  bool certify(const Piece& piece, const CellForms::Bounds& b, std::size_t iso, double margin, double& bound,
-    bool& topology) const;
   std::uint32_t root(const Piece& piece, int a, int b, std::size_t iso);
-  void caseTriangles(const Piece& piece, std::size_t iso, std::vector<std::array<int, 6>>& out) const;
   glm::dvec3 ellGradient(const Piece& piece) const;
   void emit(ExactSurfaceMesh& surface, SurfaceParts& parts);
 
@@ -524,353 +299,6 @@ bool Extraction::hanging(const Piece& piece) const
   return false;
 }
 
-/// Whether the piece is certified for iso-value c, its distance bound, and whether its topology
-/// is certified too (the file's comment); else, when small, by its size alone.
-bool Extraction::certify(const Piece& piece, const CellForms::Bounds& b, std::size_t iso, double margin,
-  double& bound, bool& topology) const
-{
-  const double c = Iso[iso];
-  const CellForms& forms = Forms[piece.form];
-  double fv[4];
-  bool cut = false;
-  for (int k = 0; k < 4; ++k)
-  {
-    fv[k] = Vertices[piece.v[k]].f - c;
-    cut = cut || ((fv[k] >= 0.0) != (fv[0] >= 0.0));
-  }
-  // Where the gradient has no bound (a pyramid's piece at its apex, where the collapse's
-  // derivative is unbounded): by size alone, the box around the piece's image.
-  if (!b.finite)
-  {
-    topology = false;
-    bound = glm::length(glm::dvec3(b.x[0].width(), b.x[1].width(), b.x[2].width()));
-    return std::isfinite(bound) && bound <= (cut ? Tolerance : 0.5 * Tolerance);
-  }
-  // E: |f - l| over the piece, from the corner whose edges give the least.
-  double E = std::numeric_limits<double>::infinity();
-  double diameter = 0.0;
-  for (int base = 0; base < 4; ++base)
-  {
-    double worst = 0.0;
-    for (int j = 0; j < 4; ++j)
-    {
-      if (j == base)
-        continue;
-      const glm::dvec3 e = piece.r[j] - piece.r[base];
-      diameter = std::max(diameter, glm::length(e));
-      double s = 0.0;
-      for (int i = 0; i < 3; ++i)
-        s += std::abs(e[i]) * b.grad[i].width();
-      worst = std::max(worst, s);
-    }
-    E = std::min(E, worst);
-  }
-  // Second order where the second derivatives are bounded: |f - l| <= K/2 sum l_i |r_i - r|^2,
-  // and that sum is at most the enclosing ball's radius squared, 3/8 of the diameter squared.
-  if (b.hasHessian)
-    E = std::min(E, 3.0 / 16.0 * b.fieldHessian * diameter * diameter);
-  // Or directly: |f - l| over the piece's box, from the Bernstein coefficients of f - l there (a
-  // pyramid's field, whose derivatives' bounds through the collapse are loose, gets it too).
-  glm::dmat3 A;
-  for (int j = 0; j < 3; ++j)
-    A[j] = piece.r[j + 1] - piece.r[0];
-  const glm::dmat3 AinvT = glm::inverse(glm::transpose(A));
-  glm::dvec3 boxLo = piece.r[0], boxHi = piece.r[0];
-  for (int k = 1; k < 4; ++k)
-  {
-    boxLo = glm::min(boxLo, piece.r[k]);
-    boxHi = glm::max(boxHi, piece.r[k]);
-  }
-  const glm::dvec3 g = AinvT * glm::dvec3(fv[1] - fv[0], fv[2] - fv[0], fv[3] - fv[0]);
-  E = std::min(E, forms.deviation(boxLo, boxHi, 3, fv[0] + c - glm::dot(g, piece.r[0]), g));
-  // An affine cell (the map's derivative constant to rounding): the same in the scene, where the
-  // second derivatives and the diameter are those of the shape itself (J^-T H J^-1; Gershgorin's
-  // row sums bound its norm), and the slab's and strips' widths are scene distances.
-  glm::dmat3 Jm(0.0);
-  double jScale = 0.0, jWidth = 0.0;
-  for (int k = 0; k < 3; ++k)
-    for (int i = 0; i < 3; ++i)
-    {
-      Jm[i][k] = 0.5 * (b.J[k][i].lo + b.J[k][i].hi);
-      jScale = std::max(jScale, largestAbs(b.J[k][i]));
-      jWidth = std::max(jWidth, b.J[k][i].width());
-    }
-  const bool constantJ = b.hasHessian && jWidth <= 1e-12 * jScale && std::abs(glm::determinant(Jm)) > 0.0;
-  // Else the map's distance from its own affine interpolant of the corners (per axis): the piece
-  // is straight when it is 0 to rounding (a straight pyramid's, whose Jacobian's bounds through
-  // the collapse are not constant), and otherwise it bounds how far the flat triangles are from
-  // the image of the piece's (twice it).
-  double mapDeviation = 0.0;
-  bool straight = false;
-  glm::dmat3 Jcorners(0.0);
-  if (!constantJ)
-  {
-    double mapScale = 0.0;
-    for (int a = 0; a < 3; ++a)
-    {
-      const double x0 = Vertices[piece.v[0]].x[a];
-      const glm::dvec3 Ga = AinvT * glm::dvec3(Vertices[piece.v[1]].x[a] - x0, Vertices[piece.v[2]].x[a] - x0,
-                                      Vertices[piece.v[3]].x[a] - x0);
-      for (int i = 0; i < 3; ++i)
-        Jcorners[i][a] = Ga[i];
-      const double d = forms.deviation(boxLo, boxHi, a, x0 - glm::dot(Ga, piece.r[0]), Ga);
-      mapDeviation += d * d;
-      mapScale = std::max(mapScale, std::abs(x0) + glm::length(Ga));
-    }
-    mapDeviation = std::sqrt(mapDeviation);
-    straight = mapDeviation <= 1e-12 * mapScale && std::abs(glm::determinant(Jcorners)) > 0.0;
-    if (straight)
-      Jm = Jcorners;
-  }
-  const bool affine = constantJ || straight;
-  glm::dmat3 Jinv(1.0);
-  if (affine)
-    Jinv = glm::inverse(Jm);
-  if (affine && b.hasHessian)
-  {
-    // J^-T H J^-1 with H = its middle + a part within the radius: the middle's product exactly
-    // (its cancellations kept), the rest bounded in magnitude.
-    glm::dmat3 middle, radius;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-      {
-        middle[j][i] = 0.5 * (b.fieldSecond[i][j].lo + b.fieldSecond[i][j].hi);
-        radius[j][i] = 0.5 * b.fieldSecond[i][j].width();
-      }
-    const glm::dmat3 product = glm::transpose(Jinv) * middle * Jinv;
-    double K = 0.0;
-    for (int a = 0; a < 3; ++a)
-    {
-      double row = 0.0;
-      for (int c2 = 0; c2 < 3; ++c2)
-      {
-        row += std::abs(product[c2][a]);
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j)
-            row += std::abs(Jinv[a][i] * Jinv[c2][j]) * radius[j][i];
-      }
-      K = std::max(K, row);
-    }
-    double diameterX = 0.0;
-    for (const auto& e : kEdges)
-      diameterX = std::max(diameterX, glm::length(Jm * (piece.r[e[1]] - piece.r[e[0]])));
-    E = std::min(E, 3.0 / 16.0 * K * diameterX * diameterX);
-  }
-  E += margin;
-  // No sign change, and every corner beyond the slab: f - c keeps l - c's sign (|f - l| <= E).
-  if (!cut && std::min({ std::abs(fv[0]), std::abs(fv[1]), std::abs(fv[2]), std::abs(fv[3]) }) > E)
-  {
-    bound = 0.0;
-    topology = true;
-    return true;
-  }
-  // grad l from the corners' values (g above: A^T g = df, A's columns the edges from corner 0).
-  const double gl = glm::length(g);
-  if (!(gl > 0.0) || !std::isfinite(gl))
-  {
-    topology = false;
-    bound = glm::length(glm::dvec3(b.x[0].width(), b.x[1].width(), b.x[2].width()));
-    return std::isfinite(bound) && bound <= (cut ? Tolerance : 0.5 * Tolerance);
-  }
-  const glm::dvec3 n = g / gl;
-  // Where the surface can be: the slab |l - c| <= width within a simplex of the piece's corners
-  // (the piece, a face, an edge), a convex polytope whose corners are the simplex's corners within
-  // it and its edges' crossings of l = c +- width. Its box; false when it is empty.
-  auto slabBox = [&](std::initializer_list<int> corners, double width, glm::dvec3& lo, glm::dvec3& hi) {
-    lo = glm::dvec3(std::numeric_limits<double>::infinity());
-    hi = -lo;
-    bool any = false;
-    auto take = [&](const glm::dvec3& p) {
-      lo = glm::min(lo, p);
-      hi = glm::max(hi, p);
-      any = true;
-    };
-    for (auto i = corners.begin(); i != corners.end(); ++i)
-    {
-      if (std::abs(fv[*i]) <= width)
-        take(piece.r[*i]);
-      for (auto j = i + 1; j != corners.end(); ++j)
-      {
-        const double p = fv[*i], q = fv[*j];
-        for (double level : { -width, width })
-        {
-          if ((p - level) * (q - level) < 0.0)
-            take(piece.r[*i] + (level - p) / (q - p) * (piece.r[*j] - piece.r[*i]));
-        }
-      }
-    }
-    return any;
-  };
-  glm::dvec3 lo, hi;
-  // Monotone along n where the surface can be: no closed sheet, no handle, a graph over l = c
-  // (along every line along n, f - c has l - c's sign outside the slab).
-  if (!slabBox({ 0, 1, 2, 3 }, E, lo, hi))
-  {
-    bound = 0.0;
-    topology = true;
-    return true;
-  }
-  Interval slope[2];
-  forms.slopes(lo, hi, &n, 1, slope);
-  if (!(slope[0].lo > 0.0))
-  {
-    // Not even monotone inside: by size alone (the box around the piece's image).
-    topology = false;
-    bound = glm::length(glm::dvec3(b.x[0].width(), b.x[1].width(), b.x[2].width()));
-    return std::isfinite(bound) && bound <= (cut ? Tolerance : 0.5 * Tolerance);
-  }
-  topology = true;
-  // Each face the slab meets: monotone along its in-face direction within the slab.
-  double widest = 0.0;
-  for (const auto& face : kFaces)
-  {
-    // |f - l| on the face alone (its box's Bernstein coefficients): the face's own slab.
-    glm::dvec3 faceLo = glm::min(glm::min(piece.r[face[0]], piece.r[face[1]]), piece.r[face[2]]);
-    glm::dvec3 faceHi = glm::max(glm::max(piece.r[face[0]], piece.r[face[1]]), piece.r[face[2]]);
-    const double EF = std::min(E, forms.deviation(faceLo, faceHi, 3, fv[0] + c - glm::dot(g, piece.r[0]), g) + margin);
-    if (!slabBox({ face[0], face[1], face[2] }, EF, lo, hi))
-      continue;
-    const glm::dvec3 normal = glm::normalize(glm::cross(piece.r[face[1]] - piece.r[face[0]], piece.r[face[2]] - piece.r[face[0]]));
-    const glm::dvec3 inFace = g - glm::dot(g, normal) * normal;
-    const double gf = glm::length(inFace);
-    // Monotone along the in-face part of grad l, or of the gradient at the middle of the box.
-    glm::dvec3 xm, middle;
-    glm::dmat3 Jmiddle;
-    double fm = 0.0;
-    forms.atReference(0.5 * (lo + hi), xm, Jmiddle, fm, middle);
-    middle -= glm::dot(middle, normal) * normal;
-    const glm::dvec3 directions[2] = { gf > 0.0 ? inFace / gf : glm::dvec3(0.0),
-      glm::length(middle) > 0.0 ? glm::normalize(middle) : glm::dvec3(0.0) };
-    forms.slopes(lo, hi, directions, 2, slope);
-    const bool alongL = gf > 0.0 && slope[0].lo > 0.0;
-    const bool alongMiddle = glm::length(middle) > 0.0 && slope[1].lo > 0.0;
-    if (!alongL && !alongMiddle)
-    {
-      topology = false;
-      break;
-    }
-    // The loop of the surface's boundary runs on the faces with a sign change only (a monotone
-    // face without one holds no curve): their strips bound it.
-    const bool chord = (fv[face[0]] >= 0.0) != (fv[face[1]] >= 0.0) || (fv[face[0]] >= 0.0) != (fv[face[2]] >= 0.0);
-    // The curve and the chord are graphs along the monotone direction d within the strip, so
-    // at most the strip's width over the cosine of d's angle to the strip's normal apart.
-    if (chord && affine)
-    {
-      // The strip's width in the scene: the in-face part of the scene gradient J^-T g.
-      const glm::dvec3 gx = glm::transpose(Jinv) * g;
-      const glm::dvec3 nx = glm::normalize(glm::transpose(Jinv) * normal);
-      const glm::dvec3 gFx = gx - glm::dot(gx, nx) * nx;
-      double cosine = 1.0;
-      if (!alongL)
-        cosine = std::abs(glm::dot(glm::normalize(Jm * glm::normalize(middle)), glm::normalize(gFx)));
-      widest = std::max(widest, 2.0 * EF / glm::length(gFx) / cosine);
-    }
-    else if (chord)
-    {
-      const double cosine = alongL ? 1.0 : std::abs(glm::dot(glm::normalize(middle), inFace / gf));
-      widest = std::max(widest, 2.0 * EF / gf / cosine);
-    }
-  }
-  // Each edge: one root or none. Along an edge e, |f - l| <= e^T H e / 8 (its own second
-  // derivative's bound); f is monotone where the edge is within that of c.
-  for (const auto& e : kEdges)
-  {
-    if (!topology)
-      break;
-    const glm::dvec3 d = piece.r[e[1]] - piece.r[e[0]];
-    double Ee = E;
-    if (b.hasHessian)
-    {
-      double second = 0.0;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          second += largestAbs(b.fieldSecond[i][j]) * std::abs(d[i] * d[j]);
-      Ee = std::min(E, second / 8.0 + margin);
-    }
-    if (!slabBox({ e[0], e[1] }, Ee, lo, hi))
-      continue;
-    forms.slopes(lo, hi, &d, 1, slope);
-    if (signDefinite(slope[0]))
-      continue;
-    // Not monotone there: the count Descartes' rule allows, for the polynomial along the edge.
-    const bool crossed = (fv[e[0]] >= 0.0) != (fv[e[1]] >= 0.0);
-    const SegmentRoots roots = segmentRoots(forms, piece.r[e[0]], piece.r[e[1]], c, lineDegree(forms.type()), margin);
-    if (!roots.asCase(crossed))
-      topology = false;
-  }
-  double L2 = 0.0, X2 = 0.0;
-  for (int k = 0; k < 3; ++k)
-  {
-    double widthSum = 0.0;
-    for (int i = 0; i < 3; ++i)
-    {
-      L2 += largestAbs(b.J[k][i]) * largestAbs(b.J[k][i]);
-      widthSum += b.J[k][i].width();
-    }
-    X2 += widthSum * widthSum;
-  }
-  // A piece with no sign change at its corners must be shown empty; or, when a grazing face or
-  // edge leaves that open, be smaller than the bound (a piece of surface in it, which its
-  // neighbours' triangles need not show, is then within the bound of the piece itself).
-  // By size alone: the surface in the piece and its triangles (whose corners are in the piece's
-  // image) lie in the box around the image, and within L times its diameter of each other.
-  const double image = glm::length(glm::dvec3(b.x[0].width(), b.x[1].width(), b.x[2].width()));
-  if (!cut && !topology)
-  {
-    bound = std::min(std::sqrt(L2) * diameter, image);
-    return std::isfinite(bound) && bound <= 0.5 * Tolerance;
-  }
-  const double flat = std::min(constantJ ? 0.0 : 2.0 * mapDeviation,
-    b.hasHessian ? std::min(diameter * std::sqrt(X2), 3.0 / 16.0 * b.mapHessian * diameter * diameter)
-                 : diameter * std::sqrt(X2));
-  if (topology && cut)
-  {
-    // The case's triangles are a graph over the plane l = c too (their normals on n's side).
-    std::vector<std::array<int, 6>> triangles;
-    caseTriangles(piece, iso, triangles);
-    auto rootPoint = [&](int a, int b2) {
-      if (fv[a] == 0.0)
-        return piece.r[a];
-      if (fv[b2] == 0.0)
-        return piece.r[b2];
-      return piece.r[a] + edgeRoot(forms, piece.r[a], piece.r[b2], c, fv[a] < 0.0) * (piece.r[b2] - piece.r[a]);
-    };
-    int side = 0;
-    for (const auto& t : triangles)
-    {
-      glm::dvec3 p[3];
-      for (int k = 0; k < 3; ++k)
-        p[k] = rootPoint(t[static_cast<std::size_t>(2 * k)], t[static_cast<std::size_t>(2 * k + 1)]);
-      const double along = glm::dot(glm::cross(p[1] - p[0], p[2] - p[0]), n);
-      const int s = along > 0.0 ? 1 : along < 0.0 ? -1 : 0;
-      if (s == 0 && glm::length(glm::cross(p[1] - p[0], p[2] - p[0])) == 0.0)
-        continue; // a triangle of no area (a corner at the iso-value)
-      if (s == 0 || (side != 0 && s != side))
-      {
-        topology = false;
-      }
-      side = s;
-    }
-  }
-  if (topology)
-  {
-    bound = affine ? 2.0 * E / glm::length(glm::transpose(Jinv) * g) + 2.0 * widest
-                   : std::sqrt(L2) * (2.0 * E / gl + 2.0 * widest) + flat;
-  }
-  else
-  {
-    // By size alone: the surface in the piece and its triangles lie in the image of the piece,
-    // within L times its diameter of each other (and the flat triangles within X of that image).
-    bound = std::min(std::sqrt(L2) * diameter + flat, image);
-  }
-  if (topology && !(bound <= Tolerance) && image <= Tolerance)
-  {
-    topology = false; // the certificate's bound is looser than the piece's size
-    bound = image;
-  }
-  return std::isfinite(bound) && bound <= Tolerance;
-}
-
 void Extraction::classify(Piece& piece)
 {
   glm::dvec3 lo = piece.r[0], hi = piece.r[0];
@@ -884,6 +312,14 @@ void Extraction::classify(Piece& piece)
   forms.bounds(lo, hi, b);
   // The forms' rounding: their making grows the nodes' by the matrix's row sums.
   const double margin = 64.0 * std::numeric_limits<double>::epsilon() * forms.type().growth * forms.fieldMagnitude();
+  PieceCorners corners;
+  corners.forms = &forms;
+  for (int k = 0; k < 4; ++k)
+  {
+    corners.r[k] = piece.r[k];
+    corners.x[k] = Vertices[piece.v[k]].x;
+    corners.f[k] = Vertices[piece.v[k]].f;
+  }
   bool any = false, certified = true, sizeOnly = false;
   double worst = 0.0;
   for (std::size_t k = 0; k < Iso.size(); ++k)
@@ -894,7 +330,7 @@ void Extraction::classify(Piece& piece)
     any = true;
     double bound = 0.0;
     bool topology = false;
-    if (!certify(piece, b, k, margin, bound, topology))
+    if (!certifyPiece(corners, b, c, margin, Tolerance, bound, topology))
     {
       certified = false;
       break;
@@ -943,41 +379,15 @@ std::uint32_t Extraction::root(const Piece& piece, int a, int b, std::size_t iso
   return index;
 }
 
-/// The marching-tetrahedra case of iso-value `iso` in a piece: its triangles, each as three
-/// (a, b) corner pairs whose edges hold the roots (a == b: a corner at the iso-value).
-void Extraction::caseTriangles(const Piece& piece, std::size_t iso, std::vector<std::array<int, 6>>& out) const
-{
-  out.clear();
-  const double c = Iso[iso];
-  int above[4], below[4], na = 0, nb = 0;
-  for (int k = 0; k < 4; ++k)
-  {
-    if (Vertices[piece.v[k]].f >= c)
-      above[na++] = k;
-    else
-      below[nb++] = k;
-  }
-  if (na == 0 || nb == 0)
-    return;
-  if (na == 1 || nb == 1)
-  {
-    const int lone = na == 1 ? above[0] : below[0];
-    const int* others = na == 1 ? below : above;
-    out.push_back({ lone, others[0], lone, others[1], lone, others[2] });
-    return;
-  }
-  // Two and two: the quadrilateral (a0 b0, a0 b1, a1 b1, a1 b0), cut along a0 b1 - a1 b0.
-  const int a0 = above[0], a1 = above[1], b0 = below[0], b1 = below[1];
-  out.push_back({ a0, b0, a0, b1, a1, b0 });
-  out.push_back({ a0, b1, a1, b1, a1, b0 });
-}
-
 void Extraction::emit(ExactSurfaceMesh& surface, SurfaceParts& parts)
 {
   std::vector<std::array<int, 6>> triangles;
   for (std::size_t index = 0; index < Pieces.size(); ++index)
   {
     const Piece& piece = Pieces[index];
+    double values[4];
+    for (int k = 0; k < 4; ++k)
+      values[k] = Vertices[piece.v[k]].f;
     if (piece.state == State::Unresolved)
       ++surface.unresolvedSubcells;
     if (piece.state == State::Resolved)
@@ -990,7 +400,7 @@ void Extraction::emit(ExactSurfaceMesh& surface, SurfaceParts& parts)
       const double c = Iso[iso];
       int above = 0;
       for (int k = 0; k < 4; ++k)
-        above += Vertices[piece.v[k]].f >= c ? 1 : 0;
+        above += values[k] >= c ? 1 : 0;
       if (above == 4)
       {
         parts.volumeTets.push_back({ piece.form, static_cast<int>(iso), 1.0,
@@ -1011,7 +421,7 @@ void Extraction::emit(ExactSurfaceMesh& surface, SurfaceParts& parts)
         const glm::dvec3 r1 = forward ? piece.r[b] : piece.r[a];
         return r0 + Out[vertex].t * (r1 - r0);
       };
-      caseTriangles(piece, iso, triangles);
+      caseTriangles(values, c, triangles);
       Layer layer;
       layer.form = piece.form;
       layer.iso = static_cast<int>(iso);
@@ -1034,7 +444,7 @@ void Extraction::emit(ExactSurfaceMesh& surface, SurfaceParts& parts)
       int up[4], down[4], nu = 0, nd = 0;
       for (int k = 0; k < 4; ++k)
       {
-        if (Vertices[piece.v[k]].f >= c)
+        if (values[k] >= c)
           up[nu++] = k;
         else
           down[nd++] = k;

@@ -15,9 +15,10 @@
 //    the surface may cross, and along every edge the surface may cross (or Descartes' rule counts
 //    the edge's roots); then the surface in it is one disc, bounded by the loop the
 //    marching-tetrahedra case draws, and the distance from it to the case's triangles is bounded
-//    (ExactSurface.cpp: Extraction::certify). A piece at a pyramid's apex, or whose topology is
-//    not shown, is certified by its size alone (the box around its image within the bound). Vertices are named by the mesh's points and the edges
-//    bisected, so neighbouring cells bisect shared faces alike (conforming closure): no cracks.
+//    (ExactSurfaceCertificate.cpp). A piece at a pyramid's apex, or whose topology is not shown,
+//    is certified by its size alone (the box around its image within the bound). Vertices are
+//    named by the mesh's points and the edges bisected, so neighbouring cells bisect shared faces
+//    alike (conforming closure): no cracks.
 //  - A tetrahedron still uncertified after kMaxSurfaceLevels bisections is counted, and warned of.
 #pragma once
 
@@ -61,7 +62,7 @@ struct SurfaceIntegrals
 {
   double isoValue = 0.0;
   double area = 0.0;        ///< of the curved surface
-  double areaError = 0.0;   ///< an estimate of |area - exact| (see ExactSurface.cpp)
+  double areaError = 0.0;   ///< an estimate of |area - exact| (see ExactSurfaceIntegrals.h)
   double volume = 0.0;      ///< of the region of the valid cells where the field >= isoValue
   double volumeError = 0.0; ///< an estimate of |volume - exact|
   /// Per point array given, per component: its integral over the curved surface, and an estimate

@@ -1,3 +1,5 @@
+// The exact surface's view of a cell (ExactSurfaceCells.h): its map and field as tensor forms in
+// its reference space, evaluated at points and bounded over boxes (Bernstein coefficients).
 #include "tetdsr/surface/ExactSurfaceCells.h"
 
 #include "tetdsr/cells/Cells.h"

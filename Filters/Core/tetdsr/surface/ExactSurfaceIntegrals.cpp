@@ -1,3 +1,8 @@
+// The exact surface's last step (ExactSurfaceIntegrals.h): the bisection's parts made into the
+// output (vertices with their exact normals and arrays, triangles oriented toward higher values,
+// edge counts) and, when asked, the integrals: area and arrays over the triangles carried onto the
+// curved surface, their boundary edges' strips, and the volume where f >= c (the pieces' tetrahedra,
+// the layers between their flat triangles and the surface, and the cells wholly above c).
 #include "tetdsr/surface/ExactSurfaceIntegrals.h"
 
 #include "tetdsr/cells/Cells.h"
@@ -139,85 +144,144 @@ bool carry(const CellForms& forms, double c, const glm::dvec3& p, const glm::dve
   return false;
 }
 
-struct PatchIntegral
+/// One triangle's carried integrals under the fine rule [0] and the coarse one [1].
+struct TriangleResult
 {
-  double area = 0.0;
-  std::vector<double> arrays;
+  double area[2] = { 0.0, 0.0 };
+  std::vector<double> arrays[2];
   bool ok = true;
 };
 
-} // namespace
-
-void finishSurface(const Scene& scene, const ExactSurfaceSettings& settings,
-  const std::vector<ArrayView>& arrays, const std::vector<const double*>& values, SurfaceParts& parts,
-  ExactSurfaceMesh& surface, const ParallelFor& parallelFor)
+/// finishSurface's steps, in order, over the state they share.
+class SurfaceFinisher
 {
-  const std::vector<CellForms>& forms = *parts.forms;
-  // The vertices the triangles use, renumbered in order of first use.
-  std::vector<std::uint32_t> renumber(parts.vertices.size(), 0xFFFFFFFFu);
-  std::vector<std::uint32_t> used;
-  for (auto& tri : parts.triangles)
+public:
+  SurfaceFinisher(const Scene& scene, const ExactSurfaceSettings& settings, const std::vector<ArrayView>& arrays,
+    const std::vector<const double*>& values, SurfaceParts& parts, ExactSurfaceMesh& surface,
+    const ParallelFor& parallelFor)
+    : Scene_(scene)
+    , Settings(settings)
+    , Arrays(arrays)
+    , Values(values)
+    , Parts(parts)
+    , Surface(surface)
+    , Parallel(parallelFor)
+    , Forms(*parts.forms)
+  {
+  }
+
+  void renumberVertices();
+  void startArrays();
+  void vertexAttributes();
+  void orientTriangles();
+  void countEdges();
+  void startIntegrals();
+  void triangleIntegrals();
+  void boundaryEdgeErrors();
+  void pieceVolumes();
+  void layerVolumes();
+  void wholeCellVolumes();
+
+private:
+  glm::dvec3 point(std::uint32_t v) const
+  {
+    return glm::dvec3(Surface.points[3 * v], Surface.points[3 * v + 1], Surface.points[3 * v + 2]);
+  }
+  glm::dvec3 normal(std::uint32_t v) const
+  {
+    return glm::dvec3(Surface.normals[3 * v], Surface.normals[3 * v + 1], Surface.normals[3 * v + 2]);
+  }
+  void arrayForms(const CellForms& cell, std::vector<std::vector<double>>& out) const;
+
+  const Scene& Scene_;
+  const ExactSurfaceSettings& Settings;
+  const std::vector<ArrayView>& Arrays;
+  const std::vector<const double*>& Values;
+  SurfaceParts& Parts;
+  ExactSurfaceMesh& Surface;
+  const ParallelFor& Parallel;
+  const std::vector<CellForms>& Forms;
+  std::vector<std::uint32_t> Used; ///< per output vertex: its index in the parts' vertices
+  std::vector<int> Components;     ///< per array
+  int TotalComponents = 0;
+  /// Per edge (its ends' output vertices): the triangles using it, and the last of them.
+  std::unordered_map<std::uint64_t, std::pair<int, std::uint32_t>> Edges;
+};
+
+/// The vertices the triangles use, renumbered in order of first use.
+void SurfaceFinisher::renumberVertices()
+{
+  std::vector<std::uint32_t> renumber(Parts.vertices.size(), 0xFFFFFFFFu);
+  for (auto& tri : Parts.triangles)
   {
     for (auto& v : tri.v)
     {
       if (renumber[v] == 0xFFFFFFFFu)
       {
-        renumber[v] = static_cast<std::uint32_t>(used.size());
-        used.push_back(v);
+        renumber[v] = static_cast<std::uint32_t>(Used.size());
+        Used.push_back(v);
       }
       v = renumber[v];
     }
   }
-  const std::size_t nv = used.size();
-  surface.points.resize(3 * nv);
-  surface.normals.resize(3 * nv);
-  // Arrays' components, one after another.
-  std::vector<int> components;
-  int totalComponents = 0;
-  for (const ArrayView& a : arrays)
+  Surface.points.resize(3 * Used.size());
+  Surface.normals.resize(3 * Used.size());
+}
+
+/// Arrays' components, one after another.
+void SurfaceFinisher::startArrays()
+{
+  for (const ArrayView& a : Arrays)
   {
-    components.push_back(a.components);
-    totalComponents += a.components;
+    Components.push_back(a.components);
+    TotalComponents += a.components;
   }
-  surface.arrays.assign(arrays.size(), {});
-  for (std::size_t a = 0; a < arrays.size(); ++a)
-    surface.arrays[a].resize(nv * static_cast<std::size_t>(components[a]));
-  // Array forms per cell, made when a cell's first vertex or patch needs them.
-  auto arrayForms = [&](const CellForms& cell, std::vector<std::vector<double>>& out) {
-    out.resize(static_cast<std::size_t>(totalComponents));
-    int k = 0;
-    for (std::size_t a = 0; a < arrays.size(); ++a)
-      for (int comp = 0; comp < components[a]; ++comp)
-        cell.arrayForm(values[a], components[a], comp, out[static_cast<std::size_t>(k++)]);
-  };
-  // Vertices grouped by their cell.
+  Surface.arrays.assign(Arrays.size(), {});
+  for (std::size_t a = 0; a < Arrays.size(); ++a)
+    Surface.arrays[a].resize(Used.size() * static_cast<std::size_t>(Components[a]));
+}
+
+/// Array forms per cell, made when a cell's first vertex or patch needs them.
+void SurfaceFinisher::arrayForms(const CellForms& cell, std::vector<std::vector<double>>& out) const
+{
+  out.resize(static_cast<std::size_t>(TotalComponents));
+  int k = 0;
+  for (std::size_t a = 0; a < Arrays.size(); ++a)
+    for (int comp = 0; comp < Components[a]; ++comp)
+      cell.arrayForm(Values[a], Components[a], comp, out[static_cast<std::size_t>(k++)]);
+}
+
+/// Each vertex's position, exact unit normal and arrays, from its cell (vertices grouped by cell).
+void SurfaceFinisher::vertexAttributes()
+{
+  const std::size_t nv = Used.size();
   std::vector<std::uint32_t> byCell(nv);
   for (std::uint32_t i = 0; i < nv; ++i)
     byCell[i] = i;
   std::sort(byCell.begin(), byCell.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return parts.vertices[used[a]].form < parts.vertices[used[b]].form;
+    return Parts.vertices[Used[a]].form < Parts.vertices[Used[b]].form;
   });
   std::vector<std::pair<std::size_t, std::size_t>> groups;
   for (std::size_t i = 0; i < nv;)
   {
     std::size_t j = i;
-    while (j < nv && parts.vertices[used[byCell[j]]].form == parts.vertices[used[byCell[i]]].form)
+    while (j < nv && Parts.vertices[Used[byCell[j]]].form == Parts.vertices[Used[byCell[i]]].form)
       ++j;
     groups.emplace_back(i, j);
     i = j;
   }
-  parallelFor(static_cast<NodeId>(groups.size()), [&](NodeId begin, NodeId end) {
+  Parallel(static_cast<NodeId>(groups.size()), [&](NodeId begin, NodeId end) {
     std::vector<std::vector<double>> forms2;
     for (NodeId g = begin; g < end; ++g)
     {
       const auto [first, last] = groups[static_cast<std::size_t>(g)];
-      const CellForms& cell = forms[parts.vertices[used[byCell[first]]].form];
-      if (totalComponents > 0)
+      const CellForms& cell = Forms[Parts.vertices[Used[byCell[first]]].form];
+      if (TotalComponents > 0)
         arrayForms(cell, forms2);
       for (std::size_t i = first; i < last; ++i)
       {
         const std::uint32_t out = byCell[i];
-        const SurfaceVertex& v = parts.vertices[used[out]];
+        const SurfaceVertex& v = Parts.vertices[Used[out]];
         const glm::dvec3 e = cell.toForm(v.reference);
         glm::dvec3 x, grad;
         glm::dmat3 J;
@@ -228,25 +292,23 @@ void finishSurface(const Scene& scene, const ExactSurfaceSettings& settings,
         n = length > 0.0 && std::isfinite(length) ? n / length : glm::dvec3(0.0);
         for (int a = 0; a < 3; ++a)
         {
-          surface.points[3 * out + static_cast<std::size_t>(a)] = x[a];
-          surface.normals[3 * out + static_cast<std::size_t>(a)] = n[a];
+          Surface.points[3 * out + static_cast<std::size_t>(a)] = x[a];
+          Surface.normals[3 * out + static_cast<std::size_t>(a)] = n[a];
         }
         int k = 0;
-        for (std::size_t a = 0; a < arrays.size(); ++a)
-          for (int comp = 0; comp < components[a]; ++comp)
-            surface.arrays[a][out * static_cast<std::size_t>(components[a]) + static_cast<std::size_t>(comp)] =
+        for (std::size_t a = 0; a < Arrays.size(); ++a)
+          for (int comp = 0; comp < Components[a]; ++comp)
+            Surface.arrays[a][out * static_cast<std::size_t>(Components[a]) + static_cast<std::size_t>(comp)] =
               cell.evaluateForm(forms2[static_cast<std::size_t>(k++)].data(), e);
       }
     }
   });
-  // Triangles, their normals toward higher values (the corners' exact normals' side).
-  auto point = [&](std::uint32_t v) {
-    return glm::dvec3(surface.points[3 * v], surface.points[3 * v + 1], surface.points[3 * v + 2]);
-  };
-  auto normal = [&](std::uint32_t v) {
-    return glm::dvec3(surface.normals[3 * v], surface.normals[3 * v + 1], surface.normals[3 * v + 2]);
-  };
-  for (auto& tri : parts.triangles)
+}
+
+/// Triangles, their normals toward higher values (the corners' exact normals' side).
+void SurfaceFinisher::orientTriangles()
+{
+  for (auto& tri : Parts.triangles)
   {
     const glm::dvec3 N = glm::cross(point(tri.v[1]) - point(tri.v[0]), point(tri.v[2]) - point(tri.v[0]));
     if (glm::dot(N, normal(tri.v[0]) + normal(tri.v[1]) + normal(tri.v[2])) < 0.0)
@@ -255,76 +317,79 @@ void finishSurface(const Scene& scene, const ExactSurfaceSettings& settings,
       std::swap(tri.reference[1], tri.reference[2]);
     }
     for (auto v : tri.v)
-      surface.triangles.push_back(v);
-    surface.cellIds.push_back(forms[tri.form].cellId());
-    surface.isoIndices.push_back(tri.iso);
+      Surface.triangles.push_back(v);
+    Surface.cellIds.push_back(Forms[tri.form].cellId());
+    Surface.isoIndices.push_back(tri.iso);
   }
-  // Edges: used once (the mesh's boundary), more than twice (none on a certified surface).
-  std::unordered_map<std::uint64_t, std::pair<int, std::uint32_t>> edges;
-  for (std::uint32_t t = 0; t < parts.triangles.size(); ++t)
+}
+
+/// Edges: used once (the mesh's boundary), more than twice (none on a certified surface).
+void SurfaceFinisher::countEdges()
+{
+  for (std::uint32_t t = 0; t < Parts.triangles.size(); ++t)
   {
-    const auto& tri = parts.triangles[t];
+    const auto& tri = Parts.triangles[t];
     for (int k = 0; k < 3; ++k)
     {
       const std::uint32_t a = tri.v[k], b = tri.v[(k + 1) % 3];
       const std::uint64_t key = a < b ? (std::uint64_t(a) << 32) | b : (std::uint64_t(b) << 32) | a;
-      auto& slot = edges[key];
+      auto& slot = Edges[key];
       slot.first += 1;
       slot.second = t;
     }
   }
-  for (const auto& [key, slot] : edges)
+  for (const auto& [key, slot] : Edges)
   {
     if (slot.first == 1)
-      ++surface.boundaryEdges;
+      ++Surface.boundaryEdges;
     else if (slot.first > 2)
-      ++surface.nonManifoldEdges;
+      ++Surface.nonManifoldEdges;
   }
-  const std::size_t isoCount = settings.isoValues.size();
-  surface.integrals.assign(isoCount, {});
+}
+
+/// Per iso-value: its integrals zeroed, its triangles counted and their flat area (always made).
+void SurfaceFinisher::startIntegrals()
+{
+  const std::size_t isoCount = Settings.isoValues.size();
+  Surface.integrals.assign(isoCount, {});
   for (std::size_t k = 0; k < isoCount; ++k)
   {
-    surface.integrals[k].isoValue = settings.isoValues[k];
-    surface.integrals[k].arrayIntegrals.assign(static_cast<std::size_t>(totalComponents), 0.0);
-    surface.integrals[k].arrayErrors.assign(static_cast<std::size_t>(totalComponents), 0.0);
+    Surface.integrals[k].isoValue = Settings.isoValues[k];
+    Surface.integrals[k].arrayIntegrals.assign(static_cast<std::size_t>(TotalComponents), 0.0);
+    Surface.integrals[k].arrayErrors.assign(static_cast<std::size_t>(TotalComponents), 0.0);
   }
-  for (const auto& tri : parts.triangles)
+  for (const auto& tri : Parts.triangles)
   {
-    auto& I = surface.integrals[static_cast<std::size_t>(tri.iso)];
+    auto& I = Surface.integrals[static_cast<std::size_t>(tri.iso)];
     I.flatArea += 0.5 * glm::length(glm::cross(point(tri.v[1]) - point(tri.v[0]), point(tri.v[2]) - point(tri.v[0])));
     I.triangles += 1;
   }
-  if (!settings.integrals)
-    return;
+}
 
-  // Area and arrays: each triangle carried onto the surface (the header's comment).
+/// Area and arrays: each triangle carried onto the surface (the header's comment).
+void SurfaceFinisher::triangleIntegrals()
+{
   const auto fine = triangleRule(6), coarse = triangleRule(4);
-  struct TriangleResult
-  {
-    double area[2] = { 0.0, 0.0 };
-    std::vector<double> arrays[2];
-    bool ok = true;
-  };
-  std::vector<TriangleResult> results(parts.triangles.size());
-  parallelFor(static_cast<NodeId>(parts.triangles.size()), [&](NodeId begin, NodeId end) {
+  std::vector<TriangleResult> results(Parts.triangles.size());
+  Parallel(static_cast<NodeId>(Parts.triangles.size()), [&](NodeId begin, NodeId end) {
     std::vector<std::vector<double>> af;
     std::uint32_t formsOf = 0xFFFFFFFFu;
     for (NodeId t = begin; t < end; ++t)
     {
-      const SurfaceTriangle& tri = parts.triangles[static_cast<std::size_t>(t)];
-      const CellForms& cell = forms[tri.form];
-      if (totalComponents > 0 && formsOf != tri.form)
+      const SurfaceTriangle& tri = Parts.triangles[static_cast<std::size_t>(t)];
+      const CellForms& cell = Forms[tri.form];
+      if (TotalComponents > 0 && formsOf != tri.form)
       {
         arrayForms(cell, af);
         formsOf = tri.form;
       }
-      const double c = settings.isoValues[static_cast<std::size_t>(tri.iso)];
+      const double c = Settings.isoValues[static_cast<std::size_t>(tri.iso)];
       const glm::dvec3 P[3] = { point(tri.v[0]), point(tri.v[1]), point(tri.v[2]) };
       const glm::dvec3 N[3] = { normal(tri.v[0]), normal(tri.v[1]), normal(tri.v[2]) };
       TriangleResult& result = results[static_cast<std::size_t>(t)];
       for (int rule = 0; rule < 2; ++rule)
       {
-        result.arrays[rule].assign(static_cast<std::size_t>(totalComponents), 0.0);
+        result.arrays[rule].assign(static_cast<std::size_t>(TotalComponents), 0.0);
         for (const TrianglePoint& q : rule == 0 ? fine : coarse)
         {
           const double l1 = q.x, l2 = q.y, l0 = 1.0 - l1 - l2;
@@ -350,16 +415,16 @@ void finishSurface(const Scene& scene, const ExactSurfaceSettings& settings,
           }
           const double dA = glm::length(glm::cross(X[0], X[1]));
           result.area[rule] += q.w * dA;
-          for (int a = 0; a < totalComponents; ++a)
+          for (int a = 0; a < TotalComponents; ++a)
             result.arrays[rule][static_cast<std::size_t>(a)] += q.w * dA * cell.evaluateForm(af[static_cast<std::size_t>(a)].data(), e);
         }
       }
     }
   });
-  for (std::size_t t = 0; t < parts.triangles.size(); ++t)
+  for (std::size_t t = 0; t < Parts.triangles.size(); ++t)
   {
-    const SurfaceTriangle& tri = parts.triangles[t];
-    auto& I = surface.integrals[static_cast<std::size_t>(tri.iso)];
+    const SurfaceTriangle& tri = Parts.triangles[t];
+    auto& I = Surface.integrals[static_cast<std::size_t>(tri.iso)];
     const TriangleResult& r = results[t];
     if (!r.ok)
     {
@@ -380,94 +445,110 @@ void finishSurface(const Scene& scene, const ExactSurfaceSettings& settings,
     // counts in the error.
     if (tri.sizeOnly)
       I.areaError += std::abs(r.area[0]);
-    for (int a = 0; a < totalComponents; ++a)
+    for (int a = 0; a < TotalComponents; ++a)
     {
       I.arrayIntegrals[static_cast<std::size_t>(a)] += r.arrays[0][static_cast<std::size_t>(a)];
       I.arrayErrors[static_cast<std::size_t>(a)] += std::abs(r.arrays[0][static_cast<std::size_t>(a)] - r.arrays[1][static_cast<std::size_t>(a)]) +
         (tri.sizeOnly ? std::abs(r.arrays[0][static_cast<std::size_t>(a)]) : 0.0);
     }
   }
-  // Edges on the mesh's boundary: the carried edge is on the surface, not necessarily on the
-  // boundary; its length times the carrying distance at its middle.
+}
+
+/// Edges on the mesh's boundary: the carried edge is on the surface, not necessarily on the
+/// boundary; its length times the carrying distance at its middle.
+void SurfaceFinisher::boundaryEdgeErrors()
+{
+  std::vector<std::vector<double>> af;
+  for (const auto& [key, slot] : Edges)
   {
-    std::vector<std::vector<double>> af;
-    for (const auto& [key, slot] : edges)
+    if (slot.first != 1)
+      continue;
+    const SurfaceTriangle& tri = Parts.triangles[slot.second];
+    const std::uint32_t a = static_cast<std::uint32_t>(key >> 32), b = static_cast<std::uint32_t>(key & 0xFFFFFFFFu);
+    int ka = 0, kb = 0;
+    for (int k = 0; k < 3; ++k)
     {
-      if (slot.first != 1)
-        continue;
-      const SurfaceTriangle& tri = parts.triangles[slot.second];
-      const std::uint32_t a = static_cast<std::uint32_t>(key >> 32), b = static_cast<std::uint32_t>(key & 0xFFFFFFFFu);
-      int ka = 0, kb = 0;
-      for (int k = 0; k < 3; ++k)
-      {
-        if (tri.v[k] == a)
-          ka = k;
-        if (tri.v[k] == b)
-          kb = k;
-      }
-      const CellForms& cell = forms[tri.form];
-      const glm::dvec3 p = 0.5 * (point(a) + point(b)), d = 0.5 * (normal(a) + normal(b));
-      glm::dvec3 e = cell.toForm(0.5 * (tri.reference[ka] + tri.reference[kb]));
-      double s = 0.0;
-      glm::dmat3 J;
-      glm::dvec3 grad;
-      const double length = glm::length(point(a) - point(b));
-      auto& I = surface.integrals[static_cast<std::size_t>(tri.iso)];
-      const double c = settings.isoValues[static_cast<std::size_t>(tri.iso)];
-      const bool ok = carry(cell, c, p, d, e, s, J, grad);
-      const double strip = length * (ok ? std::abs(s) * glm::length(d) : length);
-      I.areaError += strip;
-      if (totalComponents > 0)
-      {
-        arrayForms(cell, af);
-        for (int k = 0; k < totalComponents; ++k)
-          I.arrayErrors[static_cast<std::size_t>(k)] += strip * std::abs(cell.evaluateForm(af[static_cast<std::size_t>(k)].data(), e));
-      }
+      if (tri.v[k] == a)
+        ka = k;
+      if (tri.v[k] == b)
+        kb = k;
+    }
+    const CellForms& cell = Forms[tri.form];
+    const glm::dvec3 p = 0.5 * (point(a) + point(b)), d = 0.5 * (normal(a) + normal(b));
+    glm::dvec3 e = cell.toForm(0.5 * (tri.reference[ka] + tri.reference[kb]));
+    double s = 0.0;
+    glm::dmat3 J;
+    glm::dvec3 grad;
+    const double length = glm::length(point(a) - point(b));
+    auto& I = Surface.integrals[static_cast<std::size_t>(tri.iso)];
+    const double c = Settings.isoValues[static_cast<std::size_t>(tri.iso)];
+    const bool ok = carry(cell, c, p, d, e, s, J, grad);
+    const double strip = length * (ok ? std::abs(s) * glm::length(d) : length);
+    I.areaError += strip;
+    if (TotalComponents > 0)
+    {
+      arrayForms(cell, af);
+      for (int k = 0; k < TotalComponents; ++k)
+        I.arrayErrors[static_cast<std::size_t>(k)] += strip * std::abs(cell.evaluateForm(af[static_cast<std::size_t>(k)].data(), e));
     }
   }
+}
 
-  // Volume where f >= c.
+/// |det J| at a reference point of a cell.
+double detAt(const CellForms& cell, const glm::dvec3& r)
+{
+  glm::dvec3 x, grad;
+  glm::dmat3 J;
+  double f = 0.0;
+  cell.atReference(r, x, J, f, grad);
+  return glm::determinant(J);
+}
+
+/// The volume of a reference tetrahedron's image, by a rule on the unit tetrahedron.
+double tetIntegral(const CellForms& cell, const glm::dvec3 r[4], const std::vector<TetPoint>& rule)
+{
+  const glm::dmat3 A(r[1] - r[0], r[2] - r[0], r[3] - r[0]);
+  const double scale = std::abs(glm::determinant(A));
+  double sum = 0.0;
+  for (const TetPoint& q : rule)
+    sum += q.w * std::abs(detAt(cell, r[0] + A * q.x));
+  return sum * scale;
+}
+
+/// Volume where f >= c: the pieces' tetrahedra (whole pieces above c, and the cut pieces'
+/// polytopes).
+void SurfaceFinisher::pieceVolumes()
+{
   const auto tetFine = tetRule(3), tetCoarse = tetRule(2);
-  auto detAt = [](const CellForms& cell, const glm::dvec3& r) {
-    glm::dvec3 x, grad;
-    glm::dmat3 J;
-    double f = 0.0;
-    cell.atReference(r, x, J, f, grad);
-    return glm::determinant(J);
-  };
-  auto tetIntegral = [&](const CellForms& cell, const glm::dvec3 r[4], const std::vector<TetPoint>& rule) {
-    const glm::dmat3 A(r[1] - r[0], r[2] - r[0], r[3] - r[0]);
-    const double scale = std::abs(glm::determinant(A));
-    double sum = 0.0;
-    for (const TetPoint& q : rule)
-      sum += q.w * std::abs(detAt(cell, r[0] + A * q.x));
-    return sum * scale;
-  };
-  std::vector<double> volumeFine(parts.volumeTets.size()), volumeCoarse(parts.volumeTets.size());
-  parallelFor(static_cast<NodeId>(parts.volumeTets.size()), [&](NodeId begin, NodeId end) {
+  std::vector<double> volumeFine(Parts.volumeTets.size()), volumeCoarse(Parts.volumeTets.size());
+  Parallel(static_cast<NodeId>(Parts.volumeTets.size()), [&](NodeId begin, NodeId end) {
     for (NodeId k = begin; k < end; ++k)
     {
-      const VolumeTet& v = parts.volumeTets[static_cast<std::size_t>(k)];
-      volumeFine[static_cast<std::size_t>(k)] = v.sign * tetIntegral(forms[v.form], v.r, tetFine);
-      volumeCoarse[static_cast<std::size_t>(k)] = v.sign * tetIntegral(forms[v.form], v.r, tetCoarse);
+      const VolumeTet& v = Parts.volumeTets[static_cast<std::size_t>(k)];
+      volumeFine[static_cast<std::size_t>(k)] = v.sign * tetIntegral(Forms[v.form], v.r, tetFine);
+      volumeCoarse[static_cast<std::size_t>(k)] = v.sign * tetIntegral(Forms[v.form], v.r, tetCoarse);
     }
   });
-  for (std::size_t k = 0; k < parts.volumeTets.size(); ++k)
+  for (std::size_t k = 0; k < Parts.volumeTets.size(); ++k)
   {
-    auto& I = surface.integrals[static_cast<std::size_t>(parts.volumeTets[k].iso)];
+    auto& I = Surface.integrals[static_cast<std::size_t>(Parts.volumeTets[k].iso)];
     I.volume += volumeFine[k];
     I.volumeError += std::abs(volumeFine[k] - volumeCoarse[k]);
   }
-  // The layers between the flat reference triangles and the surface.
+}
+
+/// The layers between the flat reference triangles and the surface.
+void SurfaceFinisher::layerVolumes()
+{
   const auto layerFine = triangleRule(3), layerCoarse = triangleRule(2);
   const GaussRule& inner = gauss(2);
-  std::vector<std::array<double, 3>> layerResults(parts.layers.size());
-  parallelFor(static_cast<NodeId>(parts.layers.size()), [&](NodeId begin, NodeId end) {
+  std::vector<std::array<double, 3>> layerResults(Parts.layers.size());
+  Parallel(static_cast<NodeId>(Parts.layers.size()), [&](NodeId begin, NodeId end) {
     for (NodeId k = begin; k < end; ++k)
     {
-      const Layer& layer = parts.layers[static_cast<std::size_t>(k)];
-      const CellForms& cell = forms[layer.form];
-      const double c = settings.isoValues[static_cast<std::size_t>(layer.iso)];
+      const Layer& layer = Parts.layers[static_cast<std::size_t>(k)];
+      const CellForms& cell = Forms[layer.form];
+      const double c = Settings.isoValues[static_cast<std::size_t>(layer.iso)];
       const double gl = glm::length(layer.direction);
       auto& out = layerResults[static_cast<std::size_t>(k)];
       out = { 0.0, 0.0, 0.0 };
@@ -522,24 +603,28 @@ void finishSurface(const Scene& scene, const ExactSurfaceSettings& settings,
       out[2] = layer.perimeter * tauMax * tauMax * detMax;
     }
   });
-  for (std::size_t k = 0; k < parts.layers.size(); ++k)
+  for (std::size_t k = 0; k < Parts.layers.size(); ++k)
   {
-    auto& I = surface.integrals[static_cast<std::size_t>(parts.layers[k].iso)];
+    auto& I = Surface.integrals[static_cast<std::size_t>(Parts.layers[k].iso)];
     I.volume += layerResults[k][0];
     I.volumeError += std::abs(layerResults[k][0] - layerResults[k][1]) + layerResults[k][2];
   }
-  // The valid cells without pieces: wholly above c, or wholly below.
+}
+
+/// The valid cells without pieces: wholly above c (counted whole), or wholly below.
+void SurfaceFinisher::wholeCellVolumes()
+{
   std::vector<NodeId> whole;
   {
-    std::vector<char> isCandidate(static_cast<std::size_t>(scene.mesh().numberOfCells), 0);
-    for (NodeId id : parts.candidates)
+    std::vector<char> isCandidate(static_cast<std::size_t>(Scene_.mesh().numberOfCells), 0);
+    for (NodeId id : Parts.candidates)
       isCandidate[static_cast<std::size_t>(id)] = 1;
-    for (const auto& cell : scene.validCells())
+    for (const auto& cell : Scene_.validCells())
     {
       if (!isCandidate[cell.id])
       {
         bool anyAbove = false;
-        for (double c : settings.isoValues)
+        for (double c : Settings.isoValues)
           anyAbove = anyAbove || cell.valueLo >= c;
         if (anyAbove)
           whole.push_back(cell.id);
@@ -547,10 +632,10 @@ void finishSurface(const Scene& scene, const ExactSurfaceSettings& settings,
     }
   }
   std::vector<double> wholeVolume(whole.size()), wholeCoarse(whole.size());
-  parallelFor(static_cast<NodeId>(whole.size()), [&](NodeId begin, NodeId end) {
+  Parallel(static_cast<NodeId>(whole.size()), [&](NodeId begin, NodeId end) {
     for (NodeId k = begin; k < end; ++k)
     {
-      const CellForms cell(scene, whole[static_cast<std::size_t>(k)]);
+      const CellForms cell(Scene_, whole[static_cast<std::size_t>(k)]);
       // Over the reference space: the cube, a tetrahedron or wedge collapsed from it, or for a
       // pyramid its collapsed cube (the map is the cube's).
       double sums[2] = { 0.0, 0.0 };
@@ -586,22 +671,44 @@ void finishSurface(const Scene& scene, const ExactSurfaceSettings& settings,
       wholeCoarse[static_cast<std::size_t>(k)] = sums[1];
     }
   });
-  const auto& valid = scene.validCells();
+  const auto& valid = Scene_.validCells();
   std::unordered_map<NodeId, std::pair<float, float>> ranges;
   for (const auto& cell : valid)
     ranges.emplace(cell.id, std::make_pair(cell.valueLo, cell.valueHi));
   for (std::size_t k = 0; k < whole.size(); ++k)
   {
     const auto range = ranges[whole[k]];
-    for (std::size_t i = 0; i < isoCount; ++i)
+    for (std::size_t i = 0; i < Settings.isoValues.size(); ++i)
     {
-      if (range.first >= settings.isoValues[i])
+      if (range.first >= Settings.isoValues[i])
       {
-        surface.integrals[i].volume += wholeVolume[k];
-        surface.integrals[i].volumeError += std::abs(wholeVolume[k] - wholeCoarse[k]);
+        Surface.integrals[i].volume += wholeVolume[k];
+        Surface.integrals[i].volumeError += std::abs(wholeVolume[k] - wholeCoarse[k]);
       }
     }
   }
+}
+
+} // namespace
+
+void finishSurface(const Scene& scene, const ExactSurfaceSettings& settings,
+  const std::vector<ArrayView>& arrays, const std::vector<const double*>& values, SurfaceParts& parts,
+  ExactSurfaceMesh& surface, const ParallelFor& parallelFor)
+{
+  SurfaceFinisher finish(scene, settings, arrays, values, parts, surface, parallelFor);
+  finish.renumberVertices();
+  finish.startArrays();
+  finish.vertexAttributes();
+  finish.orientTriangles();
+  finish.countEdges();
+  finish.startIntegrals();
+  if (!settings.integrals)
+    return;
+  finish.triangleIntegrals();
+  finish.boundaryEdgeErrors();
+  finish.pieceVolumes();
+  finish.layerVolumes();
+  finish.wholeCellVolumes();
 }
 
 } // namespace exact
