@@ -115,13 +115,14 @@ def _checked_grid(grid, caller="add_isosurface"):
     return grid
 
 
-def _iso_values(value, caller, name):
-    """A number or a sequence of numbers as a list of floats (not empty); a TypeError or
-    ValueError naming the argument otherwise. Their values are judged by the core."""
+def _iso_values(value, caller, name, finite=False):
+    """A number or a sequence of numbers as a list of floats (not empty; each finite with
+    `finite`, else judged by the core); a TypeError or ValueError naming the argument otherwise."""
     values = [value] if np.ndim(value) == 0 else list(value)
     if not values:
         raise ValueError(f"{caller}: {name} is an empty list: give one iso-value or more")
-    return [_real(f"{name} {v!r}" if len(values) > 1 else name, v, caller) for v in values]
+    check = _number if finite else (lambda label, v: _real(label, v, caller))
+    return [check(f"{name} {v!r}" if len(values) > 1 else name, v) for v in values]
 
 
 def _rgb(color):
@@ -507,8 +508,7 @@ def add_isosurface(plotter, grid, value, scalars=None, *, color="white", colors=
     normal_mode: "exact", "central", "nodal" or "depth"; threads: 0 for all cores.
     """
     grid = _checked_grid(grid)
-    values = _iso_values(value, "add_isosurface", "value")
-    values = [_number(f"value {v!r}" if len(values) > 1 else "value", v) for v in values]
+    values = _iso_values(value, "add_isosurface", "value", finite=True)
     interactive_scale = _number("interactive_scale", interactive_scale, 0.0, 1.0, low_open=True)
     normal_mode = _choice("normal_mode", normal_mode, _NORMAL_MODES)
     capping = _choice("capping", capping, _CAPPING)
