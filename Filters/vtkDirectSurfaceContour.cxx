@@ -199,6 +199,21 @@ double vtkDirectSurfaceContour::GetValue(int i)
 {
   return this->ContourValues->GetValue(i);
 }
+void vtkDirectSurfaceContour::SetNumberOfThreads(int threads)
+{
+  // Clamped as the core's settings table says, with its warning.
+  adapter::Messages messages;
+  const double given = threads;
+  double used = given;
+  if (tetdsr::checkSetting(tetdsr::kNumberOfThreads, &given, &used, messages) &&
+    static_cast<int>(used) != this->NumberOfThreads)
+  {
+    this->NumberOfThreads = static_cast<int>(used);
+    this->Modified();
+  }
+  adapter::ReportMessages(this, messages);
+}
+
 void vtkDirectSurfaceContour::SetNumberOfContours(int number)
 {
   this->ContourValues->SetNumberOfContours(number);

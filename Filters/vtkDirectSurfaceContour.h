@@ -115,7 +115,7 @@ public:
    * Threads; 0 (default) uses all cores. When the vtkSMPTools backend is Sequential and the
    * VTK_SMP_BACKEND_IN_USE environment variable is unset, the STDThread backend is used.
    */
-  vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
+  virtual void SetNumberOfThreads(int threads);
   vtkGetMacro(NumberOfThreads, int);
   ///@}
 

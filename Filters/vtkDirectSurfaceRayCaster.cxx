@@ -432,6 +432,32 @@ private:
 vtkDirectSurfaceRayCaster::vtkDirectSurfaceRayCaster()
   : Prepared(new Cache)
 {
+  // The defaults of the core's settings table.
+  auto defaults = [](const tetdsr::Setting& row, auto* member) {
+    for (int c = 0; c < row.components; ++c)
+    {
+      member[c] = static_cast<std::remove_pointer_t<decltype(member)>>(row.defaults[c]);
+    }
+  };
+  defaults(tetdsr::kImageSize, this->ImageSize);
+  defaults(tetdsr::kArrayComponent, &this->ArrayComponent);
+  defaults(tetdsr::kSurfaceColor, this->SurfaceColor);
+  defaults(tetdsr::kAmbient, &this->Ambient);
+  defaults(tetdsr::kDiffuse, &this->Diffuse);
+  defaults(tetdsr::kSpecular, &this->Specular);
+  defaults(tetdsr::kSpecularPower, &this->SpecularPower);
+  defaults(tetdsr::kLightAtCamera, &this->LightAtCamera);
+  defaults(tetdsr::kLightPosition, this->LightPosition);
+  defaults(tetdsr::kNormalMode, &this->NormalMode);
+  defaults(tetdsr::kCentralDifferenceStep, &this->CentralDifferenceStep);
+  defaults(tetdsr::kColorByArray, &this->ColorByArray);
+  defaults(tetdsr::kColorArrayComponent, &this->ColorArrayComponent);
+  defaults(tetdsr::kColorRange, this->ColorRange);
+  defaults(tetdsr::kColorMap, &this->ColorMap);
+  defaults(tetdsr::kCapping, &this->Capping);
+  defaults(tetdsr::kTransverseTest, &this->TransverseTest);
+  defaults(tetdsr::kNodalRangeWidening, &this->NodalRangeWidening);
+  defaults(tetdsr::kNumberOfThreads, &this->NumberOfThreads);
   this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(1);
   this->SetInputArrayToProcess(0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS,
@@ -496,43 +522,66 @@ void vtkDirectSurfaceRayCaster::RemoveAllIsoValueOpacities()
 }
 
 //------------------------------------------------------------------------------
-// The shading numbers: clamped into the core's ranges; NaN refused with the core's error.
-#define TETDSR_CLAMPED_SETTER(Name)                                                                \
-  void vtkDirectSurfaceRayCaster::Set##Name(double value)                                          \
+// The settings of the core's table (tetdsr::kSettings), each checked by the core as its row
+// says: numbers clamped (NaN refused), integers clamped with a warning, vectors refused unless
+// finite, each with the core's message.
+namespace
+{
+/// `given` checked as `row` says into `member` (row.components values); true when it changed.
+template <typename T>
+bool SetFromTable(vtkObject* object, const tetdsr::Setting& row, const double* given, T* member)
+{
+  adapter::Messages messages;
+  double used[3] = { 0.0, 0.0, 0.0 };
+  bool changed = false;
+  if (tetdsr::checkSetting(row, given, used, messages))
+  {
+    for (int c = 0; c < row.components; ++c)
+    {
+      changed = changed || member[c] != static_cast<T>(used[c]);
+      member[c] = static_cast<T>(used[c]);
+    }
+  }
+  adapter::ReportMessages(object, messages);
+  return changed;
+}
+}
+
+#define TETDSR_TABLE_SETTER(Name, Type)                                                            \
+  void vtkDirectSurfaceRayCaster::Set##Name(Type value)                                            \
   {                                                                                                \
-    adapter::Messages messages;                                                                    \
-    if (tetdsr::setClamped(tetdsr::k##Name, value, this->Name, messages))                          \
+    const double given = static_cast<double>(value);                                               \
+    if (SetFromTable(this, tetdsr::k##Name, &given, &this->Name))                                  \
     {                                                                                              \
       this->Modified();                                                                            \
     }                                                                                              \
-    adapter::ReportMessages(this, messages);                                                       \
   }
-TETDSR_CLAMPED_SETTER(Ambient)
-TETDSR_CLAMPED_SETTER(Diffuse)
-TETDSR_CLAMPED_SETTER(Specular)
-TETDSR_CLAMPED_SETTER(SpecularPower)
-TETDSR_CLAMPED_SETTER(CentralDifferenceStep)
-TETDSR_CLAMPED_SETTER(NodalRangeWidening)
-#undef TETDSR_CLAMPED_SETTER
+TETDSR_TABLE_SETTER(Ambient, double)
+TETDSR_TABLE_SETTER(Diffuse, double)
+TETDSR_TABLE_SETTER(Specular, double)
+TETDSR_TABLE_SETTER(SpecularPower, double)
+TETDSR_TABLE_SETTER(CentralDifferenceStep, double)
+TETDSR_TABLE_SETTER(NodalRangeWidening, double)
+TETDSR_TABLE_SETTER(NormalMode, int)
+TETDSR_TABLE_SETTER(ColorArrayComponent, int)
+TETDSR_TABLE_SETTER(ColorMap, int)
+TETDSR_TABLE_SETTER(Capping, int)
+TETDSR_TABLE_SETTER(TransverseTest, int)
+TETDSR_TABLE_SETTER(NumberOfThreads, int)
+#undef TETDSR_TABLE_SETTER
 
-// Vectors of numbers: a NaN or infinite component refused with the core's error.
-#define TETDSR_FINITE_VECTOR3_SETTER(Name)                                                         \
+#define TETDSR_TABLE_VECTOR3_SETTER(Name)                                                          \
   void vtkDirectSurfaceRayCaster::Set##Name(double x, double y, double z)                          \
   {                                                                                                \
-    adapter::Messages messages;                                                                    \
-    if (tetdsr::checkFiniteNumbers(#Name, { x, y, z }, messages) &&                                \
-      (this->Name[0] != x || this->Name[1] != y || this->Name[2] != z))                            \
+    const double given[3] = { x, y, z };                                                           \
+    if (SetFromTable(this, tetdsr::k##Name, given, this->Name))                                    \
     {                                                                                              \
-      this->Name[0] = x;                                                                           \
-      this->Name[1] = y;                                                                           \
-      this->Name[2] = z;                                                                           \
       this->Modified();                                                                            \
     }                                                                                              \
-    adapter::ReportMessages(this, messages);                                                       \
   }
-TETDSR_FINITE_VECTOR3_SETTER(SurfaceColor)
-TETDSR_FINITE_VECTOR3_SETTER(LightPosition)
-#undef TETDSR_FINITE_VECTOR3_SETTER
+TETDSR_TABLE_VECTOR3_SETTER(SurfaceColor)
+TETDSR_TABLE_VECTOR3_SETTER(LightPosition)
+#undef TETDSR_TABLE_VECTOR3_SETTER
 
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceRayCaster::AddClippingPlane(vtkPlane* plane)

@@ -33,6 +33,11 @@
  * every translucent surface along the ray (not premultiplied; alpha is the total opacity).
  * Pixel (i, j), point id i + j*width, is the ray through the pixel centre, j = 0 at the bottom.
  *
+ * Each setting's default, range and check are its row of the core's settings table (shared with
+ * the Python filter and the ParaView plugins): numbers are clamped into their range (NaN is
+ * refused with an error), enumerations and counts are clamped with a warning naming the value
+ * used, vectors with a NaN or Inf are refused with an error.
+ *
  * The closed form above is that of a straight-sided cell; curved cells are rendered exactly too
  * (see the warning below). VTK_TETRA cells are rendered as exact (linear) quadratics; rational
  * Bezier cells (RationalWeights that differ within a cell), Lagrange and Bezier tetrahedra of
@@ -196,7 +201,7 @@ public:
    * normals used for shading: along the gradient for the first three modes, towards the viewer
    * for DEPTH_BUFFER.
    */
-  vtkSetClampMacro(NormalMode, int, EXACT_GRADIENT, DEPTH_BUFFER);
+  virtual void SetNormalMode(int mode);
   vtkGetMacro(NormalMode, int);
   /// Clamped to [1e-12, 1]; NaN is refused with an error.
   virtual void SetCentralDifferenceStep(double step);
@@ -232,7 +237,7 @@ public:
   vtkSetMacro(ColorByArray, bool);
   vtkGetMacro(ColorByArray, bool);
   vtkBooleanMacro(ColorByArray, bool);
-  vtkSetClampMacro(ColorArrayComponent, int, -1, VTK_INT_MAX);
+  virtual void SetColorArrayComponent(int component);
   vtkGetMacro(ColorArrayComponent, int);
   vtkSetVector2Macro(ColorRange, double);
   vtkGetVector2Macro(ColorRange, double);
@@ -256,7 +261,7 @@ public:
    */
   virtual void SetLookupTable(vtkScalarsToColors* lookupTable);
   vtkGetObjectMacro(LookupTable, vtkScalarsToColors);
-  vtkSetClampMacro(ColorMap, int, COOL_TO_WARM, BLACK_BODY);
+  virtual void SetColorMap(int which);
   vtkGetMacro(ColorMap, int);
   ///@}
 
@@ -298,7 +303,7 @@ public:
    * coloured through the colour map by the colour array when ColorByArray is on, else by the
    * field (ColorRange, if automatic, is then the field's range).
    */
-  vtkSetClampMacro(Capping, int, NO_CAP, CAP_ABOVE_ISO_VALUE);
+  virtual void SetCapping(int mode);
   vtkGetMacro(Capping, int);
   ///@}
 
@@ -320,7 +325,7 @@ public:
    * widening as a fraction of the nodal range (default 0.25, the paper's 25%). Changing either
    * rebuilds the acceleration structure.
    */
-  vtkSetClampMacro(TransverseTest, int, BERNSTEIN_BOUND, WIDENED_NODAL_RANGE);
+  virtual void SetTransverseTest(int mode);
   vtkGetMacro(TransverseTest, int);
   /// Clamped to [0, VTK_DOUBLE_MAX]; NaN is refused with an error.
   virtual void SetNodalRangeWidening(double widening);
@@ -333,7 +338,7 @@ public:
    * whatever the number of threads. When the vtkSMPTools backend is Sequential and the
    * VTK_SMP_BACKEND_IN_USE environment variable is unset, the STDThread backend is used.
    */
-  vtkSetClampMacro(NumberOfThreads, int, 0, VTK_INT_MAX);
+  virtual void SetNumberOfThreads(int threads);
   vtkGetMacro(NumberOfThreads, int);
   ///@}
 
@@ -418,27 +423,28 @@ protected:
 
   vtkNew<vtkContourValues> ContourValues;
   vtkCamera* Camera = nullptr;
-  int ImageSize[2] = { 512, 512 };
-  int ArrayComponent = -1;
-  double SurfaceColor[3] = { 1.0, 1.0, 1.0 };
-  double Ambient = 0.1;
-  double Diffuse = 0.7;
-  double Specular = 0.2;
-  double SpecularPower = 30.0;
-  bool LightAtCamera = true;
-  double LightPosition[3] = { 0.0, 0.0, 1.0 };
-  int NumberOfThreads = 0;
-  int NormalMode = EXACT_GRADIENT;
-  double CentralDifferenceStep = 1e-3;
-  int TransverseTest = BERNSTEIN_BOUND;
-  double NodalRangeWidening = 0.25;
-  bool ColorByArray = false;
-  int ColorArrayComponent = -1;
-  double ColorRange[2] = { 0.0, -1.0 };
+  // The settings' defaults are the core's settings table's (set by the constructor).
+  int ImageSize[2]{};
+  int ArrayComponent{};
+  double SurfaceColor[3]{};
+  double Ambient{};
+  double Diffuse{};
+  double Specular{};
+  double SpecularPower{};
+  bool LightAtCamera{};
+  double LightPosition[3]{};
+  int NumberOfThreads{};
+  int NormalMode{};
+  double CentralDifferenceStep{};
+  int TransverseTest{};
+  double NodalRangeWidening{};
+  bool ColorByArray{};
+  int ColorArrayComponent{};
+  double ColorRange[2]{};
   vtkScalarsToColors* LookupTable = nullptr;
-  int ColorMap = COOL_TO_WARM;
+  int ColorMap{};
   vtkPlaneCollection* ClippingPlanes = nullptr;
-  int Capping = NO_CAP;
+  int Capping{};
   vtkMultiProcessController* Controller = nullptr;
 
   vtkIdType NumberOfRenderedCells = 0;

@@ -4,7 +4,9 @@
 //   each cell read gets a kind of its own order (no dispatch falls back to another);
 // - the messages name every type read and none refused;
 // - the plugin's XML, the filters' and Python package's docstrings, the package's metadata and
-//   the README name every type read (or, where a line is short, every shape and the orders).
+//   the README name every type read (or, where a line is short, every shape and the orders), and
+//   the nine places that state what the product reads name no type it does not read and no
+//   other orders.
 #include "tetdsr/cells/CellKinds.h"
 #include "tetdsr/common/CellTypes.h"
 #include "tetdsr/cells/HexahedronCell.h"
@@ -16,6 +18,8 @@
 #include <cctype>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -186,11 +190,74 @@ TEST(CellTypes, MessagesNameEveryTypeReadAndNoneRefused)
     };
     EXPECT_EQ(names(reads), tetdsr::isRead(&type)) << name << " in: " << reads;
     EXPECT_EQ(names(counts), tetdsr::isRead(&type)) << name << " in: " << counts;
+    // The malformed cells' message gives each type's node counts, the table's.
+    if (tetdsr::isRead(&type) && type.rule == tetdsr::NodeRule::Fixed)
+    {
+      const std::string count = std::to_string(type.nodes) + " for " + name;
+      EXPECT_NE(counts.find(count), std::string::npos) << "expected \"" << count << "\" in: " << counts;
+    }
+    else if (tetdsr::isRead(&type))
+    {
+      std::string sequence = "(";
+      for (int order = 1; order <= tetdsr::kMaxReadOrder; ++order)
+      {
+        sequence += std::to_string(tetdsr::nodeCount(type, order)) + ", ";
+      }
+      sequence += "...) for ";
+      const std::size_t at = counts.find(sequence);
+      EXPECT_TRUE(at != std::string::npos && counts.find(name, at) != std::string::npos &&
+        counts.find(name, at) < counts.find(" for ", at + sequence.size()))
+        << "expected \"" << sequence << "... " << name << "\" in: " << counts;
+    }
     EXPECT_EQ(names(refused), !tetdsr::isRead(&type)) << name << " in: " << refused;
   }
   EXPECT_EQ(tetdsr::orderLimitsText(),
     "Lagrange or Bezier tetrahedra of order above 4 (more than 35 nodes), hexahedra of order above 4 "
     "(more than 125 nodes) and wedges of order above 4 (more than 75 nodes)");
+}
+
+namespace
+{
+/// The nine places that state what the product reads (and the binding's own docstring): each
+/// names only types the table reads, and every "orders 1 to K" in it says the table's highest.
+const char* const kCapabilityTexts[] = { "Plugin/DirectSurfaceRayCaster.xml",
+  "Plugin/DirectSurfaceRepresentation.xml", "Plugin/paraview.plugin", "pyproject.toml",
+  "Wrapping/Python/tetdsr/__init__.py", "Wrapping/Python/tetdsr/paraview_plugin.py",
+  "Wrapping/Python/tetdsr/pyvista.py", "Rendering/vtkDirectSurfaceMapper.h",
+  "Filters/vtkDirectSurfaceRayCaster.h", "Wrapping/Python/module.cpp" };
+
+/// Failures for each claim of `text` the table contradicts: a cell type named that the core does
+/// not read (refused, or not a VTK type at all), an order range other than 1 to kMaxReadOrder.
+void expectClaimsOfTheTable(const std::string& document, const std::string& text)
+{
+  const std::regex typeName("VTK_[A-Z_]*(TETRA|TETRAHEDRON|HEXAHEDRON|VOXEL|WEDGE|PYRAMID)\\b");
+  for (std::sregex_iterator it(text.begin(), text.end(), typeName), end; it != end; ++it)
+  {
+    const std::string name = it->str();
+    const auto row = std::find_if(std::begin(tetdsr::kCellTypes), std::end(tetdsr::kCellTypes),
+      [&](const tetdsr::CellType& type) { return name == type.name; });
+    EXPECT_TRUE(row != std::end(tetdsr::kCellTypes) && tetdsr::isRead(&*row))
+      << document << " names " << name << ", which the core's cell type table does not read";
+  }
+  const std::regex orders("orders? 1 to (\\d+)");
+  int claims = 0;
+  for (std::sregex_iterator it(text.begin(), text.end(), orders), end; it != end; ++it, ++claims)
+  {
+    EXPECT_EQ(std::stoi((*it)[1].str()), tetdsr::kMaxReadOrder)
+      << document << " says \"" << it->str() << "\"";
+  }
+  EXPECT_GT(claims, 0) << document << " does not give the orders read";
+}
+} // namespace
+
+TEST(CellTypes, CapabilityTextsClaimWhatTheTableReads)
+{
+  for (const char* document : kCapabilityTexts)
+  {
+    const std::string text = fileText(document);
+    ASSERT_FALSE(text.empty()) << document;
+    expectClaimsOfTheTable(document, text);
+  }
 }
 
 TEST(CellTypes, DocumentsNameEveryTypeRead)
@@ -214,7 +281,7 @@ TEST(CellTypes, DocumentsNameEveryTypeRead)
   // shape and the orders.
   for (const char* document : { "pyproject.toml", "Wrapping/Python/tetdsr/filter.py",
          "Wrapping/Python/tetdsr/contour.py", "Wrapping/Python/tetdsr/pyvista.py",
-         "Wrapping/Python/tetdsr/paraview_plugin.py" })
+         "Wrapping/Python/tetdsr/paraview_plugin.py", "Plugin/paraview.plugin" })
   {
     const std::string text = fileText(document);
     ASSERT_FALSE(text.empty()) << document;

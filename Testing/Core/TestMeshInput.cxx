@@ -3,6 +3,7 @@
 // claim is checked before anything is read; every skipped cell is counted and told.
 #include "LatticeMesh.h"
 
+#include "tetdsr/common/CellTypes.h"
 #include "tetdsr/input/MeshInput.h"
 #include "tetdsr/index/SurfaceIndex.h"
 
@@ -242,6 +243,9 @@ TEST(MeshInput, CellsOfOtherTypesAndMalformedCellsAreCountedAndTold)
   EXPECT_EQ(messages.warnings[0], "Skipped 1 cells of a type TetDSR does not read (it reads " + reads +
       "; not VTK_LAGRANGE_PYRAMID or VTK_BEZIER_PYRAMID: VTK 9.2 has no cell class of the type).");
   EXPECT_EQ(messages.warnings[1].rfind("Skipped 3 malformed cells: a number of node ids", 0), 0u)
+    << messages.warnings[1];
+  // The node counts of every kind read, from the cell type table (TestCellTypes checks that text).
+  EXPECT_NE(messages.warnings[1].find("(" + tetdsr::nodeCountsText() + ";"), std::string::npos)
     << messages.warnings[1];
 
   // Every cell of another type: nothing can be rendered, and the error says why.

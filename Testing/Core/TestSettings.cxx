@@ -1,13 +1,24 @@
 // The settings' checks every face shares (tetdsr/input/Settings.h): what each refuses, and the exact
-// sentence a user reads (the faces' tests compare these texts too).
+// sentence a user reads (the faces' tests compare these texts too); the settings table's rows, their
+// defaults against the core's structs, and the ParaView XML's properties against the rows.
 #include "tetdsr/input/Settings.h"
+#include "tetdsr/surface/ExactSurface.h"
 
 #include "LatticeMesh.h"
 
 #include <gtest/gtest.h>
 
+#include <cfloat>
 #include <cmath>
+#include <fstream>
 #include <limits>
+#include <optional>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace
 {
@@ -267,4 +278,225 @@ TEST(Settings, CastInStepsReportsProgressAndStops)
   tetdsr::reportAbortedCast(stopped, tiles, messages);
   ASSERT_EQ(messages.warnings.size(), 1u);
   EXPECT_EQ(messages.warnings[0], "Aborted after 12 of 104 image tiles.");
+}
+
+TEST(Settings, TheTableIsWellFormedAndItsDefaultsAreTheCores)
+{
+  std::set<std::string> names;
+  for (const tetdsr::Setting* row : tetdsr::kSettings)
+  {
+    EXPECT_TRUE(names.insert(row->name).second) << row->name << " twice";
+    EXPECT_EQ(tetdsr::settingNamed(row->name), row) << row->name;
+    EXPECT_TRUE(row->components >= 1 && row->components <= 3) << row->name;
+    EXPECT_LE(row->lo, row->hi) << row->name;
+    EXPECT_NE(row->filters & tetdsr::kBothFilters, 0u) << row->name;
+    for (int c = 0; c < row->components; ++c)
+    {
+      // A default is a value its own setter keeps as it is, without a word.
+      tetdsr::Messages messages;
+      double used[3];
+      ASSERT_TRUE(tetdsr::checkSetting(*row, row->defaults, used, messages)) << row->name;
+      EXPECT_EQ(used[c], row->defaults[c]) << row->name << " component " << c;
+      EXPECT_TRUE(messages.errors.empty() && messages.warnings.empty()) << row->name;
+    }
+  }
+  EXPECT_EQ(tetdsr::settingNamed("NoSuchSetting"), nullptr);
+  // The defaults the core shades, tests and extracts with, when no face says otherwise.
+  const tetdsr::Material material;
+  const tetdsr::NormalSettings normals;
+  const tetdsr::TransverseTest transverse;
+  for (int c = 0; c < 3; ++c)
+  {
+    EXPECT_EQ(tetdsr::kSurfaceColor.defaults[c], material.color[c]);
+  }
+  EXPECT_EQ(tetdsr::kAmbient.defaults[0], material.ambient);
+  EXPECT_EQ(tetdsr::kDiffuse.defaults[0], material.diffuse);
+  EXPECT_EQ(tetdsr::kSpecular.defaults[0], material.specular);
+  EXPECT_EQ(tetdsr::kSpecularPower.defaults[0], material.specularPower);
+  EXPECT_EQ(tetdsr::kNormalMode.defaults[0], static_cast<double>(normals.mode));
+  EXPECT_EQ(tetdsr::kNormalMode.hi, static_cast<double>(tetdsr::NormalMode::DepthBuffer));
+  EXPECT_EQ(tetdsr::kCentralDifferenceStep.defaults[0], normals.relativeStep);
+  EXPECT_EQ(tetdsr::kTransverseTest.defaults[0], static_cast<double>(transverse.mode));
+  EXPECT_EQ(tetdsr::kTransverseTest.hi, static_cast<double>(tetdsr::TransverseTest::Mode::WidenedNodalRange));
+  EXPECT_EQ(tetdsr::kNodalRangeWidening.defaults[0], transverse.widening);
+  EXPECT_EQ(tetdsr::kCapping.hi, static_cast<double>(tetdsr::CapRegion::AboveIsoValue));
+  EXPECT_EQ(tetdsr::kColorMap.hi, static_cast<double>(tetdsr::BuiltInColorMap::BlackBody));
+  const tetdsr::ExactSurfaceSettings surface;
+  EXPECT_EQ(tetdsr::kTolerance.defaults[0], surface.relativeTolerance);
+  EXPECT_EQ(tetdsr::kAbsoluteTolerance.defaults[0], surface.tolerance);
+  EXPECT_EQ(tetdsr::kComputeIntegrals.defaults[0], surface.integrals ? 1.0 : 0.0);
+}
+
+TEST(Settings, EachRowIsCheckedAsItSays)
+{
+  tetdsr::Messages messages;
+  double used[3] = { -7.0, -7.0, -7.0 };
+  // A clamped number: silently; NaN refused.
+  double given[3] = { 2.0, 0.0, 0.0 };
+  EXPECT_TRUE(tetdsr::checkSetting(tetdsr::kAmbient, given, used, messages));
+  EXPECT_EQ(used[0], 1.0);
+  EXPECT_TRUE(messages.warnings.empty() && messages.errors.empty());
+  given[0] = kNaN;
+  used[0] = -7.0;
+  EXPECT_FALSE(tetdsr::checkSetting(tetdsr::kSpecularPower, given, used, messages));
+  EXPECT_EQ(used[0], -7.0) << "untouched";
+  EXPECT_EQ(onlyError(messages), "SpecularPower must be a number, got NaN.");
+  messages = tetdsr::Messages();
+  // A clamped integer: with a warning in whole numbers.
+  given[0] = 7.0;
+  EXPECT_TRUE(tetdsr::checkSetting(tetdsr::kNormalMode, given, used, messages));
+  EXPECT_EQ(used[0], 3.0);
+  given[0] = -2.0;
+  EXPECT_TRUE(tetdsr::checkSetting(tetdsr::kNumberOfThreads, given, used, messages));
+  EXPECT_EQ(used[0], 0.0);
+  ASSERT_EQ(messages.warnings.size(), 2u);
+  EXPECT_EQ(messages.warnings[0], "NormalMode 7 is outside [0, 3]: 3 is used.");
+  EXPECT_EQ(messages.warnings[1], "NumberOfThreads -2 is outside [0, 2147483647]: 0 is used.");
+  messages = tetdsr::Messages();
+  // A vector: refused unless finite, not clamped.
+  const double colour[3] = { 2.0, kNaN, 0.0 };
+  EXPECT_FALSE(tetdsr::checkSetting(tetdsr::kSurfaceColor, colour, used, messages));
+  EXPECT_EQ(onlyError(messages), "SurfaceColor must be finite numbers, got (2, nan, 0); it is left unchanged.");
+  messages = tetdsr::Messages();
+  const double range[2] = { 5.0, -1e300 };
+  EXPECT_TRUE(tetdsr::checkSetting(tetdsr::kColorRange, range, used, messages));
+  EXPECT_EQ(used[0], 5.0);
+  EXPECT_EQ(used[1], -1e300);
+  // Checked at execution: stored as given (integers within C's int), a Bool as 0 or 1.
+  const double size[2] = { -5.0, 1e12 };
+  EXPECT_TRUE(tetdsr::checkSetting(tetdsr::kImageSize, size, used, messages));
+  EXPECT_EQ(used[0], -5.0);
+  EXPECT_EQ(used[1], 2147483647.0);
+  given[0] = -1.0;
+  EXPECT_TRUE(tetdsr::checkSetting(tetdsr::kTolerance, given, used, messages));
+  EXPECT_EQ(used[0], -1.0) << "refused by checkExactSurfaceSettings at execution, not here";
+  given[0] = 5.0;
+  EXPECT_TRUE(tetdsr::checkSetting(tetdsr::kLightAtCamera, given, used, messages));
+  EXPECT_EQ(used[0], 1.0);
+  EXPECT_TRUE(messages.warnings.empty() && messages.errors.empty());
+}
+
+namespace
+{
+std::string sourceText(const std::string& relative)
+{
+  std::ifstream in(std::string(TETDSR_SOURCE_DIR) + "/" + relative);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// The value of attribute `name` in `attributes` (an XML start tag's text), or nullopt.
+std::optional<std::string> attribute(const std::string& attributes, const std::string& name)
+{
+  std::smatch found;
+  if (std::regex_search(attributes, found, std::regex("\\b" + name + "=\"([^\"]*)\"")))
+  {
+    return found[1].str();
+  }
+  return std::nullopt;
+}
+
+std::vector<double> numbersOf(const std::string& text)
+{
+  std::istringstream in(text);
+  std::vector<double> numbers;
+  for (double v; in >> v;)
+  {
+    numbers.push_back(v);
+  }
+  return numbers;
+}
+
+/// A row's bound as a panel's domain gives it: the number repeated per component, or "" when the
+/// row has none (+-DBL_MAX, INT_MIN / INT_MAX).
+std::vector<double> boundOf(const tetdsr::Setting& row, double bound)
+{
+  const bool none = row.type == tetdsr::SettingType::Double
+    ? std::abs(bound) == DBL_MAX
+    : bound <= tetdsr::kNoIntBelow || bound >= tetdsr::kNoIntAbove;
+  return none ? std::vector<double>() : std::vector<double>(row.components, bound);
+}
+
+/// Compares every property of a ParaView XML whose command sets a row of the settings table
+/// (`filter`: the rows it must hold, or 0 for a representation, whose defaults are its own) with
+/// the row: elements, defaults, the domain's range or choices. Returns the rows compared.
+std::set<std::string> compareXmlWithTable(const std::string& file, unsigned filter)
+{
+  const std::string xml = sourceText(file);
+  EXPECT_FALSE(xml.empty()) << file;
+  std::set<std::string> compared;
+  const std::regex property("<(Int|Double)VectorProperty\\b([^>]*)>([\\s\\S]*?)</\\1VectorProperty>");
+  for (std::sregex_iterator it(xml.begin(), xml.end(), property), end; it != end; ++it)
+  {
+    const std::string attributes = (*it)[2].str(), body = (*it)[3].str();
+    const std::string command = attribute(attributes, "command").value_or("");
+    const tetdsr::Setting* row = command.rfind("Set", 0) == 0 ? tetdsr::settingNamed(command.substr(3)) : nullptr;
+    if (!row || (filter && !(row->filters & filter)))
+    {
+      continue;
+    }
+    const std::string where = file + ", " + row->name + ": ";
+    compared.insert(row->name);
+    EXPECT_EQ((*it)[1].str() == "Double", row->type == tetdsr::SettingType::Double) << where << "type";
+    EXPECT_EQ(attribute(attributes, "number_of_elements").value_or(""), std::to_string(row->components))
+      << where << "elements";
+    if (filter)
+    {
+      const std::vector<double> defaults(row->defaults, row->defaults + row->components);
+      EXPECT_EQ(numbersOf(attribute(attributes, "default_values").value_or("")), defaults)
+        << where << "default_values";
+    }
+    if (row->type == tetdsr::SettingType::Bool)
+    {
+      EXPECT_NE(body.find("<BooleanDomain"), std::string::npos) << where << "a switch";
+      continue;
+    }
+    if (row->choices)
+    {
+      std::string texts;
+      int value = static_cast<int>(row->lo);
+      const std::regex entry("<Entry\\s+value=\"(-?\\d+)\"\\s+text=\"([^\"]*)\"");
+      for (std::sregex_iterator e(body.begin(), body.end(), entry), last; e != last; ++e, ++value)
+      {
+        EXPECT_EQ(std::stoi((*e)[1].str()), value) << where << "entries lo to hi";
+        texts += (texts.empty() ? "" : "|") + (*e)[2].str();
+      }
+      EXPECT_EQ(value - 1, static_cast<int>(row->hi)) << where << "the last entry";
+      EXPECT_EQ(texts, row->choices) << where << "the choices' texts";
+      continue;
+    }
+    std::smatch domain;
+    const std::string tag = row->type == tetdsr::SettingType::Double ? "Double" : "Int";
+    const bool has = std::regex_search(body, domain, std::regex("<" + tag + "RangeDomain\\b([^>]*)>"));
+    const std::string range = has ? domain[1].str() : "";
+    EXPECT_EQ(numbersOf(attribute(range, "min").value_or("")), boundOf(*row, row->lo)) << where << "min";
+    EXPECT_EQ(numbersOf(attribute(range, "max").value_or("")), boundOf(*row, row->hi)) << where << "max";
+  }
+  return compared;
+}
+} // namespace
+
+TEST(Settings, TheParaViewXmlAgreesWithTheTable)
+{
+  // Each filter's XML holds every row of the filter but ArrayComponent (its panels list
+  // one-component arrays only), with the row's elements, defaults and range or choices.
+  const std::pair<const char*, unsigned> filters[] = { { "Plugin/DirectSurfaceRayCaster.xml",
+                                                         tetdsr::kRayCasterSetting },
+    { "Plugin/DirectSurfaceContour.xml", tetdsr::kContourSetting } };
+  for (const auto& [file, filter] : filters)
+  {
+    const std::set<std::string> compared = compareXmlWithTable(file, filter);
+    for (const tetdsr::Setting* row : tetdsr::kSettings)
+    {
+      if ((row->filters & filter) && row != &tetdsr::kArrayComponent)
+      {
+        EXPECT_EQ(compared.count(row->name), 1u) << file << " has no property setting " << row->name;
+      }
+    }
+  }
+  // The representation's properties of the same settings: their ranges (its defaults are
+  // ParaView's, as its other representations').
+  const std::set<std::string> shading = compareXmlWithTable("Plugin/DirectSurfaceRepresentation.xml", 0);
+  EXPECT_EQ(shading, (std::set<std::string>{ "Ambient", "Diffuse", "Specular", "SpecularPower" }));
 }

@@ -330,9 +330,10 @@ def test_filter_setters_refuse_wrong_types_and_nan(data):
     caster.SetLightPosition(1, float("nan"), 0)
     caster.SetAmbient(float("nan"))
     assert messages.errors == [
-        "SurfaceColor must be finite numbers, got (nan, 0.0, 0.0): SurfaceColor is unchanged.",
-        "ColorRange must be finite numbers, got (0.0, inf): ColorRange is unchanged.",
-        "LightPosition must be finite numbers, got (1.0, nan, 0.0): LightPosition is unchanged.",
+        # (the core's sentence, the C++ filter's too)
+        "SurfaceColor must be finite numbers, got (nan, 0, 0); it is left unchanged.",
+        "ColorRange must be finite numbers, got (0, inf); it is left unchanged.",
+        "LightPosition must be finite numbers, got (1, nan, 0); it is left unchanged.",
         "Ambient must be a number, got NaN."], messages.errors
     after = caster.GetSurfaceColor(), caster.GetColorRange(), caster.GetLightPosition()
     assert after == before, f"expected the settings kept {before}, got {after}"

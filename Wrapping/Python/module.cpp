@@ -1,10 +1,13 @@
-// tetdsr._core: the VTK-free core (Filters/Core) for Python. The wheel's whole C++ binding is
-// this file: the core's settings structs bound once as classes, its checks as functions writing
-// the core's Messages, its PreparedMesh fed with copies of numpy arrays of the dtypes VTK hands
-// over (shared by Python threads under a lock), and a Renderer that checks every size against the
-// arrays, keeps the surface it casts into and the arrays it writes alive, and casts on
-// std::threads without the GIL. The Python filter (tetdsr/filter.py) only gets arrays out of VTK
-// objects and passes the messages on.
+// tetdsr._core: the VTK-free core (Filters/Core) for Python. This file binds the core's settings
+// structs once as classes, its settings table and checks as functions writing the core's
+// Messages, its PreparedMesh fed with copies of numpy arrays of the dtypes VTK hands over (shared
+// by Python threads under a lock), and a Renderer that checks every size against the arrays,
+// keeps the surface it casts into and the arrays it writes alive, and casts on std::threads
+// without the GIL; exact_surface.cpp binds the exact surface as data, and module.h holds what the
+// two share. The Python filters (tetdsr/filter.py, contour.py) only get arrays out of VTK objects
+// and pass the messages on.
+#include "module.h"
+
 #include "tetdsr/common/Camera.h"
 #include "tetdsr/surface/ExactSurface.h"
 #include "tetdsr/input/MeshInput.h"
@@ -42,7 +45,7 @@
 #include <thread>
 #include <vector>
 
-namespace nb = nanobind;
+using namespace tetdsr_python;
 using namespace nb::literals;
 
 // glm::dvec3 <-> any sequence of 3 numbers (tuple, list, numpy array); given back as a tuple.
@@ -93,11 +96,6 @@ struct type_caster<glm::dvec3>
 namespace
 {
 static_assert(sizeof(std::int64_t) == sizeof(tetdsr::NodeId), "ids are 64-bit in the core");
-
-template <typename T>
-using Array = nb::ndarray<T, nb::c_contig, nb::device::cpu>;
-/// An array of any number type (the core reads VTK's types).
-using AnyArray = nb::ndarray<nb::c_contig, nb::device::cpu>;
 
 int ThreadCount(int requested)
 {
@@ -174,10 +172,11 @@ void ThreadedFor(int threads, tetdsr::NodeId count, tetdsr::NodeId grain,
   }
 }
 
-/// The core's ParallelFor on `threads` threads, in chunks of a 256th of the indices but at least
-/// `minimumChunk` (1024 for cheap steps such as validating a cell; 1 where one index can cost
-/// milliseconds, as a cell the exact surface is refined in).
-tetdsr::ParallelFor CellsFor(int threads, tetdsr::NodeId minimumChunk = 1024)
+} // namespace
+
+namespace tetdsr_python
+{
+tetdsr::ParallelFor CellsFor(int threads, tetdsr::NodeId minimumChunk)
 {
   return [threads, minimumChunk](tetdsr::NodeId count,
            const std::function<void(tetdsr::NodeId, tetdsr::NodeId)>& body) {
@@ -185,13 +184,11 @@ tetdsr::ParallelFor CellsFor(int threads, tetdsr::NodeId minimumChunk = 1024)
   };
 }
 
-/// A ValueError carrying the core's first error (for arguments a face should have checked).
-[[noreturn]] void ThrowFirstError(const tetdsr::Messages& messages)
+void ThrowFirstError(const tetdsr::Messages& messages)
 {
   throw nb::value_error(messages.errors.front().c_str());
 }
 
-/// The core's view of a numpy array: (tuples,) or (tuples, components), any number type.
 tetdsr::ArrayView ViewOf(const AnyArray& array, const std::string& name, const char* what)
 {
   tetdsr::ArrayView view;
@@ -223,50 +220,10 @@ tetdsr::ArrayView ViewOf(const AnyArray& array, const std::string& name, const c
   view.name = name;
   return view;
 }
+} // namespace tetdsr_python
 
-/// The core's PreparedMesh and copies of the arrays its scene views: the core trusts what it
-/// validated (ids in range, finite coordinates and values), so an in-place numpy edit of the
-/// caller's arrays afterwards (an id set to 10^12, a point to NaN) must not reach it: a kept
-/// scene renders what was prepared until the next prepare. `Generation` counts prepares, so that
-/// a Renderer of an earlier scene refuses to cast instead of reading freed memory.
-///
-/// Threads (Python threads run the calls below with the GIL released): `SceneLock` is held
-/// exclusively by prepare and shared by everything that reads the scene (a cast holds it
-/// throughout); `CacheLock` guards what is built on demand for a scene: the surface indices
-/// (each Renderer shares the one it casts into, so building another never frees it), the nodal
-/// gradients and the core's colour array cache. Locks are taken with the GIL released.
-struct PyPreparedMesh
+namespace
 {
-  tetdsr::PreparedMesh Core;
-  std::vector<std::vector<unsigned char>> Copied;
-  std::uint64_t Generation = 0;
-  std::shared_ptr<const tetdsr::SurfaceIndex> Surface; // of the last iso-values asked for
-  std::vector<double> SurfaceValues;
-  mutable std::shared_mutex SceneLock;
-  std::mutex CacheLock;
-
-  tetdsr::Scene& SceneOrThrow() const
-  {
-    tetdsr::Scene* scene = this->Core.scene();
-    if (!scene)
-    {
-      throw nb::value_error("the PreparedMesh has no scene: its last prepare failed");
-    }
-    return *scene;
-  }
-};
-
-/// A lock of `mutex` taken with the GIL released (a thread holding the lock may wait for the
-/// GIL: a cast's abort and progress callbacks).
-template <typename Lock, typename Mutex>
-Lock LockWithoutGil(Mutex& mutex)
-{
-  nb::gil_scoped_release release;
-  return Lock(mutex);
-}
-
-using SharedLock = std::shared_lock<std::shared_mutex>;
-using ExclusiveLock = std::unique_lock<std::shared_mutex>;
 
 /// Casts running in this thread (whose abort / progress callbacks run Python): a prepare from
 /// one of them would wait forever for the cast's own lock.
@@ -609,94 +566,6 @@ void Member(nb::class_<PySettings>& settings, const char* name, T tetdsr::Render
     [member](PySettings& s, const T& value) { s.Core.*member = value; });
 }
 
-/// What extract_exact_surface made: the core's ExactSurfaceMesh, its arrays moved into numpy
-/// arrays (no copy).
-struct PyExactSurface
-{
-  nb::object Points;     // (n, 3) float64
-  nb::object Normals;    // (n, 3) float64
-  nb::object Triangles;  // (m, 3) int64
-  nb::object CellIds;    // (m,) int64
-  nb::object IsoIndices; // (m,) int32
-  std::vector<nb::object> Arrays; // per point array given: (n, k) float64
-  std::vector<tetdsr::SurfaceIntegrals> Integrals;
-  double Tolerance = 0.0;
-  double LargestBound = 0.0;
-  tetdsr::NodeId Subcells = 0;
-  tetdsr::NodeId UnresolvedSubcells = 0;
-  tetdsr::NodeId SizeCertifiedSubcells = 0;
-  tetdsr::NodeId BoundaryEdges = 0;
-  tetdsr::NodeId NonManifoldEdges = 0;
-};
-
-/// `values` moved into a new numpy array of shape (rows, columns), or (rows,) when columns is 0,
-/// which owns them.
-template <typename T>
-nb::object NumpyOf(std::vector<T>&& values, std::size_t rows, std::size_t columns)
-{
-  if (values.size() != rows * std::max<std::size_t>(columns, 1))
-  {
-    throw std::logic_error("the core's surface arrays disagree with its vertex and triangle counts");
-  }
-  auto* owned = new std::vector<T>(std::move(values));
-  owned->reserve(1); // (a non-null pointer for an empty array)
-  nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
-  const std::size_t shape[2] = { rows, columns };
-  return nb::cast(nb::ndarray<nb::numpy, T>(owned->data(), columns > 0 ? 2 : 1, shape, owner));
-}
-
-/// extract_exact_surface: the core's exact surface of the prepared mesh's field, with the point
-/// arrays given (name, (n,) or (n, k) array of any number type) interpolated and integrated.
-/// None, with the core's errors, when nothing can be made.
-std::optional<PyExactSurface> ExtractExactSurface(const PyPreparedMesh& mesh,
-  const tetdsr::ExactSurfaceSettings& settings,
-  const std::vector<std::pair<std::string, AnyArray>>& pointArrays, tetdsr::Messages& messages,
-  int threads)
-{
-  tetdsr::Messages refused;
-  if (!tetdsr::checkExactSurfaceSettings(settings, refused))
-  {
-    ThrowFirstError(refused);
-  }
-  std::vector<tetdsr::ArrayView> views;
-  for (const auto& [name, array] : pointArrays)
-  {
-    views.push_back(ViewOf(array, name, "point array"));
-  }
-  tetdsr::ExactSurfaceMesh surface;
-  {
-    nb::gil_scoped_release release;
-    SharedLock sceneLock(mesh.SceneLock);
-    if (!tetdsr::extractExactSurface(
-          mesh.SceneOrThrow(), settings, views, surface, messages, CellsFor(threads, 1)))
-    {
-      return std::nullopt;
-    }
-  }
-  const std::size_t vertices = surface.points.size() / 3;
-  const std::size_t triangles = surface.triangles.size() / 3;
-  PyExactSurface made;
-  made.Points = NumpyOf(std::move(surface.points), vertices, 3);
-  made.Normals = NumpyOf(std::move(surface.normals), vertices, 3);
-  made.Triangles = NumpyOf(std::move(surface.triangles), triangles, 3);
-  made.CellIds = NumpyOf(std::move(surface.cellIds), triangles, 0);
-  made.IsoIndices = NumpyOf(std::move(surface.isoIndices), triangles, 0);
-  for (std::size_t a = 0; a < surface.arrays.size() && a < views.size(); ++a)
-  {
-    made.Arrays.push_back(NumpyOf(std::move(surface.arrays[a]), vertices,
-      static_cast<std::size_t>(views[a].components)));
-  }
-  made.Integrals = std::move(surface.integrals);
-  made.Tolerance = surface.tolerance;
-  made.LargestBound = surface.largestBound;
-  made.Subcells = surface.subcells;
-  made.UnresolvedSubcells = surface.unresolvedSubcells;
-  made.SizeCertifiedSubcells = surface.sizeCertifiedSubcells;
-  made.BoundaryEdges = surface.boundaryEdges;
-  made.NonManifoldEdges = surface.nonManifoldEdges;
-  return made;
-}
-
 // The module, part by part.
 
 /// The core's messages.
@@ -831,6 +700,97 @@ void BindConstants(nb::module_& m)
   m.attr("MAX_CELLS") = tetdsr::Scene::kMaxCells;
 }
 
+/// The core's settings table (tetdsr::kSettings), from which the Python filters make their Set/Get
+/// methods and the ParaView Python plugin its properties, and its check.
+void BindSettingsTable(nb::module_& m)
+{
+  nb::enum_<tetdsr::SettingType>(m, "SettingType")
+    .value("BOOL", tetdsr::SettingType::Bool)
+    .value("INT", tetdsr::SettingType::Int)
+    .value("DOUBLE", tetdsr::SettingType::Double);
+  nb::enum_<tetdsr::SettingCheck>(m, "SettingCheck")
+    .value("CLAMP", tetdsr::SettingCheck::Clamp)
+    .value("FINITE", tetdsr::SettingCheck::Finite)
+    .value("AT_EXECUTION", tetdsr::SettingCheck::AtExecution);
+  nb::class_<tetdsr::Setting>(m, "Setting",
+    "One row of the settings table: name, type, check, components, each component's range [lo, "
+    "hi] (+-DBL_MAX, INT_MIN / INT_MAX: none), defaults, and which filters have it.")
+    .def_prop_ro("name", [](const tetdsr::Setting& s) { return std::string(s.name); })
+    .def_ro("type", &tetdsr::Setting::type)
+    .def_ro("check", &tetdsr::Setting::check)
+    .def_ro("components", &tetdsr::Setting::components)
+    .def_ro("lo", &tetdsr::Setting::lo)
+    .def_ro("hi", &tetdsr::Setting::hi)
+    .def_prop_ro("defaults",
+      [](const tetdsr::Setting& s) {
+        return std::vector<double>(s.defaults, s.defaults + s.components);
+      })
+    .def_prop_ro("choices",
+      [](const tetdsr::Setting& s) {
+        std::vector<std::string> names;
+        for (const char* at = s.choices; at && *at;)
+        {
+          const char* end = std::strchr(at, '|');
+          names.emplace_back(at, end ? end : at + std::strlen(at));
+          at = end ? end + 1 : nullptr;
+        }
+        return names;
+      },
+      "an enumeration's choices, lo to hi, as the panels name them; [] for a number")
+    .def_prop_ro("ray_caster",
+      [](const tetdsr::Setting& s) { return (s.filters & tetdsr::kRayCasterSetting) != 0; })
+    .def_prop_ro(
+      "contour", [](const tetdsr::Setting& s) { return (s.filters & tetdsr::kContourSetting) != 0; });
+  nb::list rows;
+  for (const tetdsr::Setting* row : tetdsr::kSettings)
+  {
+    rows.append(nb::cast(row, nb::rv_policy::reference));
+  }
+  m.attr("SETTINGS") = rows;
+  m.def(
+    "check_setting",
+    [](const tetdsr::Setting& row, const std::vector<double>& given,
+      tetdsr::Messages& messages) -> std::optional<std::vector<double>> {
+      if (given.size() != static_cast<std::size_t>(row.components))
+      {
+        throw nb::value_error((std::string(row.name) + " takes " + std::to_string(row.components) +
+          " numbers").c_str());
+      }
+      std::vector<double> used(given.size());
+      if (!tetdsr::checkSetting(row, given.data(), used.data(), messages))
+      {
+        return std::nullopt;
+      }
+      return used;
+    },
+    "setting"_a, "given"_a, "messages"_a,
+    "The values a setter stores (clamped as the row says, with a warning for an integer), or "
+    "None after the row's error (the setting keeps its value).");
+
+  // The older form of the clamped numbers (the table's clamped double rows).
+  nb::class_<tetdsr::NumberSetting>(m, "NumberSetting", "A number clamped into [lo, hi]; NaN refused.")
+    .def_prop_ro("name", [](const tetdsr::NumberSetting& s) { return std::string(s.name); })
+    .def_ro("lo", &tetdsr::NumberSetting::lo)
+    .def_ro("hi", &tetdsr::NumberSetting::hi);
+  nb::dict numbers;
+  for (const tetdsr::Setting* row : tetdsr::kSettings)
+  {
+    if (row->type == tetdsr::SettingType::Double && row->check == tetdsr::SettingCheck::Clamp)
+    {
+      numbers[row->name] = nb::cast(tetdsr::NumberSetting(*row));
+    }
+  }
+  m.attr("NUMBER_SETTINGS") = numbers;
+  m.def(
+    "set_clamped",
+    [](const tetdsr::NumberSetting& setting, double value, double member, tetdsr::Messages& messages) {
+      const bool changed = tetdsr::setClamped(setting, value, member, messages);
+      return std::make_pair(changed, member);
+    },
+    "setting"_a, "value"_a, "member"_a, "messages"_a,
+    "(changed, new value): `value` clamped into the setting's range; NaN keeps `member`, with an error.");
+}
+
 /// The checks, writing the core's messages.
 void BindChecks(nb::module_& m)
 {
@@ -904,26 +864,7 @@ void BindChecks(nb::module_& m)
     .def("styles", &tetdsr::IsoValueStyles::styles, "count"_a, "fallback"_a, "opacity_factor"_a)
     .def("describe", &tetdsr::IsoValueStyles::describe);
 
-  nb::class_<tetdsr::NumberSetting>(m, "NumberSetting", "A number clamped into [lo, hi]; NaN refused.")
-    .def_prop_ro("name", [](const tetdsr::NumberSetting& s) { return std::string(s.name); })
-    .def_ro("lo", &tetdsr::NumberSetting::lo)
-    .def_ro("hi", &tetdsr::NumberSetting::hi);
-  nb::dict numbers;
-  for (const tetdsr::NumberSetting* setting : { &tetdsr::kAmbient, &tetdsr::kDiffuse,
-         &tetdsr::kSpecular, &tetdsr::kSpecularPower, &tetdsr::kCentralDifferenceStep,
-         &tetdsr::kNodalRangeWidening })
-  {
-    numbers[setting->name] = nb::cast(*setting);
-  }
-  m.attr("NUMBER_SETTINGS") = numbers;
-  m.def(
-    "set_clamped",
-    [](const tetdsr::NumberSetting& setting, double value, double member, tetdsr::Messages& messages) {
-      const bool changed = tetdsr::setClamped(setting, value, member, messages);
-      return std::make_pair(changed, member);
-    },
-    "setting"_a, "value"_a, "member"_a, "messages"_a,
-    "(changed, new value): `value` clamped into the setting's range; NaN keeps `member`, with an error.");
+  BindSettingsTable(m);
 
   nb::class_<tetdsr::ColorMapPoint>(m, "ColorMapPoint")
     .def_ro("x", &tetdsr::ColorMapPoint::x)
@@ -1143,73 +1084,6 @@ void BindImages(nb::module_& m)
       "Writes into out ((height, width) float32) the window depth of each pixel's hit as a view "
       "with this composite projection (4 x 4 float64, row-major, as VTK's camera gives it) holds "
       "it in its depth buffer: 0.5 z / w + 0.5 in [0, 1], 1 where the ray sees nothing.");
-}
-
-/// The exact surface as data.
-void BindExactSurface(nb::module_& m)
-{
-  m.attr("DEFAULT_RELATIVE_TOLERANCE") = tetdsr::kDefaultRelativeTolerance;
-  m.attr("MAX_SURFACE_LEVELS") = tetdsr::kMaxSurfaceLevels;
-  nb::class_<tetdsr::ExactSurfaceSettings>(m, "ExactSurfaceSettings",
-    "What the exact surface is asked for, with the core's defaults (iso_values is a list: assign "
-    "a new one).")
-    .def(nb::init<>())
-    .def_rw("iso_values", &tetdsr::ExactSurfaceSettings::isoValues)
-    .def_rw("relative_tolerance", &tetdsr::ExactSurfaceSettings::relativeTolerance,
-      "the distance bound relative to the diagonal of the valid cells' box (when tolerance is 0)")
-    .def_rw("tolerance", &tetdsr::ExactSurfaceSettings::tolerance,
-      "the distance bound in scene units; 0: relative_tolerance times the diagonal")
-    .def_rw("integrals", &tetdsr::ExactSurfaceSettings::integrals,
-      "compute the area, enclosed volume and point-array integrals");
-  m.def("check_exact_surface_settings", &tetdsr::checkExactSurfaceSettings, "settings"_a,
-    "messages"_a, "False, with an error naming the setting, for settings the core refuses.");
-  nb::class_<tetdsr::SurfaceIntegrals>(m, "SurfaceIntegrals",
-    "The integrals of one iso-value's surface (the *_error members estimate |computed - exact|).")
-    .def_ro("iso_value", &tetdsr::SurfaceIntegrals::isoValue)
-    .def_ro("area", &tetdsr::SurfaceIntegrals::area, "of the curved surface")
-    .def_ro("area_error", &tetdsr::SurfaceIntegrals::areaError)
-    .def_ro("volume", &tetdsr::SurfaceIntegrals::volume,
-      "of the region of the valid cells where the field >= the iso-value")
-    .def_ro("volume_error", &tetdsr::SurfaceIntegrals::volumeError)
-    .def_ro("array_integrals", &tetdsr::SurfaceIntegrals::arrayIntegrals,
-      "per point array given, per component, over the curved surface (arrays one after another)")
-    .def_ro("array_errors", &tetdsr::SurfaceIntegrals::arrayErrors)
-    .def_ro("flat_area", &tetdsr::SurfaceIntegrals::flatArea, "the triangles' area")
-    .def_ro("triangles", &tetdsr::SurfaceIntegrals::triangles);
-  nb::class_<PyExactSurface>(m, "ExactSurface",
-    "The exact surface of extract_exact_surface: certified vertices on the surface, triangles "
-    "(normals toward higher values) within `largest_bound` of it, and the integrals.")
-    .def_ro("points", &PyExactSurface::Points, "(n, 3) float64")
-    .def_ro("normals", &PyExactSurface::Normals, "(n, 3) float64: the field's unit gradient")
-    .def_ro("triangles", &PyExactSurface::Triangles, "(m, 3) int64 vertex ids")
-    .def_ro("cell_ids", &PyExactSurface::CellIds, "(m,) int64: the input cell of each triangle")
-    .def_ro("iso_indices", &PyExactSurface::IsoIndices,
-      "(m,) int32: each triangle's iso-value, its index in the settings")
-    .def_ro("arrays", &PyExactSurface::Arrays,
-      "per point array given: its values at the vertices, (n, k) float64")
-    .def_ro("integrals", &PyExactSurface::Integrals,
-      "per iso-value, the settings' order: SurfaceIntegrals (without `integrals`, only their "
-      "iso_value, triangles and flat_area)")
-    .def_ro("tolerance", &PyExactSurface::Tolerance, "the absolute distance bound asked")
-    .def_ro("largest_bound", &PyExactSurface::LargestBound,
-      "the largest certified distance bound of any piece drawn")
-    .def_ro("subcells", &PyExactSurface::Subcells, "tetrahedra examined, all levels")
-    .def_ro("unresolved_subcells", &PyExactSurface::UnresolvedSubcells,
-      "tetrahedra left without a certificate after MAX_SURFACE_LEVELS bisections")
-    .def_ro("size_certified_subcells", &PyExactSurface::SizeCertifiedSubcells,
-      "tetrahedra certified by size alone: the surface within the bound of their triangles, its "
-      "topology there (below the bound's scale) not certified")
-    .def_ro("boundary_edges", &PyExactSurface::BoundaryEdges,
-      "edges in one triangle (where the surface meets the mesh's boundary)")
-    .def_ro("non_manifold_edges", &PyExactSurface::NonManifoldEdges,
-      "edges in more than two triangles (none on a certified surface)");
-  m.def("extract_exact_surface", &ExtractExactSurface, "mesh"_a, "settings"_a,
-    "point_arrays"_a, "messages"_a, "threads"_a = 0,
-    "The exact surface of a PreparedMesh's field (every valid cell) for `settings`, without the "
-    "GIL on `threads` threads (0: all cores). point_arrays: (name, array) pairs, each (n,) or "
-    "(n, k) of any number type with a tuple per point, interpolated at the vertices and "
-    "integrated. An ExactSurface, or None with the core's errors; warnings count uncertified "
-    "tetrahedra. Settings the core refuses raise ValueError (check_exact_surface_settings first).");
 }
 
 } // namespace

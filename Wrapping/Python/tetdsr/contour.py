@@ -16,7 +16,7 @@ from vtkmodules.vtkCommonCore import vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData, vtkUnstructuredGrid
 
 from . import _core
-from .filter import _FieldFilter, _as_numpy, _integer, _reals
+from ._field_filter import _FieldFilter, _as_numpy, _integer, _settings_from_table
 
 
 def _double_array(name, values, components=1):
@@ -33,6 +33,7 @@ def _id_array(name, values):
     return array
 
 
+@_settings_from_table("contour")
 class vtkDirectSurfaceContour(_FieldFilter):
     """The exact isosurface of a higher-order finite-element field (tetrahedra, hexahedra, wedges
     and pyramids of orders 1 to 4, the types the core's table reads) as a certified, watertight
@@ -66,49 +67,13 @@ class vtkDirectSurfaceContour(_FieldFilter):
     _VTK_CLASS = "vtkDirectSurfaceContour"
 
     def __init__(self):
-        defaults = _core.ExactSurfaceSettings()
-        _FieldFilter.__init__(self, "vtkPolyData", dict(
-            Tolerance=defaults.relative_tolerance, AbsoluteTolerance=defaults.tolerance,
-            ComputeIntegrals=defaults.integrals, NumberOfThreads=0))
+        # Tolerance, AbsoluteTolerance, ComputeIntegrals, NumberOfThreads and ArrayComponent: the
+        # core's settings table's rows of the contour (Set/Get made by _settings_from_table).
+        _FieldFilter.__init__(self, "vtkPolyData")
         # The last execution's results (cleared when it fails).
         self._integrals = []  # SurfaceIntegrals, per iso-value
         self._distance_bound = 0.0
         self._unresolved_subcells = 0
-
-    # -- the distance bound and the integrals
-    def SetTolerance(self, relative):
-        """The largest distance between the triangles and the true surface, relative to the
-        diagonal of the valid cells' box (used when AbsoluteTolerance is 0)."""
-        self._set("Tolerance", _reals("SetTolerance", (relative,))[0])
-
-    def GetTolerance(self):
-        return self._settings["Tolerance"]
-
-    def SetAbsoluteTolerance(self, tolerance):
-        """The same bound in scene units; 0: Tolerance times the diagonal."""
-        self._set("AbsoluteTolerance", _reals("SetAbsoluteTolerance", (tolerance,))[0])
-
-    def GetAbsoluteTolerance(self):
-        return self._settings["AbsoluteTolerance"]
-
-    def SetComputeIntegrals(self, on):
-        self._set("ComputeIntegrals", bool(_integer("SetComputeIntegrals", on)))
-
-    def GetComputeIntegrals(self):
-        return self._settings["ComputeIntegrals"]
-
-    def ComputeIntegralsOn(self):
-        self.SetComputeIntegrals(True)
-
-    def ComputeIntegralsOff(self):
-        self.SetComputeIntegrals(False)
-
-    def SetNumberOfThreads(self, threads):
-        """Threads; 0 (the default) uses all cores."""
-        self._set_clamped_integer("NumberOfThreads", threads, 0, 2 ** 31 - 1)
-
-    def GetNumberOfThreads(self):
-        return self._settings["NumberOfThreads"]
 
     # -- the last execution's results
     def GetDistanceBound(self):

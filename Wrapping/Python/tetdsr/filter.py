@@ -1,36 +1,33 @@
 """vtkDirectSurfaceRayCaster for any VTK Python (pip's `vtk` >= 9.3, ParaView's): the C++ filter's
 interface and outputs (Filters/vtkDirectSurfaceRayCaster.h) on the pip build's core.
 
-This file is VTK plumbing only: it gets arrays out of VTK objects (numpy views of VTK's memory),
-keeps the stamps that decide when the mesh is prepared again, observes the objects whose edits
-re-execute it, makes the output image's arrays and turns the core's messages into VTK's events.
-Every check and every sentence is the core's (tetdsr._core, Filters/Core/tetdsr/input/Settings.h and
+This file is VTK plumbing only: it observes the objects whose edits re-execute it (camera, lookup
+table, clipping planes), makes the output image's arrays and hands the core its settings. Every
+check and every sentence is the core's (tetdsr._core, Filters/Core/tetdsr/input/Settings.h and
 MeshInput.h), as for the C++ filter: the core checks every size the input claims, views its
 arrays where their layout allows and converts them once where not, and casts the image tile by
-tile on all cores, writing straight into the output's VTK arrays.
-
-What the filters of a field share (input array, iso-values, the prepared mesh, messages) is
-_FieldFilter, which contour.py's vtkDirectSurfaceContour builds on too.
+tile on all cores, writing straight into the output's VTK arrays. The settings of the core's
+settings table (ImageSize, SurfaceColor, Ambient, ..., NumberOfThreads) get their Set/Get methods
+from its rows; what the filters of a field share (input array, iso-values, the prepared mesh,
+messages) is _field_filter.py's _FieldFilter, which contour.py's vtkDirectSurfaceContour builds on
+too.
 
 Not here (the C++ build has them): distributed rendering over a vtkMultiProcessController.
 """
 import math
-import numbers
-import weakref
+import re
 
 import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
-from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
-from vtkmodules.vtkCommonCore import (VTK_UNSIGNED_CHAR, vtkCommand, vtkDataArray, vtkOutputWindow,
-                                      vtkScalarsToColors)
-from vtkmodules.vtkCommonDataModel import (vtkCompositeDataSet, vtkDataObject,
-                                           vtkDataSetAttributes, vtkImageData, vtkPlane,
+from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
+from vtkmodules.vtkCommonCore import VTK_UNSIGNED_CHAR, vtkScalarsToColors
+from vtkmodules.vtkCommonDataModel import (vtkDataObject, vtkImageData, vtkPlane,
                                            vtkPlaneCollection, vtkUnstructuredGrid)
 from vtkmodules.vtkCommonExecutionModel import vtkAlgorithm, vtkStreamingDemandDrivenPipeline
-from vtkmodules.vtkCommonMisc import vtkContourValues
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction
 
 from . import _core
+from ._field_filter import (_FieldFilter, _as_numpy, _reals, _same_stamp, _settings_from_table,
+                            _stamp)
 
 
 def _color_transfer_function(color_map):
@@ -45,75 +42,6 @@ def _color_transfer_function(color_map):
     return table
 
 
-def _as_numpy(array):
-    """A vtkDataArray as an (n, components) numpy array: a view where VTK allows one."""
-    try:
-        values = vtk_to_numpy(array)
-    except (AttributeError, TypeError, ValueError):  # a type numpy cannot view (bit arrays)
-        values = np.array([array.GetTuple(p) for p in range(array.GetNumberOfTuples())])
-    return values.reshape(array.GetNumberOfTuples(), array.GetNumberOfComponents())
-
-
-def _input_array(grid, info, name):
-    """The array SetInputArrayToProcess chose (by name, or by attribute type) and its association,
-    as vtkAlgorithm::GetInputArrayToProcess finds it (protected in C++, so not wrapped)."""
-    association = (info.Get(vtkDataObject.FIELD_ASSOCIATION())
-                   if info.Has(vtkDataObject.FIELD_ASSOCIATION())
-                   else vtkDataObject.FIELD_ASSOCIATION_POINTS)
-    points_then_cells = vtkDataObject.FIELD_ASSOCIATION_POINTS_THEN_CELLS
-    if association == points_then_cells:
-        candidates = ((vtkDataObject.FIELD_ASSOCIATION_POINTS, grid.GetPointData()),
-                      (vtkDataObject.FIELD_ASSOCIATION_CELLS, grid.GetCellData()))
-    elif association == vtkDataObject.FIELD_ASSOCIATION_POINTS:
-        candidates = ((association, grid.GetPointData()),)
-    elif association == vtkDataObject.FIELD_ASSOCIATION_CELLS:
-        candidates = ((association, grid.GetCellData()),)
-    elif association == vtkDataObject.FIELD_ASSOCIATION_NONE:
-        candidates = ((association, grid.GetFieldData()),)
-    else:
-        candidates = ()
-    for where, data in candidates:
-        if name:
-            array = data.GetArray(name)
-        elif info.Has(vtkDataObject.FIELD_ATTRIBUTE_TYPE()) and hasattr(data, "GetAttribute"):
-            array = data.GetAttribute(info.Get(vtkDataObject.FIELD_ATTRIBUTE_TYPE()))
-        else:
-            array = None
-        if array is not None:
-            return array, where
-    return None, association
-
-
-def _cell_types(grid):
-    """The grid's cell types array (VTK 9.6 renamed GetCellTypesArray to GetCellTypes)."""
-    try:
-        types = grid.GetCellTypes()
-        if isinstance(types, vtkDataArray):
-            return types
-    except TypeError:  # before 9.6: GetCellTypes(vtkCellTypes) fills a list of the types
-        pass
-    return grid.GetCellTypesArray()
-
-
-def _stamp(grid, scalars, component, transverse):
-    points = grid.GetPoints()
-    cells = grid.GetCells()
-    parts = [grid, points, points.GetData() if points else None, cells,
-             cells.GetOffsetsArray() if cells else None,
-             cells.GetConnectivityArray() if cells else None, _cell_types(grid), scalars,
-             grid.GetPointData().GetRationalWeights()]
-    return tuple((part, part.GetMTime() if part is not None else 0) for part in parts) + (
-        component, transverse)
-
-
-def _integer(setter, value):
-    """An integer argument (bool and numpy integers too), as VTK's wrappers take one for an int;
-    a TypeError naming the setter for anything else (a float is not truncated)."""
-    if isinstance(value, numbers.Integral):
-        return int(value)
-    raise TypeError(f"{setter} takes an integer, got {value!r}")
-
-
 def _color_of(table):
     """`table`'s colour of a value, by GetColor(value, rgb): VTK 9.7's Python wrapping of
     vtkLookupTable has no one-argument GetColor."""
@@ -122,13 +50,6 @@ def _color_of(table):
         table.GetColor(value, rgb)
         return tuple(rgb)
     return color
-
-
-def _reals(setter, values):
-    """Numbers (numpy's too) as floats; a TypeError naming the setter for anything else."""
-    if all(isinstance(v, numbers.Real) for v in values):
-        return tuple(float(v) for v in values)
-    raise TypeError(f"{setter} takes numbers, got {values!r}")
 
 
 def _vtk_object(setter, value, cls, none=True):
@@ -140,9 +61,14 @@ def _vtk_object(setter, value, cls, none=True):
                     f"got {type(value).__name__}")
 
 
-def _same_stamp(a, b):
-    return a is not None and len(a) == len(b) and all(
-        (x[0] is y[0] and x[1] == y[1]) if isinstance(x, tuple) else x == y for x, y in zip(a, b))
+def _object_setting(key, cls):
+    """Set<key> and Get<key> of an object setting (a `cls` or None, observed), kept in _<key>
+    (LookupTable: _lookup_table)."""
+    member = "_" + "_".join(word.lower() for word in re.findall("[A-Z][a-z]+", key))
+
+    def setter(self, value):
+        self._set_object(member, _vtk_object("Set" + key, value, cls))
+    return setter, lambda self: getattr(self, member)
 
 
 class DirectSurfacePick:
@@ -152,8 +78,8 @@ class DirectSurfacePick:
     position: the hit (world coordinates); normal: unit, along the field's exact gradient
     (towards increasing field) on a surface, the plane's normal on a cap; cell_id: the input's
     cell; parametric_coordinates: VTK's (r, s, t) in that cell, or None when the mesh has wedges
-    (straight ones are rendered as tetrahedra, so none of that mesh's cells is the input's own); iso_value_index: the iso-value crossed (its index, as given
-    to SetValue), -1 on a cap; clipping_plane_id: a cap's plane (its index), -1 on a surface;
+    (straight ones are rendered as tetrahedra, so none of that mesh's cells is the input's own);
+    iso_value_index: the iso-value crossed (its index, as given to SetValue), -1 on a cap; clipping_plane_id: a cap's plane (its index), -1 on a surface;
     value: the contoured field at the hit (the iso-value, to rounding, on a surface);
     ray_parameter: the distance from the ray's start (the camera, or the camera plane in parallel
     projection); point_data: every point array of the grid interpolated at the hit with the
@@ -164,14 +90,9 @@ class DirectSurfacePick:
                  "clipping_plane_id", "value", "ray_parameter", "point_data")
 
     def __init__(self, pick, point_data):
-        self.position = pick.point
-        self.normal = pick.normal
-        self.cell_id = pick.cell_id
-        self.parametric_coordinates = pick.parametric
-        self.iso_value_index = pick.iso_value
-        self.clipping_plane_id = pick.clip_plane
-        self.value = pick.value
-        self.ray_parameter = pick.t
+        for name, core_name in zip(self.__slots__[:-1], ("point", "normal", "cell_id", "parametric",
+                                                          "iso_value", "clip_plane", "value", "t")):
+            setattr(self, name, getattr(pick, core_name))
         self.point_data = point_data
 
     def __repr__(self):
@@ -179,190 +100,7 @@ class DirectSurfacePick:
                 f"iso_value_index={self.iso_value_index}, value={self.value!r})")
 
 
-class _FieldFilter(VTKPythonAlgorithmBase):
-    """What the wheel's filters of a field share (the C++ build's vtkDirectSurfaceAdapter and
-    vtkDirectSurfaceReporting): an unstructured grid in, input array 0 the field (default the
-    active point scalars) and its ArrayComponent, iso-values as vtkContourFilter's, the core's
-    prepared mesh kept while the input is unchanged, and the core's messages as VTK's events
-    (ErrorEvent / WarningEvent, else the output window, naming the class `_VTK_CLASS`)."""
-
-    _VTK_CLASS = "vtkAlgorithm"
-
-    def __init__(self, output_type, settings):
-        VTKPythonAlgorithmBase.__init__(self, nInputPorts=1, inputType="vtkUnstructuredGrid",
-                                        nOutputPorts=1, outputType=output_type)
-        self.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS,
-                                    vtkDataSetAttributes.SCALARS)
-        self._contour_values = vtkContourValues()
-        self._settings = dict(ArrayComponent=-1, **settings)
-        self._observed = []  # (object, observer tag): edits of these re-execute the filter
-        self._prepared = None  # the core's PreparedMesh
-        self._prepared_stamp = None  # what it was prepared from
-        # The contour values are an object of their own: their edits must reach this filter.
-        self._observe(self._contour_values)
-
-    # -- messages: as vtkErrorMacro / vtkWarningMacro, observable as ErrorEvent / WarningEvent
-    def _report(self, messages):
-        """Passes the core's messages on (warnings first) and empties them; returns 0, what a
-        failed request returns."""
-        for text in messages.warnings:
-            self._emit(vtkCommand.WarningEvent, "Warning", text)
-        for text in messages.errors:
-            self._emit(vtkCommand.ErrorEvent, "ERROR", text)
-        messages.clear()
-        return 0
-
-    def _fail(self, error, doing):
-        """An exception of the binding (no memory, a thread that could not start) as an error;
-        returns 0."""
-        if isinstance(error, MemoryError):
-            text = f"Not enough memory to {doing} ({error or 'std::bad_alloc'})."
-        else:
-            text = str(error)
-        self._emit(vtkCommand.ErrorEvent, "ERROR", text)
-        return 0
-
-    def _emit(self, event, kind, text):
-        if self.HasObserver(event):
-            self.InvokeEvent(event, text)
-        elif event == vtkCommand.ErrorEvent or self.GetGlobalWarningDisplay():
-            line = f"{kind}: In tetdsr, {self._VTK_CLASS} ({hex(id(self))}): {text}\n\n"
-            window = vtkOutputWindow.GetInstance()
-            if event == vtkCommand.ErrorEvent:
-                window.DisplayErrorText(line)
-            else:
-                window.DisplayWarningText(line)
-
-    # -- objects whose edits re-execute the filter (the C++ filter's GetMTime)
-    def _observe(self, obj):
-        this = weakref.ref(self)
-
-        def modified(caller, event):
-            filter_ = this()
-            if filter_ is not None:
-                filter_._observed_modified(caller)
-
-        self._observed.append((obj, obj.AddObserver(vtkCommand.ModifiedEvent, modified)))
-
-    def _observed_modified(self, caller):
-        self.Modified()
-
-    def _unobserve(self, obj):
-        for observed, tag in [x for x in self._observed if x[0] is obj]:
-            observed.RemoveObserver(tag)
-        self._observed = [x for x in self._observed if x[0] is not obj]
-
-    def _set(self, key, value):
-        if self._settings[key] != value:
-            self._settings[key] = value
-            self.Modified()
-
-    def _set_clamped_integer(self, key, value, lo, hi):
-        """An integer setting clamped into [lo, hi] as the C++ filter's vtkSetClampMacro does,
-        with a warning saying so."""
-        number = _integer("Set" + key, value)
-        clamped = min(max(number, lo), hi)
-        if clamped != number:
-            self._emit(vtkCommand.WarningEvent, "Warning",
-                       f"{key} {number} is outside [{lo}, {hi}]: {clamped} is used.")
-        self._set(key, clamped)
-
-    # -- the pipeline's convenience methods of VTK's C++ algorithms
-    def SetInputData(self, data):
-        self.SetInputDataObject(0, data)
-
-    def GetOutput(self):
-        return self.GetOutputDataObject(0)
-
-    # -- iso-values, as vtkContourFilter
-    def _iso_value_count(self, setter, what, n, last):
-        """Whether `n` (an index when `last`, else a count) keeps the iso-values within the
-        core's per-iso-value index range; an error otherwise (vtkContourValues would try to
-        allocate them all: 10^9 values are 8 GB)."""
-        n = _integer(setter, n)
-        limit = _core.MAX_STYLE_INDEX
-        if 0 <= n < limit + (0 if last else 1):
-            return True
-        self._emit(vtkCommand.ErrorEvent, "ERROR",
-                   f"{setter}: {what} {n} is outside [0, {limit}{')' if last else ']'}.")
-        return False
-
-    def SetValue(self, i, value):
-        if self._iso_value_count("SetValue", "index", i, True):
-            self._contour_values.SetValue(i, value)
-
-    def GetValue(self, i):
-        return self._contour_values.GetValue(i)
-
-    def GetValues(self):
-        return tuple(self._contour_values.GetValue(i) for i in range(self.GetNumberOfContours()))
-
-    def SetNumberOfContours(self, number):
-        if self._iso_value_count("SetNumberOfContours", "number", number, False):
-            self._contour_values.SetNumberOfContours(number)
-
-    def GetNumberOfContours(self):
-        return self._contour_values.GetNumberOfContours()
-
-    def GenerateValues(self, count, start, end=None):
-        if end is None:
-            start, end = start
-        if self._iso_value_count("GenerateValues", "count", count, False):
-            self._contour_values.GenerateValues(count, start, end)
-
-    def SetArrayComponent(self, component):
-        self._set("ArrayComponent", _integer("SetArrayComponent", component))
-
-    def GetArrayComponent(self):
-        return self._settings["ArrayComponent"]
-
-    def _check_composite_input(self, inInfo, messages):
-        """False, with the core's error, for a multiblock input without cells: it is executed
-        block by block, so it would execute nothing and say nothing."""
-        data = (inInfo[0].GetInformationObject(0).Get(vtkDataObject.DATA_OBJECT())
-                if inInfo[0].GetNumberOfInformationObjects() else None)
-        return not isinstance(data, vtkCompositeDataSet) or _core.check_mesh_not_empty(
-            data.GetNumberOfPoints(), data.GetNumberOfCells(), messages)
-
-    def _point_array(self, index, inInfo, requested, allow_magnitude, setting, messages):
-        """Input array `index` (0: the field, 1: the colour array) and the component the core
-        chose of it, or (None, None) with the core's error."""
-        info = self.GetInputArrayInformation(index)
-        name = info.Get(vtkDataObject.FIELD_NAME()) if info.Has(vtkDataObject.FIELD_NAME()) else None
-        array, association = _input_array(vtkUnstructuredGrid.GetData(inInfo[0]), info, name)
-        if array is None:
-            _core.report_missing_array(_core.InputArray.FIELD if index == 0 else _core.InputArray.COLOR,
-                                       name, messages)
-            return None, None
-        component = _core.choose_point_array_component(
-            array.GetName() or "", association == vtkDataObject.FIELD_ASSOCIATION_POINTS,
-            array.GetNumberOfComponents(), requested, allow_magnitude, setting, messages)
-        return (array, component) if component is not None else (None, None)
-
-    def _prepare(self, grid, scalars, component, transverse_test, threads, messages):
-        """The core's prepared mesh for `grid` and its field (with the transverse test (mode,
-        widening)): the last one while nothing it was built from changed (its errors told again),
-        else prepared afresh from numpy views of VTK's arrays. None, with the core's errors, when
-        nothing can be rendered."""
-        stamp = _stamp(grid, scalars, component, transverse_test)
-        if self._prepared is not None and _same_stamp(self._prepared_stamp, stamp):
-            return self._prepared if self._prepared.reuse(messages) else None
-        transverse = _core.TransverseTest()
-        transverse.mode = _core.TransverseMode(transverse_test[0])
-        transverse.widening = transverse_test[1]
-        cells = grid.GetCells()
-        weights = grid.GetPointData().GetRationalWeights()
-        prepared = _core.PreparedMesh()
-        self._prepared, self._prepared_stamp = prepared, stamp
-        ready = prepared.prepare(
-            _as_numpy(grid.GetPoints().GetData()), _as_numpy(_cell_types(grid)),
-            _as_numpy(cells.GetOffsetsArray()), _as_numpy(cells.GetConnectivityArray()),
-            _as_numpy(scalars), field_name=scalars.GetName() or "", component=component,
-            transverse=transverse, threads=threads, messages=messages,
-            rational_weights=_as_numpy(weights) if weights is not None else None)
-        return prepared if ready else None
-
-
+@_settings_from_table("ray_caster")
 class vtkDirectSurfaceRayCaster(_FieldFilter):
     """Ray casts the exact isosurface of a higher-order finite-element field (tetrahedra,
     hexahedra, wedges and pyramids of orders 1 to 4, the types the core's table reads) into an
@@ -389,160 +127,20 @@ class vtkDirectSurfaceRayCaster(_FieldFilter):
     _VTK_CLASS = "vtkDirectSurfaceRayCaster"
 
     def __init__(self):
-        # The core's defaults for what it shades and tests with.
-        material, normals, transverse = _core.Material(), _core.NormalSettings(), _core.TransverseTest()
-        _FieldFilter.__init__(self, "vtkImageData", dict(
-            ImageSize=(512, 512), SurfaceColor=material.color,
-            Ambient=material.ambient, Diffuse=material.diffuse, Specular=material.specular,
-            SpecularPower=material.specular_power, LightAtCamera=True,
-            LightPosition=(0.0, 0.0, 1.0), NumberOfThreads=0, NormalMode=normals.mode.value,
-            CentralDifferenceStep=normals.relative_step, TransverseTest=transverse.mode.value,
-            NodalRangeWidening=transverse.widening, ColorByArray=False, ColorArrayComponent=-1,
-            ColorRange=(0.0, -1.0), ColorMap=self.COOL_TO_WARM, Capping=self.NO_CAP))
+        _FieldFilter.__init__(self, "vtkImageData")
         self._camera = None
         self._lookup_table = None
         self._clipping_planes = None
         self._styles = _core.IsoValueStyles()
         self._last_image = None  # (renderer, grid, stamp arguments) of the last image: for Pick
-        self._counts = dict.fromkeys(
-            ("Rendered", "Inverted", "Curved", "Degenerate", "Tangled", "NonFinite", "InvalidId",
-             "Unsupported", "Malformed", "OrderTooHigh", "Rational", "HigherOrder", "OutOfScale",
-             "UncertifiedHits"), 0)
+        self._counts = dict.fromkeys(self._COUNTS, 0)
+        self._counts["UncertifiedHits"] = 0
 
-    def _observed_modified(self, caller):
-        if isinstance(caller, vtkPlaneCollection):
-            self._observe_planes()  # (a plane added to the collection is observed too)
-        self.Modified()
-
-    def _observe_planes(self):
-        planes = self._clipping_planes
-        if planes is None:
-            return
-        for k in range(planes.GetNumberOfItems()):
-            plane = planes.GetItem(k)
-            if not any(x[0] is plane for x in self._observed):
-                self._observe(plane)
-
-    def _set_object(self, attribute, value):
-        old = getattr(self, attribute)
-        if old is value:
-            return
-        if old is not None:
-            self._unobserve(old)
-            if attribute == "_clipping_planes":
-                for k in range(old.GetNumberOfItems()):
-                    self._unobserve(old.GetItem(k))
-        setattr(self, attribute, value)
-        if value is not None:
-            self._observe(value)
-            if attribute == "_clipping_planes":
-                self._observe_planes()
-        self.Modified()
-
-    def _set_finite(self, key, values):
-        """A tuple of numbers, refused with an error (the setting kept) unless all are finite."""
-        numbers_ = _reals("Set" + key, values)
-        if not all(math.isfinite(v) for v in numbers_):
-            self._emit(vtkCommand.ErrorEvent, "ERROR", f"{key} must be finite numbers, got "
-                       f"({', '.join(repr(v) for v in numbers_)}): {key} is unchanged.")
-            return
-        self._set(key, numbers_)
-
-    # -- camera and image
-    def SetCamera(self, camera):
-        """vtkCamera: position, focal point, view up, view angle (vertical), parallel projection
-        and scale are used. None: a camera that sees the whole mesh (looking down -z)."""
-        self._set_object("_camera", _vtk_object("SetCamera", camera, vtkCamera))
-
-    def GetCamera(self):
-        return self._camera
-
-    def SetImageSize(self, width, height=None):
-        if height is None:
-            width, height = width
-        # (into C int range: the core's check then says what a size beyond memory needs)
-        size = [min(max(_integer("SetImageSize", v), -2 ** 31), 2 ** 31 - 1) for v in (width, height)]
-        self._set("ImageSize", tuple(size))
-
-    def GetImageSize(self):
-        return self._settings["ImageSize"]
-
-    # -- shading
-    def SetSurfaceColor(self, red, green=None, blue=None):
-        if green is None:
-            red, green, blue = red
-        self._set_finite("SurfaceColor", (red, green, blue))
-
-    def GetSurfaceColor(self):
-        return self._settings["SurfaceColor"]
-
-    def _set_number(self, key, value):
-        """A shading number, clamped into the core's range for it; NaN refused with its error."""
-        messages = _core.Messages()
-        (number,) = _reals("Set" + key, (value,))
-        changed, number = _core.set_clamped(_core.NUMBER_SETTINGS[key], number,
-                                            self._settings[key], messages)
-        self._report(messages)
-        if changed:
-            self._settings[key] = number
-            self.Modified()
-
-    def SetAmbient(self, value):
-        self._set_number("Ambient", value)
-
-    def GetAmbient(self):
-        return self._settings["Ambient"]
-
-    def SetDiffuse(self, value):
-        self._set_number("Diffuse", value)
-
-    def GetDiffuse(self):
-        return self._settings["Diffuse"]
-
-    def SetSpecular(self, value):
-        self._set_number("Specular", value)
-
-    def GetSpecular(self):
-        return self._settings["Specular"]
-
-    def SetSpecularPower(self, value):
-        self._set_number("SpecularPower", value)
-
-    def GetSpecularPower(self):
-        return self._settings["SpecularPower"]
-
-    def SetLightAtCamera(self, on):
-        self._set("LightAtCamera", bool(_integer("SetLightAtCamera", on)))
-
-    def GetLightAtCamera(self):
-        return self._settings["LightAtCamera"]
-
-    def LightAtCameraOn(self):
-        self.SetLightAtCamera(True)
-
-    def LightAtCameraOff(self):
-        self.SetLightAtCamera(False)
-
-    def SetLightPosition(self, x, y=None, z=None):
-        if y is None:
-            x, y, z = x
-        self._set_finite("LightPosition", (x, y, z))
-
-    def GetLightPosition(self):
-        return self._settings["LightPosition"]
-
-    def SetNormalMode(self, mode):
-        self._set_clamped_integer("NormalMode", mode, self.EXACT_GRADIENT, self.DEPTH_BUFFER)
-
-    def GetNormalMode(self):
-        return self._settings["NormalMode"]
-
-    def SetCentralDifferenceStep(self, step):
-        self._set_number("CentralDifferenceStep", step)
-
-    def GetCentralDifferenceStep(self):
-        return self._settings["CentralDifferenceStep"]
-
+    # -- the settings of the core's table (ImageSize, SurfaceColor, Ambient, ..., NumberOfThreads)
+    #    are made by _settings_from_table, and the objects' Set/Get (Camera, LookupTable,
+    #    ClippingPlanes) from _object_setting below the class. Camera: position, focal point, view up,
+    #    view angle (vertical), parallel projection and scale are used; None (the default): a
+    #    camera that sees the whole mesh (looking down -z).
     # -- per-iso-value colours and opacities (the core's IsoValueStyles)
     def SetIsoValueColor(self, i, red, green, blue):
         messages = _core.Messages()
@@ -570,46 +168,7 @@ class vtkDirectSurfaceRayCaster(_FieldFilter):
         if self._styles.remove_all_opacities():
             self.Modified()
 
-    # -- colour by an array
-    def SetColorByArray(self, on):
-        self._set("ColorByArray", bool(_integer("SetColorByArray", on)))
-
-    def GetColorByArray(self):
-        return self._settings["ColorByArray"]
-
-    def ColorByArrayOn(self):
-        self.SetColorByArray(True)
-
-    def ColorByArrayOff(self):
-        self.SetColorByArray(False)
-
-    def SetColorArrayComponent(self, component):
-        self._set_clamped_integer("ColorArrayComponent", component, -1, 2 ** 31 - 1)
-
-    def GetColorArrayComponent(self):
-        return self._settings["ColorArrayComponent"]
-
-    def SetColorRange(self, lo, hi=None):
-        if hi is None:
-            lo, hi = lo
-        self._set_finite("ColorRange", (lo, hi))
-
-    def GetColorRange(self):
-        return self._settings["ColorRange"]
-
-    def SetLookupTable(self, table):
-        self._set_object("_lookup_table", _vtk_object("SetLookupTable", table, vtkScalarsToColors))
-
-    def GetLookupTable(self):
-        return self._lookup_table
-
-    def SetColorMap(self, which):
-        self._set_clamped_integer("ColorMap", which, self.COOL_TO_WARM, self.BLACK_BODY)
-
-    def GetColorMap(self):
-        return self._settings["ColorMap"]
-
-    # -- clipping and caps
+    # -- clipping planes
     def AddClippingPlane(self, plane):
         _vtk_object("AddClippingPlane", plane, vtkPlane, none=False)
         if self._clipping_planes is None:
@@ -624,77 +183,13 @@ class vtkDirectSurfaceRayCaster(_FieldFilter):
             planes.RemoveAllItems()
             self.Modified()
 
-    def SetClippingPlanes(self, planes):
-        self._set_object("_clipping_planes", _vtk_object("SetClippingPlanes", planes, vtkPlaneCollection))
-
-    def GetClippingPlanes(self):
-        return self._clipping_planes
-
-    def SetCapping(self, mode):
-        self._set_clamped_integer("Capping", mode, self.NO_CAP, self.CAP_ABOVE_ISO_VALUE)
-
-    def GetCapping(self):
-        return self._settings["Capping"]
-
-    # -- transverse test and threads
-    def SetTransverseTest(self, mode):
-        self._set_clamped_integer("TransverseTest", mode, self.BERNSTEIN_BOUND,
-                                  self.WIDENED_NODAL_RANGE)
-
-    def GetTransverseTest(self):
-        return self._settings["TransverseTest"]
-
-    def SetNodalRangeWidening(self, widening):
-        self._set_number("NodalRangeWidening", widening)
-
-    def GetNodalRangeWidening(self):
-        return self._settings["NodalRangeWidening"]
-
-    def SetNumberOfThreads(self, threads):
-        self._set_clamped_integer("NumberOfThreads", threads, 0, 2 ** 31 - 1)
-
-    def GetNumberOfThreads(self):
-        return self._settings["NumberOfThreads"]
-
-    # -- what the last preprocessing found
-    def GetNumberOfRenderedCells(self):
-        return self._counts["Rendered"]
-
-    def GetNumberOfInvertedCells(self):
-        return self._counts["Inverted"]
-
-    def GetNumberOfCurvedCells(self):
-        return self._counts["Curved"]
-
-    def GetNumberOfDegenerateCells(self):
-        return self._counts["Degenerate"]
-
-    def GetNumberOfTangledCells(self):
-        return self._counts["Tangled"]
-
-    def GetNumberOfNonFiniteCells(self):
-        return self._counts["NonFinite"]
-
-    def GetNumberOfInvalidIdCells(self):
-        return self._counts["InvalidId"]
-
-    def GetNumberOfUnsupportedCells(self):
-        return self._counts["Unsupported"]
-
-    def GetNumberOfMalformedCells(self):
-        return self._counts["Malformed"]
-
-    def GetNumberOfOrderTooHighCells(self):
-        return self._counts["OrderTooHigh"]
-
-    def GetNumberOfRationalCells(self):
-        return self._counts["Rational"]
-
-    def GetNumberOfHigherOrderCells(self):
-        return self._counts["HigherOrder"]
-
-    def GetNumberOfOutOfScaleCells(self):
-        return self._counts["OutOfScale"]
+    # -- what the last preprocessing found: GetNumberOf<X>Cells (made from _COUNTS below the
+    #    class) and GetNumberOfUncertifiedHits
+    _COUNTS = {"Rendered": "valid", "Inverted": "inverted", "Curved": "curved",
+               "Degenerate": "degenerate", "Tangled": "tangled", "NonFinite": "non_finite",
+               "InvalidId": "invalid_id", "Unsupported": "unsupported", "Malformed": "malformed",
+               "OrderTooHigh": "order_too_high", "Rational": "rational",
+               "HigherOrder": "higher_order", "OutOfScale": "out_of_scale"}
 
     def GetNumberOfUncertifiedHits(self):
         return self._counts["UncertifiedHits"]
@@ -852,14 +347,10 @@ class vtkDirectSurfaceRayCaster(_FieldFilter):
             return self._fail(error, "prepare the mesh")
         summary = self._prepared.summary
         counts = self._counts
-        counts["Rendered"] = summary["valid"] if prepared is not None else 0
-        for key, core_key in (("Inverted", "inverted"), ("Curved", "curved"),
-                              ("Degenerate", "degenerate"), ("Tangled", "tangled"),
-                              ("OutOfScale", "out_of_scale"), ("NonFinite", "non_finite"),
-                              ("InvalidId", "invalid_id"), ("Unsupported", "unsupported"),
-                              ("Malformed", "malformed"), ("OrderTooHigh", "order_too_high"),
-                              ("Rational", "rational"), ("HigherOrder", "higher_order")):
+        for key, core_key in self._COUNTS.items():
             counts[key] = summary[core_key]
+        if prepared is None:
+            counts["Rendered"] = 0
         color_values = None
         if prepared is not None and color_array is not None:
             try:
@@ -892,12 +383,11 @@ class vtkDirectSurfaceRayCaster(_FieldFilter):
         except MemoryError:
             _core.report_unallocated_image(width, height, messages)
             return self._report(messages)
-        arrays = {}
-        for name, view in views.items():
-            flat = view.reshape(width * height, -1) if view.ndim == 3 else view.reshape(-1)
-            array = numpy_to_vtkIdTypeArray(flat) if name == "CellId" else numpy_to_vtk(flat)
+        arrays = {name: (numpy_to_vtkIdTypeArray if name == "CellId" else numpy_to_vtk)(
+            view.reshape(width * height, -1) if view.ndim == 3 else view.reshape(-1))
+            for name, view in views.items()}
+        for name, array in arrays.items():
             array.SetName(name)
-            arrays[name] = array
 
         settings = self._render_settings(camera, len(values), clip_planes)
         if color_mapped:
@@ -945,15 +435,22 @@ class vtkDirectSurfaceRayCaster(_FieldFilter):
         output.SetExtent(whole)
         point_data = output.GetPointData()
         point_data.Initialize()
-        point_data.SetScalars(arrays["Colors"])
-        point_data.AddArray(arrays["Depth"])
-        point_data.SetNormals(arrays["Normals"])
-        point_data.AddArray(arrays["CellId"])
-        if "ColorValues" in arrays:
-            point_data.AddArray(arrays["ColorValues"])
+        for name, array in arrays.items():  # (Colors the scalars, Normals the normals)
+            {"Colors": point_data.SetScalars, "Normals": point_data.SetNormals}.get(
+                name, point_data.AddArray)(array)
         if tuple(extent) != whole:
             output.Crop(extent)
         self._last_image = (renderer, grid, (scalars, component,
                                              (s["TransverseTest"], s["NodalRangeWidening"])),
                             (width, height))
         return 1
+
+
+for _key in vtkDirectSurfaceRayCaster._COUNTS:
+    setattr(vtkDirectSurfaceRayCaster, f"GetNumberOf{_key}Cells",
+            lambda self, key=_key: self._counts[key])
+
+for _key, _cls in (("Camera", vtkCamera), ("LookupTable", vtkScalarsToColors),
+                   ("ClippingPlanes", vtkPlaneCollection)):
+    for _prefix, _method in zip(("Set", "Get"), _object_setting(_key, _cls)):
+        setattr(vtkDirectSurfaceRayCaster, _prefix + _key, _method)

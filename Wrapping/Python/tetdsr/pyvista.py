@@ -67,10 +67,29 @@ def _number(name, value, lo=-math.inf, hi=math.inf, low_open=False):
     return number
 
 
-def _range(setting):
-    """The core's range of a shading number (Filters/Core/tetdsr/input/Settings.h)."""
-    number = _core.NUMBER_SETTINGS[setting]
-    return number.lo, number.hi
+# The rows of the core's settings table (Filters/Core/tetdsr/input/Settings.h) the arguments set.
+_ROWS = {row.name: row for row in _core.SETTINGS}
+
+
+def _shading(caster, **numbers):
+    """Sets each shading number (argument name -> value: specular_power -> SetSpecularPower), a
+    finite number within its row's range; a TypeError or ValueError naming the argument
+    otherwise."""
+    for argument, value in numbers.items():
+        row = _ROWS["".join(word.title() for word in argument.split("_"))]
+        getattr(caster, "Set" + row.name)(_number(argument, value, row.lo, row.hi))
+
+
+def _fed(filter_, grid, values, scalars):
+    """`filter_` given the grid, the iso-values and the field (`scalars`: a point array's name, or
+    None for the active scalars), as both functions feed their filter."""
+    filter_.SetInputData(grid)
+    filter_.SetNumberOfContours(len(values))
+    for i, v in enumerate(values):
+        filter_.SetValue(i, v)
+    if scalars is not None:
+        filter_.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS, scalars)
+    return filter_
 
 
 def _choice(name, value, choices):
@@ -96,13 +115,14 @@ def _checked_grid(grid, caller="add_isosurface"):
     return grid
 
 
-def _iso_values(value, caller, name):
-    """A number or a sequence of numbers as a list of floats (not empty); a TypeError or
-    ValueError naming the argument otherwise. Their values are judged by the core."""
+def _iso_values(value, caller, name, finite=False):
+    """A number or a sequence of numbers as a list of floats (not empty; each finite with
+    `finite`, else judged by the core); a TypeError or ValueError naming the argument otherwise."""
     values = [value] if np.ndim(value) == 0 else list(value)
     if not values:
         raise ValueError(f"{caller}: {name} is an empty list: give one iso-value or more")
-    return [_real(f"{name} {v!r}" if len(values) > 1 else name, v, caller) for v in values]
+    check = _number if finite else (lambda label, v: _real(label, v, caller))
+    return [check(f"{name} {v!r}" if len(values) > 1 else name, v) for v in values]
 
 
 def _rgb(color):
@@ -470,8 +490,10 @@ class DirectSurface:
 
 def add_isosurface(plotter, grid, value, scalars=None, *, color="white", colors=None,
                    opacities=None, color_by=None, cmap=None, clim=None, clipping_planes=(),
-                   capping=None, ambient=0.1, diffuse=0.7, specular=0.2, specular_power=30.0,
-                   normal_mode="exact", threads=0, interactive_scale=0.25):
+                   capping=None, ambient=_ROWS["Ambient"].defaults[0],
+                   diffuse=_ROWS["Diffuse"].defaults[0], specular=_ROWS["Specular"].defaults[0],
+                   specular_power=_ROWS["SpecularPower"].defaults[0], normal_mode="exact",
+                   threads=0, interactive_scale=0.25):
     """Adds the exact isosurface(s) `value` (a number or a list) of the point array `scalars`
     (default: the active scalars) of `grid` (a pyvista.UnstructuredGrid of tetrahedra, hexahedra,
     wedges and pyramids of orders 1 to 4: linear, quadratic, Lagrange, Bezier) to `plotter`, seen
@@ -486,20 +508,13 @@ def add_isosurface(plotter, grid, value, scalars=None, *, color="white", colors=
     normal_mode: "exact", "central", "nodal" or "depth"; threads: 0 for all cores.
     """
     grid = _checked_grid(grid)
-    values = _iso_values(value, "add_isosurface", "value")
-    values = [_number(f"value {v!r}" if len(values) > 1 else "value", v) for v in values]
+    values = _iso_values(value, "add_isosurface", "value", finite=True)
     interactive_scale = _number("interactive_scale", interactive_scale, 0.0, 1.0, low_open=True)
     normal_mode = _choice("normal_mode", normal_mode, _NORMAL_MODES)
     capping = _choice("capping", capping, _CAPPING)
     if isinstance(threads, bool) or not isinstance(threads, numbers.Integral) or threads < 0:
         raise ValueError(f"add_isosurface: threads must be an integer >= 0 (0: all cores), got {threads!r}")
-    caster = vtkDirectSurfaceRayCaster()
-    caster.SetInputData(grid)
-    caster.SetNumberOfContours(len(values))
-    for i, v in enumerate(values):
-        caster.SetValue(i, v)
-    if scalars is not None:
-        caster.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS, scalars)
+    caster = _fed(vtkDirectSurfaceRayCaster(), grid, values, scalars)
     caster.SetSurfaceColor(*_rgb(color))
     for i, c in enumerate(colors or ()):
         caster.SetIsoValueColor(i, *_rgb(c))
@@ -523,17 +538,15 @@ def add_isosurface(plotter, grid, value, scalars=None, *, color="white", colors=
         plane.SetNormal(*normal)
         caster.AddClippingPlane(plane)
     caster.SetCapping(capping)
-    caster.SetAmbient(_number("ambient", ambient, *_range("Ambient")))
-    caster.SetDiffuse(_number("diffuse", diffuse, *_range("Diffuse")))
-    caster.SetSpecular(_number("specular", specular, *_range("Specular")))
-    caster.SetSpecularPower(_number("specular_power", specular_power, *_range("SpecularPower")))
+    _shading(caster, ambient=ambient, diffuse=diffuse, specular=specular,
+             specular_power=specular_power)
     caster.SetNormalMode(normal_mode)
     caster.SetNumberOfThreads(int(threads))
     return DirectSurface(plotter, caster, interactive_scale)
 
 
-def exact_contour(grid, isosurfaces, scalars=None, *, tolerance=_core.DEFAULT_RELATIVE_TOLERANCE,
-                  absolute_tolerance=0.0, integrals=True):
+def exact_contour(grid, isosurfaces, scalars=None, *, tolerance=_ROWS["Tolerance"].defaults[0],
+                  absolute_tolerance=_ROWS["AbsoluteTolerance"].defaults[0], integrals=True):
     """The exact isosurface(s) `isosurfaces` (a number or a list) of the point array `scalars`
     (default: the active scalars) of `grid` (a pyvista.UnstructuredGrid of tetrahedra, hexahedra,
     wedges and pyramids of orders 1 to 4: linear, quadratic, Lagrange, Bezier) as a
@@ -561,13 +574,7 @@ def exact_contour(grid, isosurfaces, scalars=None, *, tolerance=_core.DEFAULT_RE
     """
     grid = _checked_grid(grid, "exact_contour")
     values = _iso_values(isosurfaces, "exact_contour", "isosurfaces")
-    contour = vtkDirectSurfaceContour()
-    contour.SetInputData(grid)
-    contour.SetNumberOfContours(len(values))
-    for i, v in enumerate(values):
-        contour.SetValue(i, v)
-    if scalars is not None:
-        contour.SetInputArrayToProcess(0, 0, 0, vtkDataObject.FIELD_ASSOCIATION_POINTS, scalars)
+    contour = _fed(vtkDirectSurfaceContour(), grid, values, scalars)
     contour.SetTolerance(_real("tolerance", tolerance, "exact_contour"))
     contour.SetAbsoluteTolerance(_real("absolute_tolerance", absolute_tolerance, "exact_contour"))
     contour.SetComputeIntegrals(bool(integrals))

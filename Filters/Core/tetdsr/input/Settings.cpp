@@ -338,14 +338,19 @@ std::string IsoValueStyles::describe() const
 //------------------------------------------------------------------------------
 bool checkFiniteNumbers(const char* name, std::initializer_list<double> values, Messages& messages)
 {
-  if (std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); }))
+  return checkFiniteNumbers(name, values.begin(), static_cast<int>(values.size()), messages);
+}
+
+bool checkFiniteNumbers(const char* name, const double* values, int count, Messages& messages)
+{
+  if (std::all_of(values, values + count, [](double v) { return std::isfinite(v); }))
   {
     return true;
   }
   std::string shown;
-  for (double v : values)
+  for (int k = 0; k < count; ++k)
   {
-    shown += (shown.empty() ? "" : ", ") + text(v);
+    shown += (shown.empty() ? "" : ", ") + text(values[k]);
   }
   messages.errors.push_back(
     text(name, " must be finite numbers, got (", shown, "); it is left unchanged."));
@@ -391,6 +396,67 @@ bool checkGroupedCount(
   messages.errors.push_back(text(name, " has ", count, " numbers, not a multiple of ", perGroup,
     " (", perGroup, " per ", group, "): none of them is used."));
   return false;
+}
+
+//------------------------------------------------------------------------------
+namespace
+{
+/// An integer setting's value as its digits (2147483647, not 2.14748e+09).
+std::string wholeNumber(double value)
+{
+  return std::abs(value) < 9e18 ? std::to_string(static_cast<long long>(value)) : text(value);
+}
+} // namespace
+
+const Setting* settingNamed(const std::string& name)
+{
+  for (const Setting* row : kSettings)
+  {
+    if (name == row->name)
+    {
+      return row;
+    }
+  }
+  return nullptr;
+}
+
+bool checkSetting(const Setting& row, const double* given, double* used, Messages& messages)
+{
+  const int n = row.components;
+  if (row.type == SettingType::Bool)
+  {
+    std::transform(given, given + n, used, [](double v) { return v != 0.0 ? 1.0 : 0.0; });
+    return true;
+  }
+  if (row.type == SettingType::Int)
+  {
+    // An Int row's own range when clamped, else C's int (what every face stores).
+    const bool clamp = row.check == SettingCheck::Clamp;
+    const double lo = clamp ? row.lo : kNoIntBelow, hi = clamp ? row.hi : kNoIntAbove;
+    for (int c = 0; c < n; ++c)
+    {
+      used[c] = std::min(std::max(given[c], lo), hi);
+      if (clamp && used[c] != given[c])
+      {
+        messages.warnings.push_back(text(row.name, " ", wholeNumber(given[c]), " is outside [",
+          wholeNumber(lo), ", ", wholeNumber(hi), "]: ", wholeNumber(used[c]), " is used."));
+      }
+    }
+    return true;
+  }
+  if (row.check == SettingCheck::Clamp && std::any_of(given, given + n, [](double v) { return std::isnan(v); }))
+  {
+    messages.errors.push_back(text(row.name, " must be a number, got NaN."));
+    return false;
+  }
+  if (row.check == SettingCheck::Finite && !checkFiniteNumbers(row.name, given, n, messages))
+  {
+    return false;
+  }
+  const bool clamp = row.check == SettingCheck::Clamp;
+  std::transform(given, given + n, used,
+    [&](double v) { return clamp ? std::min(std::max(v, row.lo), row.hi) : v; });
+  return true;
 }
 
 //------------------------------------------------------------------------------

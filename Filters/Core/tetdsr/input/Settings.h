@@ -14,6 +14,7 @@
 
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <initializer_list>
 #include <limits>
@@ -147,12 +148,6 @@ struct NumberSetting
   double hi;
 };
 
-constexpr NumberSetting kAmbient{ "Ambient", 0.0, 1.0 };
-constexpr NumberSetting kDiffuse{ "Diffuse", 0.0, 1.0 };
-constexpr NumberSetting kSpecular{ "Specular", 0.0, 1.0 };
-constexpr NumberSetting kSpecularPower{ "SpecularPower", 0.0, 128.0 };
-constexpr NumberSetting kCentralDifferenceStep{ "CentralDifferenceStep", 1e-12, 1.0 };
-constexpr NumberSetting kNodalRangeWidening{ "NodalRangeWidening", 0.0, DBL_MAX };
 /// The mapper's level of detail: pixels a ray along each axis while interacting.
 constexpr NumberSetting kMaximumImageSampleDistance{ "MaximumImageSampleDistance", 1.0, 64.0 };
 constexpr NumberSetting kInteractiveImageSampleDistance{ "InteractiveImageSampleDistance", 1.0,
@@ -162,6 +157,7 @@ constexpr NumberSetting kInteractiveImageSampleDistance{ "InteractiveImageSample
 /// unchanged.", when a number of a vector setting (a range, a colour, a position) is NaN or
 /// infinite.
 bool checkFiniteNumbers(const char* name, std::initializer_list<double> values, Messages& messages);
+bool checkFiniteNumbers(const char* name, const double* values, int count, Messages& messages);
 
 /// `value` clamped into the setting's range, stored in `member`; true when `member` changed.
 /// False, with the error "<name> must be a number, got NaN.", for NaN (member unchanged).
@@ -179,6 +175,104 @@ bool checkNumber(const NumberSetting& setting, double value, double& used, Messa
 /// whole groups of `perGroup` numbers, each one `group` (e.g. "plane: a point and a normal").
 bool checkGroupedCount(
   const char* name, std::size_t count, int perGroup, const char* group, Messages& messages);
+
+//------------------------------------------------------------------------------
+// The settings table: the filters' settings, written once
+
+/// A setting's value type (per component).
+enum class SettingType : std::uint8_t
+{
+  Bool,
+  Int,
+  Double
+};
+
+/// What a setter does with a value (checkSetting).
+enum class SettingCheck : std::uint8_t
+{
+  /// Clamped into [lo, hi]: a number silently, NaN refused with an error (setClamped); an
+  /// integer with a warning naming the value, the range and the value used.
+  Clamp,
+  /// Refused, with an error, unless every component is finite (checkFiniteNumbers); [lo, hi]
+  /// is only the range a panel offers.
+  Finite,
+  /// Stored as given (integers within C's int); the execution checks it (checkImageSize,
+  /// choosePointArrayComponent, checkExactSurfaceSettings). [lo, hi]: the range a panel offers.
+  AtExecution
+};
+
+/// Which filters have a setting.
+enum SettingFilters : unsigned
+{
+  kRayCasterSetting = 1u, ///< vtkDirectSurfaceRayCaster (C++ and Python)
+  kContourSetting = 2u    ///< vtkDirectSurfaceContour (C++ and Python)
+};
+
+/// One row of the settings table: what every face (the C++ filters' setters, the Python filters'
+/// generated Set/Get methods, the ParaView Python plugin's properties, and the test of the
+/// ParaView XML) takes of a setting. A bound of +-DBL_MAX (doubles) or INT_MIN / INT_MAX
+/// (integers) is no bound.
+struct Setting
+{
+  const char* name;
+  SettingType type;
+  SettingCheck check;
+  int components; ///< 1, 2 or 3
+  double lo;      ///< each component's
+  double hi;
+  double defaults[3];
+  unsigned filters; ///< SettingFilters
+  /// An enumeration's choices, lo to hi, as the panels name them ("A|B|C"); else nullptr.
+  const char* choices = nullptr;
+  /// What the older number helpers take (setClamped, checkNumber).
+  constexpr operator NumberSetting() const { return { name, lo, hi }; }
+};
+
+constexpr double kNoIntBelow = static_cast<double>(std::numeric_limits<int>::min());
+constexpr double kNoIntAbove = static_cast<double>(std::numeric_limits<int>::max());
+constexpr unsigned kBothFilters = kRayCasterSetting | kContourSetting;
+
+// clang-format off
+// (defaults of Material, NormalSettings, TransverseTest and ExactSurfaceSettings: TestSettings
+// checks that these equal them)
+constexpr Setting kImageSize{ "ImageSize", SettingType::Int, SettingCheck::AtExecution, 2, 1, kNoIntAbove, { 512, 512 }, kRayCasterSetting };
+constexpr Setting kArrayComponent{ "ArrayComponent", SettingType::Int, SettingCheck::AtExecution, 1, -1, kNoIntAbove, { -1 }, kBothFilters };
+constexpr Setting kSurfaceColor{ "SurfaceColor", SettingType::Double, SettingCheck::Finite, 3, 0.0, 1.0, { 1.0, 1.0, 1.0 }, kRayCasterSetting };
+constexpr Setting kAmbient{ "Ambient", SettingType::Double, SettingCheck::Clamp, 1, 0.0, 1.0, { 0.1 }, kRayCasterSetting };
+constexpr Setting kDiffuse{ "Diffuse", SettingType::Double, SettingCheck::Clamp, 1, 0.0, 1.0, { 0.7 }, kRayCasterSetting };
+constexpr Setting kSpecular{ "Specular", SettingType::Double, SettingCheck::Clamp, 1, 0.0, 1.0, { 0.2 }, kRayCasterSetting };
+constexpr Setting kSpecularPower{ "SpecularPower", SettingType::Double, SettingCheck::Clamp, 1, 0.0, 128.0, { 30.0 }, kRayCasterSetting };
+constexpr Setting kLightAtCamera{ "LightAtCamera", SettingType::Bool, SettingCheck::Clamp, 1, 0, 1, { 1 }, kRayCasterSetting };
+constexpr Setting kLightPosition{ "LightPosition", SettingType::Double, SettingCheck::Finite, 3, -DBL_MAX, DBL_MAX, { 0.0, 0.0, 1.0 }, kRayCasterSetting };
+constexpr Setting kNormalMode{ "NormalMode", SettingType::Int, SettingCheck::Clamp, 1, 0, 3, { 0 }, kRayCasterSetting, "Exact gradient|Central differences|Nodal interpolation|Depth buffer" };
+constexpr Setting kCentralDifferenceStep{ "CentralDifferenceStep", SettingType::Double, SettingCheck::Clamp, 1, 1e-12, 1.0, { 1e-3 }, kRayCasterSetting };
+constexpr Setting kColorByArray{ "ColorByArray", SettingType::Bool, SettingCheck::Clamp, 1, 0, 1, { 0 }, kRayCasterSetting };
+constexpr Setting kColorArrayComponent{ "ColorArrayComponent", SettingType::Int, SettingCheck::Clamp, 1, -1, kNoIntAbove, { -1 }, kRayCasterSetting };
+constexpr Setting kColorRange{ "ColorRange", SettingType::Double, SettingCheck::Finite, 2, -DBL_MAX, DBL_MAX, { 0.0, -1.0 }, kRayCasterSetting };
+constexpr Setting kColorMap{ "ColorMap", SettingType::Int, SettingCheck::Clamp, 1, 0, 3, { 0 }, kRayCasterSetting, "Cool to Warm|Rainbow|Grayscale|Black-Body" };
+constexpr Setting kCapping{ "Capping", SettingType::Int, SettingCheck::Clamp, 1, 0, 2, { 0 }, kRayCasterSetting, "None|Below the iso-value|Above the iso-value" };
+constexpr Setting kTransverseTest{ "TransverseTest", SettingType::Int, SettingCheck::Clamp, 1, 0, 1, { 0 }, kRayCasterSetting, "Bernstein bound (guaranteed)|Widened nodal range (paper's heuristic)" };
+constexpr Setting kNodalRangeWidening{ "NodalRangeWidening", SettingType::Double, SettingCheck::Clamp, 1, 0.0, DBL_MAX, { 0.25 }, kRayCasterSetting };
+constexpr Setting kNumberOfThreads{ "NumberOfThreads", SettingType::Int, SettingCheck::Clamp, 1, 0, kNoIntAbove, { 0 }, kBothFilters };
+constexpr Setting kTolerance{ "Tolerance", SettingType::Double, SettingCheck::AtExecution, 1, 0.0, DBL_MAX, { 1e-3 }, kContourSetting };
+constexpr Setting kAbsoluteTolerance{ "AbsoluteTolerance", SettingType::Double, SettingCheck::AtExecution, 1, 0.0, DBL_MAX, { 0.0 }, kContourSetting };
+constexpr Setting kComputeIntegrals{ "ComputeIntegrals", SettingType::Bool, SettingCheck::Clamp, 1, 0, 1, { 1 }, kContourSetting };
+// clang-format on
+
+/// The table: every row above, in the order the faces list them.
+inline constexpr const Setting* kSettings[] = { &kImageSize, &kArrayComponent, &kSurfaceColor,
+  &kAmbient, &kDiffuse, &kSpecular, &kSpecularPower, &kLightAtCamera, &kLightPosition,
+  &kNormalMode, &kCentralDifferenceStep, &kColorByArray, &kColorArrayComponent, &kColorRange,
+  &kColorMap, &kCapping, &kTransverseTest, &kNodalRangeWidening, &kNumberOfThreads, &kTolerance,
+  &kAbsoluteTolerance, &kComputeIntegrals };
+
+/// The row named `name`, or nullptr.
+const Setting* settingNamed(const std::string& name);
+
+/// A setter's step for one row: `given` (row.components values; integers for Bool and Int rows)
+/// checked as row.check says, into `used`. False, with the row's error, when it is refused (then
+/// `used` is untouched and the setting keeps its value); a clamped integer adds a warning.
+bool checkSetting(const Setting& row, const double* given, double* used, Messages& messages);
 
 //------------------------------------------------------------------------------
 // Colour maps and tables
