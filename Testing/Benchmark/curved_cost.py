@@ -24,6 +24,7 @@ from tetdsr import vtkDirectSurfaceRayCaster
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 sys.path.insert(0, os.path.join(ROOT, "Testing", "Python"))
 from curved_reference import VTK_EDGES as EDGES, read_vtu as read, straightened  # noqa: E402
+from kuhn_lattice import kuhn_vertices  # noqa: E402
 
 
 def warped_lattice(n, alpha=0.5):
@@ -35,19 +36,10 @@ def warped_lattice(n, alpha=0.5):
     pts = np.stack([x.ravel(), y.ravel(), z.ravel()], axis=1)
     wave = np.sin(7 * pts[:, 0]) * np.cos(5 * pts[:, 1]) + np.sin(6 * pts[:, 2] + 1)
     idx = lambda i, j, k: i + m * (j + m * k)  # noqa: E731
-    perms = [(0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)]
-    odd = [False, True, True, False, False, True]
     cells = []
     base = np.stack(np.meshgrid(np.arange(n), np.arange(n), np.arange(n), indexing="ij"),
-                    axis=-1).reshape(-1, 3) * 2
-    for perm, flip in zip(perms, odd):
-        v = [base.copy()]
-        for s in range(3):
-            nxt = v[-1].copy()
-            nxt[:, perm[s]] += 2
-            v.append(nxt)
-        if flip:
-            v[1], v[2] = v[2], v[1]
+                    axis=-1).reshape(-1, 3)
+    for v in kuhn_vertices(base, 2):  # (the cells path by path, each over every cube)
         ids = [idx(c[:, 0], c[:, 1], c[:, 2]) for c in v]
         mids = [idx(*(((v[a] + v[b]) // 2).T)) for a, b in EDGES]
         cells.append(np.stack(ids + mids, axis=1))

@@ -9,7 +9,6 @@ VTK): only VTK API common to both, and none of TetDSR's code.
 - The truth: polynomial fields given analytically (value and gradient), the first crossing along
   each pixel ray found by dense sampling and bisection of the analytic field (not of the mesh),
   with a grazing band of rays that pass near the surface without a clear crossing."""
-import itertools
 import os
 import sys
 
@@ -22,6 +21,7 @@ from vtkmodules.vtkCommonDataModel import (VTK_BEZIER_TETRAHEDRON, VTK_LAGRANGE_
                                            vtkUnstructuredGrid)
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Wheel"))
+from kuhn_lattice import kuhn_tets  # noqa: E402,F401 (the lattice's tets; also for the tests)
 from truth import pixel_rays  # noqa: E402,F401  (the filter's documented pixel convention)
 
 
@@ -55,22 +55,6 @@ def bernstein_at_nodes(order):
         cell.InterpolateFunctions(list(pc), weights)
         B[i] = weights
     return B
-
-
-def kuhn_tets(n):
-    """The n^3 cubes of [0, n]^3 as 6 positively oriented tets each: (6 n^3, 4, 3) integers."""
-    tets = []
-    for corner in itertools.product(range(n), repeat=3):
-        for order in itertools.permutations(range(3)):
-            v = [np.array(corner)]
-            for axis in order:
-                step = v[-1].copy()
-                step[axis] += 1
-                v.append(step)
-            if np.linalg.det(np.array(v[1:]) - v[0]) < 0:
-                v[1], v[2] = v[2], v[1]
-            tets.append(v)
-    return np.array(tets)
 
 
 def grid(n, vtk_type, order, fields, lo=0.0, hi=1.0, cells=None, weights=None):

@@ -17,6 +17,32 @@ ODD = [sum(path[a] > path[b] for a, b in itertools.combinations(range(3), 2)) % 
        for path in PATHS]
 
 
+def kuhn_vertices(cubes, step=1, oriented=True):
+    """Kuhn's walk, the one in the Python tests: for cubes (c, 3) of integer lowest corners (in
+    units of `step`), the 4 vertices of each of a cube's 6 tets, a list over PATHS of 4 (c, 3)
+    arrays: from step * corner along the axes in the path's order. oriented: vertices 1 and 2
+    swapped in the odd paths' tets, so that every tet has positive volume."""
+    walks = []
+    for p, path in enumerate(PATHS):
+        v = [step * cubes]
+        for axis in path:
+            nxt = v[-1].copy()
+            nxt[:, axis] += step
+            v.append(nxt)
+        if oriented and ODD[p]:
+            v[1], v[2] = v[2], v[1]
+        walks.append(v)
+    return walks
+
+
+def kuhn_tets(n):
+    """The n^3 cubes of [0, n]^3 (z fastest) as 6 positively oriented tets each: (6 n^3, 4, 3)
+    integer vertices, a cube's tets in PATHS' order."""
+    cubes = np.indices((n, n, n), dtype=np.int64).reshape(3, -1).T
+    walks = np.array(kuhn_vertices(cubes))  # (6 paths, 4 vertices, cubes, 3)
+    return walks.transpose(2, 0, 1, 3).reshape(-1, 4, 3)
+
+
 def kuhn_quadratic_tets(n, x_fastest=False, oriented=True):
     """The lattice's topology on the half-step grid of m = 2 n + 1 nodes per axis.
 
@@ -32,14 +58,7 @@ def kuhn_quadratic_tets(n, x_fastest=False, oriented=True):
     if x_fastest:  # (the last index runs fastest: read it as x)
         cubes, keys = cubes[:, ::-1], keys[:, ::-1]
     nodes = np.empty((len(cubes), len(PATHS), 10, 3), dtype=np.int64)
-    for p, path in enumerate(PATHS):
-        v = [2 * cubes]
-        for axis in path:
-            step = v[-1].copy()
-            step[:, axis] += 2
-            v.append(step)
-        if oriented and ODD[p]:
-            v[1], v[2] = v[2], v[1]
+    for p, v in enumerate(kuhn_vertices(cubes, 2, oriented)):
         nodes[:, p] = np.stack(v + [(v[a] + v[b]) // 2 for a, b in EDGES], axis=1)
     if x_fastest:
         ids = nodes[..., 0] + m * (nodes[..., 1] + m * nodes[..., 2])

@@ -3,8 +3,13 @@ of tetrahedra, pixel rays with TetDSR's convention, the exact first hit of a qua
 ray, the first hit on a triangle surface along the same rays, and how many tets of a lattice a
 ray crosses."""
 import itertools
+import os
+import sys
 
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
+from kuhn_lattice import kuhn_vertices  # noqa: E402
 
 # VTK_QUADRATIC_TETRA's mid-edge nodes, in VTK's order.
 QUADRATIC_TETRA_EDGES = ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))
@@ -18,16 +23,8 @@ def kuhn_lattice(n, quadratic, lo=(0.0, 0.0, 0.0), hi=(1.0, 1.0, 1.0)):
     Returns points (P, 3) and connectivity (cells, 4 or 10), point id = i + m (j + m k)."""
     step = 2 if quadratic else 1
     m = step * n + 1
-    corners = step * np.indices((n, n, n)).reshape(3, -1).T
     tets = []
-    for order in itertools.permutations(range(3)):
-        vertices = [corners]
-        for axis in order:
-            vertices.append(vertices[-1].copy())
-            vertices[-1][:, axis] += step
-        inversions = sum(order[a] > order[b] for a, b in itertools.combinations(range(3), 2))
-        if inversions % 2:
-            vertices[1], vertices[2] = vertices[2], vertices[1]  # positive volume, as VTK expects
+    for vertices in kuhn_vertices(np.indices((n, n, n)).reshape(3, -1).T, step):
         if quadratic:
             vertices += [(vertices[a] + vertices[b]) // 2 for a, b in QUADRATIC_TETRA_EDGES]
         tets.append(np.stack([v[:, 0] + m * (v[:, 1] + m * v[:, 2]) for v in vertices], axis=1))
