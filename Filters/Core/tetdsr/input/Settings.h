@@ -235,28 +235,28 @@ constexpr unsigned kBothFilters = kRayCasterSetting | kContourSetting;
 // clang-format off
 // (defaults of Material, NormalSettings, TransverseTest and ExactSurfaceSettings: TestSettings
 // checks that these equal them)
-constexpr Setting kImageSize{ "ImageSize", SettingType::Int, SettingCheck::AtExecution, 2, 1, kNoIntAbove, { 512, 512 }, kRayCasterSetting };
-constexpr Setting kArrayComponent{ "ArrayComponent", SettingType::Int, SettingCheck::AtExecution, 1, -1, kNoIntAbove, { -1 }, kBothFilters };
-constexpr Setting kSurfaceColor{ "SurfaceColor", SettingType::Double, SettingCheck::Finite, 3, 0.0, 1.0, { 1.0, 1.0, 1.0 }, kRayCasterSetting };
-constexpr Setting kAmbient{ "Ambient", SettingType::Double, SettingCheck::Clamp, 1, 0.0, 1.0, { 0.1 }, kRayCasterSetting };
-constexpr Setting kDiffuse{ "Diffuse", SettingType::Double, SettingCheck::Clamp, 1, 0.0, 1.0, { 0.7 }, kRayCasterSetting };
-constexpr Setting kSpecular{ "Specular", SettingType::Double, SettingCheck::Clamp, 1, 0.0, 1.0, { 0.2 }, kRayCasterSetting };
-constexpr Setting kSpecularPower{ "SpecularPower", SettingType::Double, SettingCheck::Clamp, 1, 0.0, 128.0, { 30.0 }, kRayCasterSetting };
-constexpr Setting kLightAtCamera{ "LightAtCamera", SettingType::Bool, SettingCheck::Clamp, 1, 0, 1, { 1 }, kRayCasterSetting };
-constexpr Setting kLightPosition{ "LightPosition", SettingType::Double, SettingCheck::Finite, 3, -DBL_MAX, DBL_MAX, { 0.0, 0.0, 1.0 }, kRayCasterSetting };
-constexpr Setting kNormalMode{ "NormalMode", SettingType::Int, SettingCheck::Clamp, 1, 0, 3, { 0 }, kRayCasterSetting, "Exact gradient|Central differences|Nodal interpolation|Depth buffer" };
-constexpr Setting kCentralDifferenceStep{ "CentralDifferenceStep", SettingType::Double, SettingCheck::Clamp, 1, 1e-12, 1.0, { 1e-3 }, kRayCasterSetting };
-constexpr Setting kColorByArray{ "ColorByArray", SettingType::Bool, SettingCheck::Clamp, 1, 0, 1, { 0 }, kRayCasterSetting };
-constexpr Setting kColorArrayComponent{ "ColorArrayComponent", SettingType::Int, SettingCheck::Clamp, 1, -1, kNoIntAbove, { -1 }, kRayCasterSetting };
-constexpr Setting kColorRange{ "ColorRange", SettingType::Double, SettingCheck::Finite, 2, -DBL_MAX, DBL_MAX, { 0.0, -1.0 }, kRayCasterSetting };
-constexpr Setting kColorMap{ "ColorMap", SettingType::Int, SettingCheck::Clamp, 1, 0, 3, { 0 }, kRayCasterSetting, "Cool to Warm|Rainbow|Grayscale|Black-Body" };
-constexpr Setting kCapping{ "Capping", SettingType::Int, SettingCheck::Clamp, 1, 0, 2, { 0 }, kRayCasterSetting, "None|Below the iso-value|Above the iso-value" };
-constexpr Setting kTransverseTest{ "TransverseTest", SettingType::Int, SettingCheck::Clamp, 1, 0, 1, { 0 }, kRayCasterSetting, "Bernstein bound (guaranteed)|Widened nodal range (paper's heuristic)" };
-constexpr Setting kNodalRangeWidening{ "NodalRangeWidening", SettingType::Double, SettingCheck::Clamp, 1, 0.0, DBL_MAX, { 0.25 }, kRayCasterSetting };
-constexpr Setting kNumberOfThreads{ "NumberOfThreads", SettingType::Int, SettingCheck::Clamp, 1, 0, kNoIntAbove, { 0 }, kBothFilters };
-constexpr Setting kTolerance{ "Tolerance", SettingType::Double, SettingCheck::AtExecution, 1, 0.0, DBL_MAX, { 1e-3 }, kContourSetting };
-constexpr Setting kAbsoluteTolerance{ "AbsoluteTolerance", SettingType::Double, SettingCheck::AtExecution, 1, 0.0, DBL_MAX, { 0.0 }, kContourSetting };
-constexpr Setting kComputeIntegrals{ "ComputeIntegrals", SettingType::Bool, SettingCheck::Clamp, 1, 0, 1, { 1 }, kContourSetting };
+inline constexpr Setting kImageSize{ "ImageSize", SettingType::Int, SettingCheck::AtExecution, 2, 1, kNoIntAbove, { 512, 512 }, kRayCasterSetting };
+inline constexpr Setting kArrayComponent{ "ArrayComponent", SettingType::Int, SettingCheck::AtExecution, 1, -1, kNoIntAbove, { -1 }, kBothFilters };
+inline constexpr Setting kSurfaceColor{ "SurfaceColor", SettingType::Double, SettingCheck::Finite, 3, 0.0, 1.0, { 1.0, 1.0, 1.0 }, kRayCasterSetting };
+inline constexpr Setting kAmbient{ "Ambient", SettingType::Double, SettingCheck::Clamp, 1, 0.0, 1.0, { 0.1 }, kRayCasterSetting };
+inline constexpr Setting kDiffuse{ "Diffuse", SettingType::Double, SettingCheck::Clamp, 1, 0.0, 1.0, { 0.7 }, kRayCasterSetting };
+inline constexpr Setting kSpecular{ "Specular", SettingType::Double, SettingCheck::Clamp, 1, 0.0, 1.0, { 0.2 }, kRayCasterSetting };
+inline constexpr Setting kSpecularPower{ "SpecularPower", SettingType::Double, SettingCheck::Clamp, 1, 0.0, 128.0, { 30.0 }, kRayCasterSetting };
+inline constexpr Setting kLightAtCamera{ "LightAtCamera", SettingType::Bool, SettingCheck::Clamp, 1, 0, 1, { 1 }, kRayCasterSetting };
+inline constexpr Setting kLightPosition{ "LightPosition", SettingType::Double, SettingCheck::Finite, 3, -DBL_MAX, DBL_MAX, { 0.0, 0.0, 1.0 }, kRayCasterSetting };
+inline constexpr Setting kNormalMode{ "NormalMode", SettingType::Int, SettingCheck::Clamp, 1, 0, 3, { 0 }, kRayCasterSetting, "Exact gradient|Central differences|Nodal interpolation|Depth buffer" };
+inline constexpr Setting kCentralDifferenceStep{ "CentralDifferenceStep", SettingType::Double, SettingCheck::Clamp, 1, 1e-12, 1.0, { 1e-3 }, kRayCasterSetting };
+inline constexpr Setting kColorByArray{ "ColorByArray", SettingType::Bool, SettingCheck::Clamp, 1, 0, 1, { 0 }, kRayCasterSetting };
+inline constexpr Setting kColorArrayComponent{ "ColorArrayComponent", SettingType::Int, SettingCheck::Clamp, 1, -1, kNoIntAbove, { -1 }, kRayCasterSetting };
+inline constexpr Setting kColorRange{ "ColorRange", SettingType::Double, SettingCheck::Finite, 2, -DBL_MAX, DBL_MAX, { 0.0, -1.0 }, kRayCasterSetting };
+inline constexpr Setting kColorMap{ "ColorMap", SettingType::Int, SettingCheck::Clamp, 1, 0, 3, { 0 }, kRayCasterSetting, "Cool to Warm|Rainbow|Grayscale|Black-Body" };
+inline constexpr Setting kCapping{ "Capping", SettingType::Int, SettingCheck::Clamp, 1, 0, 2, { 0 }, kRayCasterSetting, "None|Below the iso-value|Above the iso-value" };
+inline constexpr Setting kTransverseTest{ "TransverseTest", SettingType::Int, SettingCheck::Clamp, 1, 0, 1, { 0 }, kRayCasterSetting, "Bernstein bound (guaranteed)|Widened nodal range (paper's heuristic)" };
+inline constexpr Setting kNodalRangeWidening{ "NodalRangeWidening", SettingType::Double, SettingCheck::Clamp, 1, 0.0, DBL_MAX, { 0.25 }, kRayCasterSetting };
+inline constexpr Setting kNumberOfThreads{ "NumberOfThreads", SettingType::Int, SettingCheck::Clamp, 1, 0, kNoIntAbove, { 0 }, kBothFilters };
+inline constexpr Setting kTolerance{ "Tolerance", SettingType::Double, SettingCheck::AtExecution, 1, 0.0, DBL_MAX, { 1e-3 }, kContourSetting };
+inline constexpr Setting kAbsoluteTolerance{ "AbsoluteTolerance", SettingType::Double, SettingCheck::AtExecution, 1, 0.0, DBL_MAX, { 0.0 }, kContourSetting };
+inline constexpr Setting kComputeIntegrals{ "ComputeIntegrals", SettingType::Bool, SettingCheck::Clamp, 1, 0, 1, { 1 }, kContourSetting };
 // clang-format on
 
 /// The table: every row above, in the order the faces list them.
