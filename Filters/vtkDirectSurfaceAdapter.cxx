@@ -1,10 +1,12 @@
 #include "vtkDirectSurfaceAdapter.h"
 
 #include "vtkCellArray.h"
+#include "vtkCellData.h"
 #include "vtkCellType.h"
 #include "vtkContourValues.h"
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkDirectSurfacePick.h"
 #include "vtkDoubleArray.h"
 #include "vtkNew.h"
@@ -36,6 +38,15 @@ namespace
 {
 /// What a scene was built from: each object and its modification time. vtkUnstructuredGrid's
 /// own MTime does not follow edits of its cell arrays, so every array is stamped on its own.
+/// The input's cell ghost flags (any array named vtkGhostType: the core checks its type and size).
+vtkDataArray* CellGhosts(vtkUnstructuredGrid* input)
+{
+  return input->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName());
+}
+static_assert(vtkDataSetAttributes::DUPLICATECELL == tetdsr::kGhostDuplicateCell &&
+    vtkDataSetAttributes::HIDDENCELL == tetdsr::kGhostHiddenCell,
+  "the core leaves out the cells VTK flags duplicate or hidden");
+
 struct Stamp
 {
   std::vector<std::pair<const void*, vtkMTimeType>> parts;
@@ -56,6 +67,7 @@ struct Stamp
     add(input->GetCellTypesArray());
     add(scalars);
     add(input->GetPointData()->GetRationalWeights());
+    add(CellGhosts(input));
     return stamp;
   }
   bool operator==(const Stamp& other) const { return parts == other.parts; }
@@ -234,6 +246,11 @@ bool PreparedMesh::Prepare(vtkUnstructuredGrid* input, vtkDataArray* scalars, in
   {
     arrays.rationalWeights = ViewOf(weights, fresh.Viewed);
     arrays.hasRationalWeights = true;
+  }
+  if (vtkDataArray* ghosts = CellGhosts(input))
+  {
+    arrays.cellGhosts = ViewOf(ghosts, fresh.Viewed);
+    arrays.hasCellGhosts = true;
   }
   bool prepared = false;
   WithThreads(numberOfThreads,

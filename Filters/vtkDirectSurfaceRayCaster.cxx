@@ -988,6 +988,7 @@ bool vtkDirectSurfaceRayCaster::PrepareScene(Execution& run)
   this->NumberOfOrderTooHighCells = summary.orderTooHighCells;
   this->NumberOfRationalCells = summary.rationalCells;
   this->NumberOfHigherOrderCells = summary.higherOrderCells;
+  this->NumberOfGhostCells = summary.ghostCells;
   run.ColorValues = run.ColorArray && ready
     ? prepared.PointArrayValues(run.ColorArray, "colour array", run.Messages)
     : nullptr;
@@ -1168,5 +1169,6 @@ void vtkDirectSurfaceRayCaster::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfRationalCells: " << this->NumberOfRationalCells << "\n";
   os << indent << "NumberOfHigherOrderCells: " << this->NumberOfHigherOrderCells << "\n";
   os << indent << "NumberOfOutOfScaleCells: " << this->NumberOfOutOfScaleCells << "\n";
+  os << indent << "NumberOfGhostCells: " << this->NumberOfGhostCells << "\n";
   os << indent << "PreprocessedBytes: " << this->GetPreprocessedBytes() << "\n";
 }

@@ -353,7 +353,10 @@ public:
    * (degenerate), NaN/Inf values or coordinates, node ids out of range, an unsupported cell
    * type, a number of ids that does not match the type or offsets out of order (malformed), a
    * Lagrange or Bezier tetrahedron of order above 4, a rational Bezier cell (weights that differ
-   * within it), a longest edge outside [1e-100, 1e100] (out of scale).
+   * within it), a longest edge outside [1e-100, 1e100] (out of scale). Ghost cells (cell
+   * array vtkGhostType with the DUPLICATECELL or HIDDENCELL bit, as distributed writers and
+   * ghost-cell generators leave them) are left out without a warning: the piece that owns one
+   * draws it (NumberOfGhostCells counts them).
    */
   vtkGetMacro(NumberOfRenderedCells, vtkIdType);
   vtkGetMacro(NumberOfInvertedCells, vtkIdType);
@@ -368,6 +371,7 @@ public:
   vtkGetMacro(NumberOfRationalCells, vtkIdType);
   vtkGetMacro(NumberOfHigherOrderCells, vtkIdType);
   vtkGetMacro(NumberOfOutOfScaleCells, vtkIdType);
+  vtkGetMacro(NumberOfGhostCells, vtkIdType);
   ///@}
 
   /**
@@ -460,6 +464,7 @@ protected:
   vtkIdType NumberOfOrderTooHighCells = 0;
   vtkIdType NumberOfRationalCells = 0;
   vtkIdType NumberOfHigherOrderCells = 0;
+  vtkIdType NumberOfGhostCells = 0;
   vtkIdType NumberOfOutOfScaleCells = 0;
 
 private:

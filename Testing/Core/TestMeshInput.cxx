@@ -425,3 +425,104 @@ TEST(MeshInput, AnEmptyRationalWeightsArrayIsAShortOneNotNone)
     }
   }
 }
+
+// Ghost cells (VTK's vtkGhostType cell array): a cell flagged duplicate or hidden is left out
+// (the piece that owns it draws it), counted, and never named by a hit; the other flags' cells
+// are drawn. The scene left is the one without those cells, hit for hit.
+TEST(MeshInput, GhostCellsAreLeftOutCountedAndNeverHit)
+{
+  const LatticeArrays own(sphereLattice());
+  const std::size_t cells = own.Types.size();
+  std::vector<std::uint8_t> ghosts(cells, 0);
+  std::vector<std::uint8_t> withoutGhostCells = own.Types; // left out as unsupported instead
+  tetdsr::NodeId expected = 0;
+  for (std::size_t c = 0; c < cells; ++c)
+  {
+    // Duplicates, hidden cells, and cells with only the flags that describe drawn cells
+    // (high/low connectivity, refined, exterior), some with the duplicate bit among others.
+    const std::uint8_t kinds[] = { 1, 0, 32, 16, 4 | 1, 2, 8, 0, 16 | 32 };
+    ghosts[c] = kinds[c % (sizeof kinds)];
+    if (ghosts[c] & (tetdsr::kGhostDuplicateCell | tetdsr::kGhostHiddenCell))
+    {
+      ++expected;
+      withoutGhostCells[c] = 0; // VTK_EMPTY_CELL
+    }
+  }
+  ASSERT_GT(expected, 0);
+  tetdsr::MeshArrays arrays = own.arrays();
+  arrays.cellGhosts = { ghosts.data(), tetdsr::NumberType::UInt8,
+    static_cast<tetdsr::NodeId>(cells), 1, "vtkGhostType" };
+  arrays.hasCellGhosts = true;
+  tetdsr::Messages messages;
+  tetdsr::PreparedMesh prepared;
+  ASSERT_TRUE(prepared.prepare(arrays, tetdsr::TransverseTest(), tetdsr::serialFor, messages));
+  EXPECT_TRUE(messages.errors.empty());
+  EXPECT_TRUE(messages.warnings.empty()) << "ghost cells are expected in a piece: no warning";
+  EXPECT_EQ(prepared.summary().ghostCells, expected);
+  EXPECT_EQ(prepared.summary().validCells, static_cast<tetdsr::NodeId>(cells) - expected);
+
+  tetdsr::MeshArrays reference = own.arrays();
+  reference.cellTypes.data = withoutGhostCells.data();
+  tetdsr::Messages referenceMessages;
+  tetdsr::PreparedMesh without;
+  ASSERT_TRUE(
+    without.prepare(reference, tetdsr::TransverseTest(), tetdsr::serialFor, referenceMessages));
+  EXPECT_EQ(without.summary().unsupportedCells, expected);
+  const std::vector<tetdsr::SurfaceHit> hits = castFan(prepared, 0.1);
+  expectSameHits(hits, castFan(without, 0.1));
+  for (const tetdsr::SurfaceHit& hit : hits)
+  {
+    if (hit.t >= 0.0)
+    {
+      EXPECT_EQ(ghosts[hit.cellId] & (tetdsr::kGhostDuplicateCell | tetdsr::kGhostHiddenCell), 0)
+        << "a hit names ghost cell " << hit.cellId;
+    }
+  }
+}
+
+TEST(MeshInput, GhostArraysAreCheckedAndAllGhostPiecesSaySo)
+{
+  const LatticeArrays own(sphereLattice());
+  const auto cells = static_cast<tetdsr::NodeId>(own.Types.size());
+  std::vector<std::uint8_t> ghosts(own.Types.size(), 1);
+  std::vector<std::int32_t> wide(own.Types.size(), 0);
+  auto prepare = [&](const tetdsr::ArrayView& view, tetdsr::Messages& messages) {
+    tetdsr::MeshArrays arrays = own.arrays();
+    arrays.cellGhosts = view;
+    arrays.hasCellGhosts = true;
+    tetdsr::PreparedMesh prepared;
+    return prepared.prepare(arrays, tetdsr::TransverseTest(), tetdsr::serialFor, messages);
+  };
+  {
+    tetdsr::Messages messages; // one value short
+    EXPECT_FALSE(prepare({ ghosts.data(), tetdsr::NumberType::UInt8, cells - 1, 1, "vtkGhostType" },
+      messages));
+    ASSERT_EQ(messages.errors.size(), 1u);
+    EXPECT_NE(messages.errors[0].find("cell ghost array 'vtkGhostType' has " +
+                std::to_string(cells - 1) + " tuples"),
+      std::string::npos)
+      << messages.errors[0];
+  }
+  {
+    tetdsr::Messages messages; // 32-bit integers
+    EXPECT_FALSE(
+      prepare({ wide.data(), tetdsr::NumberType::Int32, cells, 1, "vtkGhostType" }, messages));
+    ASSERT_EQ(messages.errors.size(), 1u);
+    EXPECT_NE(messages.errors[0].find("other than unsigned 8-bit"), std::string::npos)
+      << messages.errors[0];
+  }
+  {
+    tetdsr::Messages messages; // a null pointer that claims values
+    EXPECT_FALSE(prepare({ nullptr, tetdsr::NumberType::UInt8, cells, 1, "vtkGhostType" }, messages));
+    EXPECT_EQ(messages.errors.size(), 1u);
+  }
+  {
+    tetdsr::Messages messages; // every cell a ghost
+    EXPECT_FALSE(
+      prepare({ ghosts.data(), tetdsr::NumberType::UInt8, cells, 1, "vtkGhostType" }, messages));
+    ASSERT_EQ(messages.errors.size(), 1u);
+    EXPECT_NE(messages.errors[0].find(std::to_string(cells) + " of them ghost cells"),
+      std::string::npos)
+      << messages.errors[0];
+  }
+}

@@ -344,3 +344,28 @@ def test_pick_equals_the_image_at_pixel_centres(data):
     with pytest.raises(ValueError):
         caster.WindowDepth(np.eye(3))
     assert caster.Pick(float("nan"), 3.0) is None and caster.Pick(-5.0, 1e9) is None
+
+
+def test_ghost_cells_are_left_out_and_counted(data):
+    # sphere_in_cell's sphere lies inside cell 0: flagged as another piece's duplicate (VTK's
+    # vtkGhostType DUPLICATECELL) it is not drawn, counted and not warned about; a flag that
+    # describes a drawn cell (EXTERIORCELL) leaves it drawn; a ghost array of another type is an
+    # error naming it.
+    def with_ghosts(values, dtype=np.uint8):
+        mesh = sphere_mesh(data)
+        ghosts = numpy_to_vtk(np.array(values, dtype=dtype), deep=1)
+        ghosts.SetName("vtkGhostType")
+        mesh.GetCellData().AddArray(ghosts)
+        return mesh
+
+    caster, messages = bad(with_ghosts([1, 0, 0, 0, 0, 0]), lambda c: c.SetValue(0, 0.0))
+    out = outputs(caster)
+    assert caster.GetNumberOfGhostCells() == 1 and caster.GetNumberOfRenderedCells() == 5
+    assert messages.errors == [] and messages.warnings == [], (messages.errors, messages.warnings)
+    assert not np.isfinite(out["Depth"]).any(), "the sphere is in the ghost cell: nothing drawn"
+    caster, messages = bad(with_ghosts([16, 0, 0, 0, 0, 0]))
+    out = outputs(caster)
+    assert caster.GetNumberOfGhostCells() == 0 and np.isfinite(out["Depth"]).sum() > 0
+    caster, messages = bad(with_ghosts([0] * 6, np.int32))
+    assert any("cell ghost array 'vtkGhostType'" in e and "unsigned 8-bit" in e
+               for e in messages.errors), messages.errors

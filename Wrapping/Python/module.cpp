@@ -245,7 +245,7 @@ tetdsr::ArrayView CopyOf(const AnyArray& array, const char* what, std::vector<un
 bool Prepare(PyPreparedMesh& self, AnyArray points, AnyArray cellTypes, AnyArray offsets,
   AnyArray connectivity, AnyArray field, const std::string& fieldName, int component,
   const tetdsr::TransverseTest& transverse, int threads, tetdsr::Messages& messages,
-  std::optional<AnyArray> rationalWeights)
+  std::optional<AnyArray> rationalWeights, std::optional<AnyArray> cellGhosts)
 {
   if (tCasts > 0)
   {
@@ -256,7 +256,7 @@ bool Prepare(PyPreparedMesh& self, AnyArray points, AnyArray cellTypes, AnyArray
   ++self.Generation; // every Renderer made before refuses to cast from now on
   self.Surface.reset();
   self.SurfaceValues.clear();
-  std::vector<std::vector<unsigned char>> copies(6);
+  std::vector<std::vector<unsigned char>> copies(7);
   tetdsr::MeshArrays arrays;
   arrays.points = CopyOf(points, "points", copies[0]);
   arrays.cellTypes = CopyOf(cellTypes, "cell_types", copies[1]);
@@ -270,6 +270,12 @@ bool Prepare(PyPreparedMesh& self, AnyArray points, AnyArray cellTypes, AnyArray
     arrays.rationalWeights = CopyOf(*rationalWeights, "rational_weights", copies[5]);
     arrays.hasRationalWeights = true;
     arrays.rationalWeights.name = "RationalWeights";
+  }
+  if (cellGhosts)
+  {
+    arrays.cellGhosts = CopyOf(*cellGhosts, "cell_ghosts", copies[6]);
+    arrays.hasCellGhosts = true;
+    arrays.cellGhosts.name = "vtkGhostType";
   }
   self.Copied = std::move(copies);
   nb::gil_scoped_release release;
@@ -553,6 +559,7 @@ nb::dict SummaryOf(const tetdsr::PreprocessSummary& summary)
   d["order_too_high"] = summary.orderTooHighCells;
   d["rational"] = summary.rationalCells;
   d["higher_order"] = summary.higherOrderCells;
+  d["ghost"] = summary.ghostCells;
   return d;
 }
 
@@ -903,10 +910,12 @@ void BindMesh(nb::module_& m)
     .def("prepare", &Prepare, "points"_a, "cell_types"_a, "offsets"_a, "connectivity"_a,
       "field"_a, "field_name"_a = "", "component"_a = 0,
       "transverse"_a = tetdsr::TransverseTest(), "threads"_a = 0, "messages"_a,
-      "rational_weights"_a = nb::none(),
+      "rational_weights"_a = nb::none(), "cell_ghosts"_a = nb::none(),
       "points: (n, 3) float32/float64; cell_types: (m,) uint8 VTK cell types; offsets: (m + 1,) "
       "and connectivity int32/int64; field: (n,) or (n, k) of any number type, `component` "
-      "contoured; rational_weights: (n,) VTK's rational weights of Bezier cells, or None. False, "
+      "contoured; rational_weights: (n,) VTK's rational weights of Bezier cells, or None; "
+      "cell_ghosts: (m,) uint8 VTK's cell ghost flags (vtkGhostType): cells flagged duplicate or "
+      "hidden are left out, or None. False, "
       "with errors, when nothing can be rendered; warnings count skipped cells.")
     .def(
       "reuse",

@@ -68,13 +68,19 @@ def _cell_types(grid):
     return grid.GetCellTypesArray()
 
 
+def _cell_ghosts(grid):
+    """The grid's cell ghost flags: any array named vtkGhostType (the core checks its type and
+    size), or None."""
+    return grid.GetCellData().GetArray("vtkGhostType")
+
+
 def _stamp(grid, scalars, component, transverse):
     points = grid.GetPoints()
     cells = grid.GetCells()
     parts = [grid, points, points.GetData() if points else None, cells,
              cells.GetOffsetsArray() if cells else None,
              cells.GetConnectivityArray() if cells else None, _cell_types(grid), scalars,
-             grid.GetPointData().GetRationalWeights()]
+             grid.GetPointData().GetRationalWeights(), _cell_ghosts(grid)]
     return tuple((part, part.GetMTime() if part is not None else 0) for part in parts) + (
         component, transverse)
 
@@ -342,6 +348,7 @@ class _FieldFilter(VTKPythonAlgorithmBase):
         transverse.widening = transverse_test[1]
         cells = grid.GetCells()
         weights = grid.GetPointData().GetRationalWeights()
+        ghosts = _cell_ghosts(grid)
         prepared = _core.PreparedMesh()
         self._prepared, self._prepared_stamp = prepared, stamp
         ready = prepared.prepare(
@@ -349,5 +356,6 @@ class _FieldFilter(VTKPythonAlgorithmBase):
             _as_numpy(cells.GetOffsetsArray()), _as_numpy(cells.GetConnectivityArray()),
             _as_numpy(scalars), field_name=scalars.GetName() or "", component=component,
             transverse=transverse, threads=threads, messages=messages,
-            rational_weights=_as_numpy(weights) if weights is not None else None)
+            rational_weights=_as_numpy(weights) if weights is not None else None,
+            cell_ghosts=_as_numpy(ghosts) if ghosts is not None else None)
         return prepared if ready else None

@@ -189,7 +189,8 @@ class vtkDirectSurfaceRayCaster(_FieldFilter):
                "Degenerate": "degenerate", "Tangled": "tangled", "NonFinite": "non_finite",
                "InvalidId": "invalid_id", "Unsupported": "unsupported", "Malformed": "malformed",
                "OrderTooHigh": "order_too_high", "Rational": "rational",
-               "HigherOrder": "higher_order", "OutOfScale": "out_of_scale"}
+               "HigherOrder": "higher_order", "OutOfScale": "out_of_scale",
+               "Ghost": "ghost"}
 
     def GetNumberOfUncertifiedHits(self):
         return self._counts["UncertifiedHits"]

@@ -95,7 +95,8 @@ enum CellStatus : std::uint16_t
   kMalformed = 512,
   kOrderTooHigh = 1024, ///< a Lagrange or Bezier tetrahedron of order above kMaxTetOrder
   kRational = 2048,     ///< a Bezier tetrahedron whose rational weights differ within it
-  kHigherOrder = 4096   ///< valid, of order 3 or more (hexahedra and wedges: their pieces)
+  kHigherOrder = 4096,  ///< valid, of order 3 or more (hexahedra and wedges: their pieces)
+  kGhost = 8192         ///< a ghost cell (MeshView::cellGhosts): another piece draws it
 };
 
 /// How a cell's node ids are read: the order of its polynomials and whether its nodes are

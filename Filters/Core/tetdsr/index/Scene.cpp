@@ -58,6 +58,7 @@ void count(std::uint16_t flags, PreprocessSummary& summary)
   summary.orderTooHighCells += (flags & kOrderTooHigh) != 0;
   summary.rationalCells += (flags & kRational) != 0;
   summary.higherOrderCells += (flags & kHigherOrder) != 0;
+  summary.ghostCells += (flags & kGhost) != 0;
 }
 
 /// Adds counts to a total.
@@ -76,6 +77,7 @@ void add(const PreprocessSummary& part, PreprocessSummary& total)
   total.orderTooHighCells += part.orderTooHighCells;
   total.rationalCells += part.rationalCells;
   total.higherOrderCells += part.higherOrderCells;
+  total.ghostCells += part.ghostCells;
 }
 
 float roundDown(double x)
@@ -365,6 +367,11 @@ BoxItem Scene::cellBox(NodeId cellId) const
 std::uint16_t Scene::validate(
   NodeId cell, ValidCell& validCell, glm::dvec3& extentLo, glm::dvec3& extentHi) const
 {
+  if (Mesh_.cellGhosts &&
+    (Mesh_.cellGhosts[cell] & (kGhostDuplicateCell | kGhostHiddenCell)) != 0)
+  {
+    return kGhost;
+  }
   CellLayout layout;
   const NodeId* ids = nullptr;
   if (const std::uint16_t unreadable = checkIds(cell, layout, ids))

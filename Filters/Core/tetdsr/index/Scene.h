@@ -41,12 +41,22 @@ struct MeshView
   const double* values = nullptr; ///< one scalar per point (numberOfPoints entries)
   /// VTK's "RationalWeights" of Bezier cells, one per point; null when the mesh has none.
   const double* rationalWeights = nullptr;
+  /// VTK's cell ghost flags ("vtkGhostType"), one byte per cell; null when the mesh has none. A
+  /// cell flagged kGhostDuplicateCell or kGhostHiddenCell is left out (kGhost).
+  const std::uint8_t* cellGhosts = nullptr;
   /// The relative rounding of the coordinates as given (2^-52 for double, 2^-23 for float): a
   /// mid-edge node farther from its edge's midpoint than 64 times this, relative to the larger of
   /// the cell's longest edge and its coordinates' magnitude, makes the cell curved
   /// (isoparametric); closer ones are rounding.
   double pointRounding = 0x1p-52;
 };
+
+/// The bits of VTK's cell ghost flags (vtkDataSetAttributes::CellGhostTypes) that leave a cell
+/// out: a duplicate of a cell another piece owns (distributed writers and ghost-cell generators
+/// add them around each piece), or a cell kept only for connectivity whose values are to be
+/// ignored. The other bits describe a cell that is drawn.
+constexpr std::uint8_t kGhostDuplicateCell = 1;
+constexpr std::uint8_t kGhostHiddenCell = 32;
 
 /// The checks of a cell's node ids that every reader of cells makes, in this order: kInvalidId
 /// (an id outside [0, numberOfPoints)), kDegenerate (an id repeated), kRational (a Bezier cell
@@ -112,6 +122,8 @@ struct PreprocessSummary
   /// valid, of order 3 or more (HigherOrderTetCell, CurvedHigherOrderTetCell; a hexahedron or
   /// wedge whose polynomials are of total degree 3 or more)
   NodeId higherOrderCells = 0;
+  /// a ghost cell (MeshView::cellGhosts): drawn by the piece that owns it, left out here
+  NodeId ghostCells = 0;
 };
 
 class Hierarchy;

@@ -171,6 +171,17 @@ bool checkArrays(const MeshArrays& arrays, NodeId numberOfCells, Messages& messa
       " points: it needs one value per point."));
     return false;
   }
+  const ArrayView& ghosts = arrays.cellGhosts;
+  if (arrays.hasCellGhosts &&
+    (ghosts.tuples < numberOfCells || ghosts.components != 1 || !ghosts.data ||
+      ghosts.type != NumberType::UInt8))
+  {
+    messages.errors.push_back(text("The cell ghost array '", nameOf(ghosts), "' has ",
+      ghosts.tuples, " tuples of ", ghosts.components, " components",
+      ghosts.type != NumberType::UInt8 ? " of a type other than unsigned 8-bit" : "", " for ",
+      numberOfCells, " cells: it needs one unsigned 8-bit value per cell."));
+    return false;
+  }
   return true;
 }
 
@@ -243,7 +254,11 @@ bool describeSkipped(const PreprocessSummary& summary, NodeId numberOfCells, Nod
   if (summary.validCells == 0)
   {
     messages.errors.push_back(text("No cell can be rendered: all ", numberOfCells,
-      " input cells were skipped."));
+      " input cells were skipped",
+      summary.ghostCells > 0 ? text(" (", summary.ghostCells,
+                                 " of them ghost cells, which the pieces that own them draw)")
+                             : std::string(),
+      "."));
     return false;
   }
   return true;
@@ -342,6 +357,10 @@ bool PreparedMesh::prepare(const MeshArrays& arrays, const TransverseTest& trans
   if (arrays.hasRationalWeights)
   {
     mesh.rationalWeights = asDoubles(arrays.rationalWeights, numberOfPoints, 0, 1, in.Weights);
+  }
+  if (arrays.hasCellGhosts)
+  {
+    mesh.cellGhosts = static_cast<const std::uint8_t*>(arrays.cellGhosts.data);
   }
   in.TheScene.reset(new Scene(mesh, parallelFor, transverse));
   if (!describeSkipped(

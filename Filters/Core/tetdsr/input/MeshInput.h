@@ -67,6 +67,11 @@ struct MeshArrays
   /// point, any NumberType; read when `hasRationalWeights` (an empty array is an array: too short).
   ArrayView rationalWeights;
   bool hasRationalWeights = false;
+  /// VTK's cell ghost flags ("vtkGhostType", vtkDataSet::GetCellGhostArray): UInt8, one value
+  /// per cell; read when `hasCellGhosts`. Cells flagged duplicate or hidden are left out
+  /// (MeshView::cellGhosts), so that a piece draws, composites and names only its own cells.
+  ArrayView cellGhosts;
+  bool hasCellGhosts = false;
 };
 
 /// "The input mesh is empty ..." unless there are points and cells.
