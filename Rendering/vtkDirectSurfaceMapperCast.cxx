@@ -147,6 +147,10 @@ bool vtkDirectSurfaceMapper::Frame::SetUpView(vtkRenderer* renderer, double samp
   this->WorldToModel = glm::inverse(this->ModelToWorld);
   this->ModelToNdc = worldToNdc * this->ModelToWorld;
   this->NdcToModel = glm::inverse(this->ModelToNdc);
+  if (!tetdsr::checkProjection(this->NdcToModel, this->Messages))
+  {
+    return false; // (a singular projection: the caller reports it)
+  }
   this->Rays = tetdsr::RayGenerator(this->NdcToModel, this->CastWidth, this->CastHeight);
   return true;
 }
@@ -330,7 +334,8 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   const double distance = this->ChooseSampleDistance(frame);
   if (!frame.SetUpView(renderer, distance))
   {
-    return; // an empty viewport
+    adapter::ReportMessages(this, frame.Messages);
+    return; // an empty viewport, or a singular projection
   }
   frame.CollectLights(renderer);
 

@@ -141,6 +141,23 @@ bool checkCamera(const Camera& camera, const Scene& scene, Messages& messages)
   return true;
 }
 
+bool checkProjection(const glm::dmat4& ndcToWorld, Messages& messages)
+{
+  for (int column = 0; column < 4; ++column)
+  {
+    for (int row = 0; row < 4; ++row)
+    {
+      if (!std::isfinite(ndcToWorld[column][row]))
+      {
+        messages.errors.push_back(
+          text("Cannot render: ", describe(CameraProblem::SingularProjection), "."));
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
 bool checkCameraExtras(const CameraExtras& extras, Messages& messages)
 {
   const std::pair<bool, const char*> named[] = {

@@ -69,6 +69,10 @@ bool checkCamera(const Camera& camera, Messages& messages);
 /// scene's valid cells.
 bool checkCamera(const Camera& camera, const Scene& scene, Messages& messages);
 
+/// False, with an error, when a projection (normalised device coordinates to the rays' space, the
+/// inverse of a view's composite projection) has a NaN or Inf: its matrix was singular.
+bool checkProjection(const glm::dmat4& ndcToWorld, Messages& messages);
+
 /// What a VTK camera may hold beyond a Camera's position, focal point, view up and view angle
 /// (or parallel scale): each changes which ray a pixel has, so a filter whose rays come from a
 /// Camera must refuse it rather than draw a different picture.
