@@ -24,7 +24,8 @@ from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkFiltersHybrid import vtkRenderLargeImage
 from vtkmodules.vtkFiltersSources import vtkPlaneSource, vtkSphereSource
 from vtkmodules.vtkCommonTransforms import vtkTransform
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkAssembly, vtkCamera, vtkPolyDataMapper, vtkRenderer,
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkAssembly, vtkCamera, vtkPolyDataMapper,
+                                         vtkRenderer, vtkRenderWindowInteractor,
                                          vtkWindowToImageFilter)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
 
@@ -396,6 +397,37 @@ class Views(unittest.TestCase):
         self.assertFalse(actor.GetMapper().Pick(80.5, 60.5, renderer, actor, pick))
         self.assertEqual(len(messages.errors), 3)
 
+    def test_interactive_frame_through_an_infinite_far_plane(self):
+        # A frame cast at 2 pixels a ray (level of detail) through the 1e17 clipping range: the
+        # same picture as the still frame of a window of the cast's size (same rays).
+        window = shared_window()
+        actor = sphere_actor("mapper")
+        renderer = add_renderer(window, actor)
+        renderer.GetActiveCamera().SetClippingRange(1e-3, 1e14)
+        mapper = actor.GetMapper()
+        mapper.AutoAdjustSampleDistancesOff()
+        mapper.SetInteractiveImageSampleDistance(2)
+        interactor = vtkRenderWindowInteractor()  # (no event loop: a still frame is cast at once)
+        interactor.SetRenderWindow(window)
+        interactor.SetStillUpdateRate(0.0001)
+        window.SetDesiredUpdateRate(15)
+        window.Render()
+        self.assertEqual(tuple(mapper.GetLastCastSize()), (W // 2, H // 2))
+        interactive = zbuffer(window) < 1
+        window.SetDesiredUpdateRate(0.0001)
+        window.SetSize(W // 2, H // 2)
+        window.Render()
+        cast = zbuffer(window) < 1
+        truth = sphere_depth(model_to_ndc(renderer, actor), W // 2, H // 2) < 1
+        upscaled = np.repeat(np.repeat(cast, 2, axis=0), 2, axis=1)
+        away = ~near_silhouette(np.repeat(np.repeat(truth, 2, axis=0), 2, axis=1))
+        wrong = int(((interactive != upscaled) & away).sum())
+        print("interactive frame at 1e-3 .. 1e14: %d covered, %d differ from the cast upscaled; "
+              "the cast %d wrong" % (interactive.sum(), wrong, ((cast != truth) & ~near_silhouette(truth)).sum()))
+        self.assertGreater(int(interactive.sum()), 1000)
+        self.assertEqual(wrong, 0)
+        self.assertEqual(int(((cast != truth) & ~near_silhouette(truth)).sum()), 0)
+
     # --- Several renderers ---------------------------------------------------------------------
     def test_viewports_side_by_side(self):
         def build(window, kind):
@@ -466,11 +498,9 @@ class Views(unittest.TestCase):
                          depth=False)
 
     # --- Tiled and magnified images --------------------------------------------------------------
-    def tiled(self, name, scale):
-        def build(window, kind):
-            actor = sphere_actor(kind)
-            return [(add_renderer(window, actor), actor)]
-
+    @staticmethod
+    def grab(scale):
+        """A capture of the window's depth tiled at `scale` by vtkWindowToImageFilter."""
         def capture(window):
             grab = vtkWindowToImageFilter()
             grab.SetInput(window)
@@ -481,10 +511,28 @@ class Views(unittest.TestCase):
             image = grab.GetOutput()
             width, height, _ = image.GetDimensions()
             return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(height, width).astype(float)
-        self.compare(name, *self.both(build, capture))
+        return capture
+
+    def tiled(self, name, scale):
+        def build(window, kind):
+            actor = sphere_actor(kind)
+            return [(add_renderer(window, actor), actor)]
+        self.compare(name, *self.both(build, self.grab(scale)))
 
     def test_window_to_image_scale_2(self):
         self.tiled("vtkWindowToImageFilter scale 2", (2, 2))
+
+    def test_window_to_image_two_viewports_parallel(self):
+        # Tiles cut across two viewports, one of them parallel.
+        def build(window, kind):
+            views = []
+            for viewport, eye in (((0.0, 0.0, 0.45, 1.0), EYE), ((0.45, 0.0, 1.0, 1.0), (-2.5, 0.4, 2.2))):
+                actor = sphere_actor(kind)
+                views.append((add_renderer(window, actor, viewport, eye), actor))
+            views[1][0].GetActiveCamera().ParallelProjectionOn()
+            views[1][0].GetActiveCamera().SetParallelScale(0.9)
+            return views
+        self.compare("vtkWindowToImageFilter scale 3, two viewports", *self.both(build, self.grab((3, 3))))
 
     def test_window_to_image_scale_3_2(self):
         self.tiled("vtkWindowToImageFilter scale 3 x 2", (3, 2))
