@@ -20,18 +20,20 @@ import unittest
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkDataObject
 from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkFiltersHybrid import vtkRenderLargeImage
 from vtkmodules.vtkFiltersSources import vtkPlaneSource, vtkSphereSource
 from vtkmodules.vtkCommonTransforms import vtkTransform
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkAssembly, vtkCamera, vtkPolyDataMapper,
-                                         vtkRenderer, vtkRenderWindowInteractor,
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkAssembly, vtkCamera, vtkHardwareSelector,
+                                         vtkPolyDataMapper, vtkRenderer, vtkRenderWindowInteractor,
                                          vtkWindowToImageFilter)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
 
 from shared_helpers import Messages
 from test_mapper import H, RADIUS2, W, grid, rgba, shared_window, zbuffer
-from tetdsr import vtkDirectSurfaceMapper, vtkDirectSurfacePick, vtkDirectSurfaceRayCaster
+from tetdsr import (vtkDirectSurfaceMapper, vtkDirectSurfacePick, vtkDirectSurfacePicker,
+                    vtkDirectSurfaceRayCaster)
 
 MESH = grid()
 RADIUS = math.sqrt(RADIUS2)
@@ -345,6 +347,12 @@ class Views(unittest.TestCase):
         print("picks at 1e-3 .. 1e14: %d hits, worst | |p|^2 - r^2 | = %.1e" % (picked, worst))
         self.assertGreater(picked, 60)
         self.assertLess(worst, 1e-9)
+        # vtkDirectSurfacePicker (a segment from VTK's picking frustum) there too.
+        picker = vtkDirectSurfacePicker()
+        for x, y in ((80, 60), (70, 55), (90, 65), (85, 50)):
+            self.assertTrue(picker.Pick(x, y, 0, renderer), "picker at (%d, %d)" % (x, y))
+            p = np.array(picker.GetPickPosition())
+            self.assertLess(abs(np.dot(p, p) - RADIUS2), 1e-9)
 
         # A translucent sphere over an opaque plane through its centre: the same picture at the
         # clipping ranges [0.5, 8] and [1e-3, 1e14] (the opaque depth bounds the rays; at the
@@ -396,6 +404,38 @@ class Views(unittest.TestCase):
         pick = vtkDirectSurfacePick()
         self.assertFalse(actor.GetMapper().Pick(80.5, 60.5, renderer, actor, pick))
         self.assertEqual(len(messages.errors), 3)
+
+    def test_hardware_selection_through_an_infinite_far_plane(self):
+        # vtkHardwareSelector's cells of the whole window: the same at the clipping ranges
+        # [0.5, 8] and [1e-3, 1e14] (the same rays), and the cells the pixels' picks hit.
+        selected = {}
+        for clipping_range in ((0.5, 8.0), (1e-3, 1e14)):
+            window = shared_window()
+            actor = sphere_actor("mapper")
+            renderer = add_renderer(window, actor)
+            renderer.GetActiveCamera().SetClippingRange(*clipping_range)
+            window.Render()
+            selector = vtkHardwareSelector()
+            selector.SetRenderer(renderer)
+            selector.SetArea(0, 0, W - 1, H - 1)
+            selector.SetFieldAssociation(vtkDataObject.FIELD_ASSOCIATION_CELLS)
+            selection = selector.Select()
+            cells = set()
+            for n in range(selection.GetNumberOfNodes()):
+                ids = selection.GetNode(n).GetSelectionList()
+                cells.update(ids.GetValue(k) for k in range(ids.GetNumberOfTuples()))
+            selected[clipping_range[1]] = cells
+        pick = vtkDirectSurfacePick()
+        picked = set()
+        for j in range(0, H, 3):
+            for i in range(0, W, 3):
+                if actor.GetMapper().Pick(i + 0.5, j + 0.5, renderer, actor, pick):
+                    picked.add(pick.GetCellId())
+        print("hardware selection: %d cells at far 8, %d at far 1e14; picks on every third pixel "
+              "hit %d of them" % (len(selected[8.0]), len(selected[1e14]), len(picked)))
+        self.assertGreater(len(selected[1e14]), 20)
+        self.assertEqual(selected[1e14], selected[8.0])
+        self.assertLessEqual(picked, selected[1e14])
 
     def test_interactive_frame_through_an_infinite_far_plane(self):
         # A frame cast at 2 pixels a ray (level of detail) through the 1e17 clipping range: the
