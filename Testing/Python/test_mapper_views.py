@@ -308,6 +308,24 @@ class Views(unittest.TestCase):
             camera.UseExplicitProjectionTransformMatrixOn()
         self.single("explicit orthographic, off centre", orthographic)
 
+    def test_camera_model_and_user_transforms(self):
+        def transforms(camera):
+            model = vtkMatrix4x4()
+            model.SetElement(0, 1, 0.25)  # a sheared world
+            model.SetElement(1, 3, 0.1)
+            camera.SetModelTransformMatrix(model)
+            user = vtkTransform()  # applied to the projection: an uneven zoom and a shift
+            user.Translate(0.1, -0.05, 0.0)
+            user.Scale(1.2, 0.9, 1.0)
+            camera.SetUserTransform(user)
+        self.single("camera model and user transforms", transforms)
+
+    def test_window_centre_and_view_shear(self):
+        def shifted(camera):
+            camera.SetWindowCenter(0.3, -0.2)
+            camera.SetViewShear(0.15, -0.1, 1.0)  # about the focal point (1 x the distance)
+        self.single("window centre and view shear", shifted)
+
     def test_off_axis_head_tracked(self):
         def head_tracked(camera):
             # A 1.6 x 1.2 screen in the plane z = 1.2 facing +z, the eye off its axis.
