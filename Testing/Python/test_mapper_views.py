@@ -14,7 +14,13 @@ unprojecting NDC z = -1 and z = 0 (both finite for every camera, whatever its fa
 window depth 0.5 z / w + 0.5. Compared: coverage (only pixels within one pixel of the true
 silhouette may differ), the mapper's window depth tightly against the truth, the polygons'
 loosely (llvmpipe rasterises polygon depth to about 1e-3). A table of set-up -> mismatched pixels
-and worst depth errors is printed at the end."""
+and worst depth errors is printed at the end.
+
+Beside the table: picks, vtkDirectSurfacePicker, hardware selection, translucency over opaque
+geometry and a level-of-detail frame through the infinite far plane; lit actor matrices against
+the polygons' shading; a singular projection's error; and the filter (vtkDirectSurfaceRayCaster),
+whose rays follow only a camera's position, focal point, view up and angle, refusing a camera that
+holds more."""
 import math
 import unittest
 
