@@ -1,6 +1,7 @@
 #include "vtkDirectSurfaceRayCaster.h"
 
 #include "vtkCamera.h"
+#include "vtkMatrix4x4.h"
 #include "vtkCellArray.h"
 #include "vtkCellType.h"
 #include "vtkColorTransferFunction.h"
@@ -694,6 +695,22 @@ tetdsr::Camera CoreCamera(vtkCamera* vtkcamera)
   return camera;
 }
 
+/// What `vtkcamera` holds beyond the core's camera (the filter refuses it: CameraExtras).
+tetdsr::CameraExtras CameraExtrasOf(vtkCamera* vtkcamera)
+{
+  tetdsr::CameraExtras extras;
+  extras.explicitProjection = vtkcamera->GetUseExplicitProjectionTransformMatrix();
+  extras.offAxisProjection = vtkcamera->GetUseOffAxisProjection() != 0;
+  const double* centre = vtkcamera->GetWindowCenter();
+  extras.windowCenter = centre[0] != 0.0 || centre[1] != 0.0;
+  const double* shear = vtkcamera->GetViewShear();
+  extras.viewShear = shear[0] != 0.0 || shear[1] != 0.0;
+  vtkMatrix4x4* model = vtkcamera->GetModelTransformMatrix();
+  extras.transforms = vtkcamera->GetUserTransform() || vtkcamera->GetUserViewTransform() ||
+    (model && !model->IsIdentity());
+  return extras;
+}
+
 /// The filter's shading settings (material, its one point light, normals, iso-value styles, cap)
 /// for the core.
 tetdsr::RenderSettings ShadingSettings(vtkDirectSurfaceRayCaster* self,
@@ -1000,9 +1017,11 @@ bool vtkDirectSurfaceRayCaster::PrepareScene(Execution& run)
 
 bool vtkDirectSurfaceRayCaster::ChooseCamera(Execution& run)
 {
+  bool readable = true; // (every process has the camera: they all refuse it, or none)
   if (this->Camera)
   {
     run.Camera = CoreCamera(this->Camera);
+    readable = tetdsr::checkCameraExtras(CameraExtrasOf(this->Camera), run.Messages);
   }
   else
   {
@@ -1014,8 +1033,8 @@ bool vtkDirectSurfaceRayCaster::ChooseCamera(Execution& run)
     run.Processes.UniteBoxes(bounds);
     run.Camera = tetdsr::resetCamera(bounds, static_cast<double>(run.Width) / run.Height);
   }
-  const bool ok =
-    run.Processes.All(!run.Scene || tetdsr::checkCamera(run.Camera, *run.Scene, run.Messages));
+  const bool ok = run.Processes.All(
+    readable && (!run.Scene || tetdsr::checkCamera(run.Camera, *run.Scene, run.Messages)));
   adapter::ReportMessages(this, run.Messages);
   return ok;
 }

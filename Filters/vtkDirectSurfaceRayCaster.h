@@ -117,8 +117,11 @@ public:
   ///@{
   /**
    * Camera: position, focal point, view up, view angle (vertical, degrees), parallel
-   * projection and parallel scale are used. Default: none, meaning a camera that sees the
-   * whole mesh the way vtkRenderer::ResetCamera places it (looking down -z, view up +y).
+   * projection and parallel scale are used (the clipping range is not: rays start at the camera).
+   * A camera with an explicit projection matrix, an off-axis projection, a window centre, a view
+   * shear or user or model transforms is refused with an error (vtkDirectSurfaceMapper draws
+   * those). Default: none, meaning a camera that sees the whole mesh the way
+   * vtkRenderer::ResetCamera places it (looking down -z, view up +y).
    */
   void SetCamera(vtkCamera* camera);
   vtkGetObjectMacro(Camera, vtkCamera);

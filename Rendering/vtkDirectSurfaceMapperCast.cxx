@@ -56,18 +56,9 @@ bool SameScene(const std::vector<double>& a, const std::vector<double>& b)
   return true;
 }
 
-/// A world point, and a world direction (made unit), in model coordinates: rays are cast there.
-glm::dvec3 ToModelPoint(const glm::dmat4& worldToModel, const double p[3])
-{
-  return glm::dvec3(worldToModel * glm::dvec4(p[0], p[1], p[2], 1.0));
-}
-glm::dvec3 ToModelDirection(const glm::dmat4& worldToModel, const glm::dvec3& d)
-{
-  return tetdsr::unitVector(glm::dvec3(worldToModel * glm::dvec4(d, 0.0)));
-}
-
-/// A switched-on VTK light as the core's, in model coordinates.
-tetdsr::Light CoreLight(vtkLight* light, const glm::dmat4& worldToModel)
+/// A switched-on VTK light as the core's, in world coordinates (the cast's are the actor's model
+/// coordinates: Lighting::setModelToWorld shades in the world, as polygons are).
+tetdsr::Light CoreLight(vtkLight* light)
 {
   tetdsr::Light entry;
   double color[3], position[3], focalPoint[3];
@@ -76,10 +67,9 @@ tetdsr::Light CoreLight(vtkLight* light, const glm::dmat4& worldToModel)
   light->GetTransformedFocalPoint(focalPoint);
   entry.color = light->GetIntensity() * glm::dvec3(color[0], color[1], color[2]);
   entry.positional = light->GetPositional() != 0;
-  entry.position = ToModelPoint(worldToModel, position);
-  entry.direction = ToModelDirection(worldToModel,
-    glm::dvec3(
-      focalPoint[0] - position[0], focalPoint[1] - position[1], focalPoint[2] - position[2]));
+  entry.position = glm::dvec3(position[0], position[1], position[2]);
+  entry.direction = tetdsr::unitVector(glm::dvec3(
+    focalPoint[0] - position[0], focalPoint[1] - position[1], focalPoint[2] - position[2]));
   return entry;
 }
 
@@ -157,6 +147,10 @@ bool vtkDirectSurfaceMapper::Frame::SetUpView(vtkRenderer* renderer, double samp
   this->WorldToModel = glm::inverse(this->ModelToWorld);
   this->ModelToNdc = worldToNdc * this->ModelToWorld;
   this->NdcToModel = glm::inverse(this->ModelToNdc);
+  if (!tetdsr::checkProjection(this->NdcToModel, this->Messages))
+  {
+    return false; // (a singular projection: the caller reports it)
+  }
   this->Rays = tetdsr::RayGenerator(this->NdcToModel, this->CastWidth, this->CastHeight);
   return true;
 }
@@ -167,7 +161,11 @@ void vtkDirectSurfaceMapper::Frame::CollectLights(vtkRenderer* renderer)
   double eye[3];
   renderer->GetActiveCamera()->GetPosition(eye);
   lighting.hasEye = true;
-  lighting.eye = ToModelPoint(this->WorldToModel, eye);
+  lighting.eye = glm::dvec3(eye[0], eye[1], eye[2]);
+  if (!this->Identity)
+  {
+    lighting.setModelToWorld(this->ModelToWorld);
+  }
   if (!this->Actor->GetProperty()->GetLighting())
   {
     return;
@@ -185,7 +183,7 @@ void vtkDirectSurfaceMapper::Frame::CollectLights(vtkRenderer* renderer)
     }
     ++count;
     headlight = light->LightTypeIsHeadlight();
-    const tetdsr::Light entry = CoreLight(light, this->WorldToModel);
+    const tetdsr::Light entry = CoreLight(light);
     lighting.lights.push_back(entry);
     this->LightState.insert(this->LightState.end(),
       { entry.color.x, entry.color.y, entry.color.z, entry.direction.x, entry.direction.y,
@@ -336,7 +334,8 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   const double distance = this->ChooseSampleDistance(frame);
   if (!frame.SetUpView(renderer, distance))
   {
-    return; // an empty viewport
+    adapter::ReportMessages(this, frame.Messages);
+    return; // an empty viewport, or a singular projection
   }
   frame.CollectLights(renderer);
 

@@ -32,6 +32,7 @@ bool vtkDirectSurfaceMapper::Pick(
   Frame frame(vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow()), actor, false);
   if (!frame.SetUpView(renderer, 1.0))
   {
+    adapter::ReportMessages(this, frame.Messages); // (a singular projection's error)
     return false;
   }
   // Display coordinates as VTK's pickers take them: the still frame's pixel (i, j) of the

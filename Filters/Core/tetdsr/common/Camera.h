@@ -117,7 +117,9 @@ inline const char* describe(CameraProblem problem)
 /// From an inverse projection (normalised device coordinates, z in [-1, 1], to world, as the
 /// inverse of vtkCamera's composite projection): rays run from the near plane (z = -1) towards
 /// the far plane (z = 1), so explicit and off-axis projections (tiles, stereo) work; the ray
-/// parameter is the distance from the near plane.
+/// parameter is the distance from the near plane. The far plane may be at infinity (w = 0 there:
+/// an infinite-far-plane matrix, or a far / near ratio so large that the matrix rounds to one):
+/// the direction is taken from homogeneous coordinates, never from the far point itself.
 class RayGenerator
 {
 public:
@@ -162,9 +164,7 @@ public:
   {
     if (FromMatrix_)
     {
-      const double x = ndcX(i), y = ndcY(j);
-      const glm::dvec3 nearPoint = unproject(x, y, -1.0);
-      return { nearPoint, unitVector(unproject(x, y, 1.0) - nearPoint) };
+      return matrixRay(ndcX(i), ndcY(j));
     }
     const glm::dvec3 offset =
       ColumnOffsets_[static_cast<std::size_t>(i)] + RowOffsets_[static_cast<std::size_t>(j)];
@@ -183,8 +183,7 @@ public:
     const double ndcx = 2.0 * x / Width_ - 1.0, ndcy = 2.0 * y / Height_ - 1.0;
     if (FromMatrix_)
     {
-      const glm::dvec3 nearPoint = unproject(ndcx, ndcy, -1.0);
-      return { nearPoint, unitVector(unproject(ndcx, ndcy, 1.0) - nearPoint) };
+      return matrixRay(ndcx, ndcy);
     }
     const glm::dvec3 offset = (ndcx * HalfWidth_) * Right_ + (ndcy * HalfHeight_) * Up_;
     if (Parallel_)
@@ -226,10 +225,18 @@ private:
   double ndcX(int i) const { return 2.0 * (i + 0.5) / Width_ - 1.0; }
   double ndcY(int j) const { return 2.0 * (j + 0.5) / Height_ - 1.0; }
 
-  glm::dvec3 unproject(double x, double y, double z) const
+  /// The ray through normalised device coordinates (x, y): from the near plane's point n towards
+  /// the far plane's f, both unprojected as homogeneous points N = (n w_N, w_N), F = (f w_F, w_F).
+  /// f - n = (F.xyz w_N - N.xyz w_F) / (w_N w_F); both points lie in front of the eye, so w_N and
+  /// w_F share a sign (or w_F = 0: the far plane at infinity, F a direction) and the numerator
+  /// alone has the direction. It is finite for every such matrix, and continuous through w_F = 0
+  /// (a w_F rounded to either side of 0 gives the same ray).
+  Ray matrixRay(double x, double y) const
   {
-    const glm::dvec4 p = NdcToWorld_ * glm::dvec4(x, y, z, 1.0);
-    return glm::dvec3(p) / p.w;
+    const glm::dvec4 nearPoint = NdcToWorld_ * glm::dvec4(x, y, -1.0, 1.0);
+    const glm::dvec4 farPoint = NdcToWorld_ * glm::dvec4(x, y, 1.0, 1.0);
+    return { glm::dvec3(nearPoint) / nearPoint.w,
+      unitVector(glm::dvec3(farPoint) * nearPoint.w - glm::dvec3(nearPoint) * farPoint.w) };
   }
 
   int Width_;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <string>
+#include <utility>
 #include <unistd.h>
 
 namespace tetdsr
@@ -137,6 +139,51 @@ bool checkCamera(const Camera& camera, const Scene& scene, Messages& messages)
     }
   }
   return true;
+}
+
+bool checkProjection(const glm::dmat4& ndcToWorld, Messages& messages)
+{
+  for (int column = 0; column < 4; ++column)
+  {
+    for (int row = 0; row < 4; ++row)
+    {
+      if (!std::isfinite(ndcToWorld[column][row]))
+      {
+        messages.errors.push_back(
+          text("Cannot render: ", describe(CameraProblem::SingularProjection), "."));
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+bool checkCameraExtras(const CameraExtras& extras, Messages& messages)
+{
+  const std::pair<bool, const char*> named[] = {
+    { extras.explicitProjection, "an explicit projection matrix" },
+    { extras.offAxisProjection, "an off-axis projection" },
+    { extras.windowCenter, "a window centre other than (0, 0)" },
+    { extras.viewShear, "a view shear" },
+    { extras.transforms, "a user transform, user view transform or model transform matrix" },
+  };
+  std::string used;
+  for (const auto& extra : named)
+  {
+    if (extra.first)
+    {
+      used += (used.empty() ? "" : ", ") + std::string(extra.second);
+    }
+  }
+  if (used.empty())
+  {
+    return true;
+  }
+  messages.errors.push_back(text("Cannot render: the camera uses ", used,
+    "; this filter's rays follow only the camera's position, focal point, view up and view angle "
+    "(or parallel scale). Draw with vtkDirectSurfaceMapper in a render window, which follows "
+    "every projection."));
+  return false;
 }
 
 //------------------------------------------------------------------------------

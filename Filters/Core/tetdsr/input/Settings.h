@@ -69,6 +69,25 @@ bool checkCamera(const Camera& camera, Messages& messages);
 /// scene's valid cells.
 bool checkCamera(const Camera& camera, const Scene& scene, Messages& messages);
 
+/// False, with an error, when a projection (normalised device coordinates to the rays' space, the
+/// inverse of a view's composite projection) has a NaN or Inf: its matrix was singular.
+bool checkProjection(const glm::dmat4& ndcToWorld, Messages& messages);
+
+/// What a VTK camera may hold beyond a Camera's position, focal point, view up and view angle
+/// (or parallel scale): each changes which ray a pixel has, so a filter whose rays come from a
+/// Camera must refuse it rather than draw a different picture.
+struct CameraExtras
+{
+  bool explicitProjection = false; ///< an explicit projection matrix
+  bool offAxisProjection = false;  ///< an off-axis projection (screen corners and an eye)
+  bool windowCenter = false;       ///< a window centre other than (0, 0)
+  bool viewShear = false;          ///< a view shear
+  bool transforms = false;         ///< a user (view) transform or a model transform matrix
+};
+
+/// False, with an error naming each extra the camera uses, when it uses any.
+bool checkCameraExtras(const CameraExtras& extras, Messages& messages);
+
 //------------------------------------------------------------------------------
 // The field and the colour array
 

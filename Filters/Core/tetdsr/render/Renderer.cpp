@@ -27,14 +27,22 @@ glm::dvec3 ColorTable::map(double value) const
   return (1.0 - w) * colors[k] + w * colors[k + 1];
 }
 
-glm::dvec3 shade(const Material& material, const glm::dvec3& color, const glm::dvec3& hitPoint,
-  const glm::dvec3& unitNormal, const glm::dvec3& viewDirection, const Lighting& lighting)
+glm::dvec3 shade(const Material& material, const glm::dvec3& color, const glm::dvec3& castHitPoint,
+  const glm::dvec3& unitNormal, const glm::dvec3& castViewDirection, const Lighting& lighting)
 {
   if (lighting.lights.empty())
   {
     return (material.ambient + material.diffuse) * color; // unlit, as VTK's lighting off
   }
-  glm::dvec3 n = unitNormal;
+  // Into the lights' coordinates (Lighting::setModelToWorld): unit lengths and angles are not
+  // kept by a shear or an uneven scale, so the normal is made unit there, not before.
+  glm::dvec3 hitPoint = castHitPoint, viewDirection = castViewDirection, n = unitNormal;
+  if (lighting.hasModelToWorld)
+  {
+    hitPoint = glm::dvec3(lighting.modelToWorld * glm::dvec4(castHitPoint, 1.0));
+    viewDirection = unitVector(glm::dmat3(lighting.modelToWorld) * castViewDirection);
+    n = unitVector(lighting.normalToWorld * unitNormal);
+  }
   if (glm::dot(n, n) == 0.0)
   {
     n = -viewDirection; // critical point or constant field: no gradient, face the viewer

@@ -44,6 +44,22 @@ struct Lighting
   /// parallel projection too); when unset, the view vector is the ray's.
   bool hasEye = false;
   glm::dvec3 eye{ 0.0 };
+  /// When the cast's coordinates are not the lights' (a mapper casts in its actor's model
+  /// coordinates, and the actor's matrix may shear, scale unevenly or mirror): the affine map
+  /// from the cast's coordinates to the lights' and the eye's, and its normal matrix (the inverse
+  /// transpose of its linear part). Shading then happens in the lights' coordinates, as polygons
+  /// are shaded in the world: a gradient maps by the normal matrix, points and rays by the map.
+  bool hasModelToWorld = false;
+  glm::dmat4 modelToWorld{ 1.0 };
+  glm::dmat3 normalToWorld{ 1.0 };
+
+  /// Lights and eye in the coordinates `modelToWorld` maps the cast's into.
+  void setModelToWorld(const glm::dmat4& map)
+  {
+    hasModelToWorld = true;
+    modelToWorld = map;
+    normalToWorld = glm::transpose(glm::inverse(glm::dmat3(map)));
+  }
 };
 
 /// How the surface normal at a hit is obtained (the paper's section 2.5, and the exact one).
