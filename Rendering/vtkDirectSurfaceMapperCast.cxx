@@ -83,6 +83,23 @@ tetdsr::Light CoreLight(vtkLight* light, const glm::dmat4& worldToModel)
   return entry;
 }
 
+/// The world-to-NDC matrix of the renderer's view. `eye`: the one the window's polygons are
+/// drawn with in this render (vtkOpenGLCamera::GetKeyMatrices: the camera's projection, with the
+/// stereo eye's shear when the window renders in stereo, times its model-view matrix). Else the
+/// centre view VTK's pickers use: the camera's composite projection, which leaves the eye's shear
+/// out, so that a frame cast with it would show the centre view to both eyes.
+glm::dmat4 WorldToNdc(vtkRenderer* renderer, bool eye)
+{
+  vtkCamera* camera = renderer->GetActiveCamera();
+  const double aspect = renderer->GetTiledAspectRatio();
+  if (!eye)
+  {
+    return ToGlm(camera->GetCompositeProjectionTransformMatrix(aspect, -1.0, 1.0));
+  }
+  return ToGlm(camera->GetProjectionTransformMatrix(aspect, -1.0, 1.0)) *
+    ToGlm(camera->GetModelViewTransformMatrix());
+}
+
 /// The colour of a block's surface from `mapper`'s scalars on `grid`, as a polygon mapper would
 /// map them (direct colours, or through its lookup table and scalar range); none, with a
 /// warning, for a cell array, which has no value at a hit.
@@ -135,7 +152,8 @@ void ChooseColors(vtkMapper* mapper, vtkUnstructuredGrid* grid, adapter::Prepare
 }
 
 //------------------------------------------------------------------------------
-bool vtkDirectSurfaceMapper::Frame::SetUpView(vtkRenderer* renderer, double sampleDistance)
+bool vtkDirectSurfaceMapper::Frame::SetUpView(
+  vtkRenderer* renderer, double sampleDistance, bool eye)
 {
   int width, height, originX, originY;
   renderer->GetTiledSizeAndOrigin(&width, &height, &originX, &originY);
@@ -149,9 +167,9 @@ bool vtkDirectSurfaceMapper::Frame::SetUpView(vtkRenderer* renderer, double samp
   this->Viewport[3] = height;
   this->CastWidth = std::max(1, static_cast<int>(std::ceil(width / sampleDistance)));
   this->CastHeight = std::max(1, static_cast<int>(std::ceil(height / sampleDistance)));
+  const glm::dmat4 worldToNdc = WorldToNdc(renderer, eye);
   vtkCamera* camera = renderer->GetActiveCamera();
-  const glm::dmat4 worldToNdc = ToGlm(
-    camera->GetCompositeProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1.0, 1.0));
+  this->Eye = eye && camera->GetStereo() && !camera->GetLeftEye() ? 1 : 0;
   this->Identity = this->Actor->GetIsIdentity() != 0;
   this->ModelToWorld = this->Identity ? glm::dmat4(1.0) : ToGlm(this->Actor->GetMatrix());
   this->WorldToModel = glm::inverse(this->ModelToWorld);
@@ -341,7 +359,7 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   frame.CollectLights(renderer);
 
   Internals& in = *this->Internal;
-  Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor);
+  Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor, frame.Eye);
   vtkRenderWindowInteractor* interactor = window->GetInteractor();
   const bool eventLoop =
     this->ProgressiveRefinement && interactor && this->EventLoopRuns(interactor);

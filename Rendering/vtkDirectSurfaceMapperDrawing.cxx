@@ -101,7 +101,7 @@ const char* const kQuadUpsample = R"(
 
 //------------------------------------------------------------------------------
 vtkDirectSurfaceMapper::Internals::ViewResources& vtkDirectSurfaceMapper::Internals::ResourcesOf(
-  vtkOpenGLRenderWindow* window, vtkRenderer* renderer, vtkActor* actor)
+  vtkOpenGLRenderWindow* window, vtkRenderer* renderer, vtkActor* actor, int eye)
 {
   for (auto it = this->Views.begin(); it != this->Views.end();)
   {
@@ -114,7 +114,7 @@ vtkDirectSurfaceMapper::Internals::ViewResources& vtkDirectSurfaceMapper::Intern
       }
       it = this->Views.erase(it);
     }
-    else if (r.Window == window && r.Renderer == renderer && r.Actor == actor)
+    else if (r.Window == window && r.Renderer == renderer && r.Actor == actor && r.Eye == eye)
     {
       return r;
     }
@@ -128,6 +128,7 @@ vtkDirectSurfaceMapper::Internals::ViewResources& vtkDirectSurfaceMapper::Intern
   made.Window = window;
   made.Renderer = renderer;
   made.Actor = actor;
+  made.Eye = eye;
   return made;
 }
 

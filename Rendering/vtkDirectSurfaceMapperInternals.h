@@ -83,6 +83,9 @@ struct vtkDirectSurfaceMapper::Frame
   int Viewport[4] = { 0, 0, 0, 0 };
   int CastWidth = 0;
   int CastHeight = 0;
+  /// The stereo eye the frame is cast for: 1 the right eye of a stereo render, else 0 (each eye
+  /// keeps its own image: ViewResources).
+  int Eye = 0;
   bool Identity = true; ///< the actor's matrix is the identity
   glm::dmat4 ModelToWorld{ 1.0 }, WorldToModel{ 1.0 }, ModelToNdc{ 1.0 }, NdcToModel{ 1.0 };
   tetdsr::RayGenerator Rays{ glm::dmat4(1.0), 1, 1 }; ///< set with the view
@@ -100,9 +103,10 @@ struct vtkDirectSurfaceMapper::Frame
   bool SeveralBlocks() const { return this->Blocks.size() > 1; }
 
   /// The viewport, cast at `sampleDistance` pixels a ray, and the actor seen through the active
-  /// camera's composite projection (as the GL matrices use it, so explicit and tiled projections
-  /// work). False for an empty viewport.
-  bool SetUpView(vtkRenderer* renderer, double sampleDistance);
+  /// camera's projection: with `eye`, as the GL matrices of this render use it (so explicit and
+  /// tiled projections and each stereo eye work); else the centre view of VTK's pickers. False
+  /// for an empty viewport.
+  bool SetUpView(vtkRenderer* renderer, double sampleDistance, bool eye = true);
 
   /// The renderer's lights, as vtkOpenGLRenderer hands them to the polygon shaders (none when
   /// the actor's property is unlit), with the camera position as the eye of the Phong model.
@@ -211,7 +215,7 @@ struct vtkDirectSurfaceMapper::Internals
   };
   std::vector<Deferred> DeferredDraws;
 
-  /// What one view (a window's renderer and an actor of this mapper) draws its image with:
+  /// What one view (a window's renderer, an actor of this mapper, a stereo eye) draws its image with:
   /// textures and quad (OpenGL objects belong to the window's context), the signature and size
   /// of the image the textures hold, so that each view re-uses its own, and its background cast.
   struct ViewResources
@@ -219,6 +223,7 @@ struct vtkDirectSurfaceMapper::Internals
     vtkWeakPointer<vtkOpenGLRenderWindow> Window;
     vtkWeakPointer<vtkRenderer> Renderer;
     vtkWeakPointer<vtkActor> Actor;
+    int Eye = 0; ///< Frame::Eye
     vtkSmartPointer<vtkTextureObject> ColorTexture;
     vtkSmartPointer<vtkTextureObject> DepthTexture;
     /// For an image smaller than the viewport: per cast pixel its same-surface bits, per 2 x 2
@@ -289,7 +294,8 @@ struct vtkDirectSurfaceMapper::Internals
   /// The resources of a view, made on first use. Entries of deleted windows, renderers or
   /// actors are dropped (a window releases its quads' and textures' OpenGL objects itself when
   /// it goes; those of a deleted renderer or actor are released here).
-  ViewResources& ResourcesOf(vtkOpenGLRenderWindow* window, vtkRenderer* renderer, vtkActor* actor);
+  ViewResources& ResourcesOf(
+    vtkOpenGLRenderWindow* window, vtkRenderer* renderer, vtkActor* actor, int eye);
 
   /// Cancels every view's background cast and waits for its threads: a cast on the GL thread
   /// may rebuild the prepared meshes they read.
