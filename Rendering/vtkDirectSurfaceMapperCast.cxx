@@ -12,10 +12,12 @@
 #include "vtkCompositeDataSet.h"
 #include "vtkContourValues.h"
 #include "vtkDataArray.h"
+#include "vtkInformation.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
 #include "vtkMath.h"
 #include "vtkNew.h"
+#include "vtkOpenGLRenderPass.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkProperty.h"
 #include "vtkRenderWindowInteractor.h"
@@ -179,6 +181,32 @@ bool vtkDirectSurfaceMapper::Frame::SetUpView(
   return true;
 }
 
+void vtkDirectSurfaceMapper::Frame::CollectAmbientOcclusion(vtkRenderer* renderer)
+{
+  // A render pass lists itself in the props' keys while it renders them (vtkOpenGLRenderPass);
+  // vtkSSAOPass renders the opaque pass into its G-buffer.
+  vtkInformation* keys = this->Actor->GetPropertyKeys();
+  const int passes =
+    keys && keys->Has(vtkOpenGLRenderPass::RenderPasses()) ? keys->Length(vtkOpenGLRenderPass::RenderPasses()) : 0;
+  this->AmbientOcclusion = false;
+  for (int k = 0; k < passes && !this->Translucent; ++k)
+  {
+    vtkObjectBase* pass = keys->Get(vtkOpenGLRenderPass::RenderPasses(), k);
+    this->AmbientOcclusion = this->AmbientOcclusion || (pass && pass->IsA("vtkSSAOPass"));
+  }
+  if (!this->AmbientOcclusion)
+  {
+    return;
+  }
+  // As vtkSSAOPass and the polygons see view space: the camera's model-view matrix and its
+  // projection (with the stereo eye's shear, as SetUpView).
+  vtkCamera* camera = renderer->GetActiveCamera();
+  const glm::dmat4 modelToView = ToGlm(camera->GetModelViewTransformMatrix()) * this->ModelToWorld;
+  this->ViewSpace.NdcToView = glm::inverse(
+    ToGlm(camera->GetProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1.0, 1.0)));
+  this->ViewSpace.NormalToView = glm::transpose(glm::inverse(glm::dmat3(modelToView)));
+}
+
 void vtkDirectSurfaceMapper::Frame::CollectLights(vtkRenderer* renderer)
 {
   tetdsr::Lighting& lighting = this->Settings.lighting;
@@ -228,6 +256,7 @@ void vtkDirectSurfaceMapper::ImageCast::Resize(std::size_t pixels, bool severalB
     std::fill(this->Colors.begin(), this->Colors.end(), 0);
     this->BlockColors.resize(4 * pixels);
     this->BlockDepth.resize(pixels);
+    this->BlockNormals.resize(3 * pixels);
     this->BlockCellIds.resize(pixels);
   }
 }
@@ -269,7 +298,7 @@ tetdsr::ImageView vtkDirectSurfaceMapper::ImageCast::BlockImage(const Frame& fra
   image.height = frame.CastHeight;
   image.colors = several ? this->BlockColors.data() : this->Colors.data();
   image.depth = several ? this->BlockDepth.data() : this->Depth.data();
-  image.normals = this->Normals.data();
+  image.normals = several ? this->BlockNormals.data() : this->Normals.data();
   image.cellIds = several ? this->BlockCellIds.data() : this->CellIds.data();
   image.rayLimits = frame.Translucent && !frame.CollectLayers ? this->RayLimits.data() : nullptr;
   if (frame.CollectLayers)
@@ -290,6 +319,7 @@ void vtkDirectSurfaceMapper::ImageCast::KeepNearest(std::size_t pixels, unsigned
       this->Depth[p] = this->BlockDepth[p];
       this->CellIds[p] = this->BlockCellIds[p];
       std::copy_n(&this->BlockColors[4 * p], 4, &this->Colors[4 * p]);
+      std::copy_n(&this->BlockNormals[3 * p], 3, &this->Normals[3 * p]);
       if (blocks)
       {
         this->PixelBlocks[p] = block;
@@ -357,6 +387,9 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
     return; // an empty viewport
   }
   frame.CollectLights(renderer);
+  frame.CollectAmbientOcclusion(renderer);
+  const vtkDirectSurfaceViewSpace* viewSpace =
+    frame.AmbientOcclusion ? &frame.ViewSpace : nullptr;
 
   Internals& in = *this->Internal;
   Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor, frame.Eye);
@@ -368,7 +401,7 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   // The image this view holds: of the same scene (camera, data, settings), and of the size.
   const bool sameSize = gl.ImageSize[0] == frame.CastWidth && gl.ImageSize[1] == frame.CastHeight;
   auto drawImage = [&]() {
-    Internals::Draw(gl, window, translucent, frame.Viewport);
+    Internals::Draw(gl, window, translucent, frame.Viewport, viewSpace);
     timer->StopTimer();
     this->TimeToDraw = timer->GetElapsedTime();
   };
@@ -386,8 +419,8 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
       if (refinement.Finished)
       {
         refinement.Worker.join(); // (it has returned)
-        Internals::Upload(
-          gl, window, refinement.Cast, refinement.Width, refinement.Height, distance);
+        Internals::Upload(gl, window, refinement.Cast, refinement.Width, refinement.Height,
+          distance, frame.AmbientOcclusion);
         gl.Signature = refinement.Signature;
         in.LastCastSeconds = refinement.Seconds;
         in.SampleDistance = distance;
@@ -437,8 +470,9 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
     return;
   }
   in.ComputeWindowDepth(frame);
-  Internals::Upload(gl, window, in.Cast, frame.CastWidth, frame.CastHeight, distance);
-  Internals::Draw(gl, window, translucent, frame.Viewport);
+  Internals::Upload(
+    gl, window, in.Cast, frame.CastWidth, frame.CastHeight, distance, frame.AmbientOcclusion);
+  Internals::Draw(gl, window, translucent, frame.Viewport, viewSpace);
   gl.Signature = std::move(frame.Signature);
   timer->StopTimer();
   this->CastFinished(frame, distance, timer->GetElapsedTime());
@@ -571,6 +605,7 @@ void vtkDirectSurfaceMapper::ComputeSignature(Frame& frame, bool shading)
   }
   // And what decides its colour: the lights, and the opaque depth translucent rays stop at.
   signature.push_back(frame.Settings.lighting.headlightOnly ? 1.0 : 0.0);
+  signature.push_back(frame.AmbientOcclusion ? 1.0 : 0.0); // (the normals are loaded for it)
   signature.insert(signature.end(), frame.LightState.begin(), frame.LightState.end());
   if (frame.Translucent)
   {

@@ -57,7 +57,7 @@ class Scene:
         else:
             self.window.OffScreenRenderingOn()
 
-    def render(self, exact, configure=None, opacity=1.0, plane_opacity=1.0):
+    def render(self, exact, configure=None, opacity=1.0, plane_opacity=1.0, lighting=False):
         """Renders the scene with the mapper's sphere (`exact`) or the polygon sphere; returns
         (rgba, window depth, the eyes' world-to-NDC matrices: eye_matrix by -1, 0, 1)."""
         renderers = self.window.GetRenderers()
@@ -81,9 +81,9 @@ class Scene:
             mapper.SetInputConnection(source.GetOutputPort())
         sphere.SetMapper(mapper)
         plane_source = vtkPlaneSource()
-        plane_source.SetOrigin(-1.2, -1.0, 0.9)
-        plane_source.SetPoint1(1.2, -0.2, -0.7)
-        plane_source.SetPoint2(-1.2, 1.1, 0.9)
+        plane_source.SetOrigin(-1.2, -1.1, -0.85)  # (through the sphere, 37 degrees to the view)
+        plane_source.SetPoint1(1.2, -1.1, 0.95)
+        plane_source.SetPoint2(-1.2, 1.1, -0.85)
         plane_mapper = vtkPolyDataMapper()
         plane_mapper.SetInputConnection(plane_source.GetOutputPort())
         plane = vtkActor()
@@ -91,7 +91,9 @@ class Scene:
         for actor, color, alpha in ((sphere, SPHERE_COLOR, opacity),
                                     (plane, PLANE_COLOR, plane_opacity)):
             actor.GetProperty().SetColor(*color)
-            actor.GetProperty().LightingOff()
+            actor.GetProperty().SetLighting(lighting)
+            actor.GetProperty().SetAmbient(0.3)
+            actor.GetProperty().SetDiffuse(0.7)
             actor.GetProperty().SetOpacity(alpha)
             renderer.AddActor(actor)
         camera = renderer.GetActiveCamera()
@@ -194,10 +196,13 @@ class Passes(unittest.TestCase):
         expected = (truth < 1) & (margin > 1e-6)
         hidden_or_false = int((sphere & (truth == 1) & (margin > 1e-6)).sum())
         differ = differing_pixels(exact, polygons)
+        hidden = int((expected & ~sphere).sum())
         report("stereo %s (eye angle %g)" % (kind or "off", angle),
-               "%d sphere pixels, max |depth - exact| %.1e, %d beyond tolerance, %d outside the "
-               "sphere; %d differ from polygons" % (shown.sum(), error, wrong, hidden_or_false, differ))
-        self.assertGreater(shown.sum(), 0.1 * expected.sum())
+               "%d sphere pixels (%d behind the plane), max |depth - exact| %.1e, %d beyond "
+               "tolerance, %d outside the sphere; %d differ from polygons"
+               % (shown.sum(), hidden, error, wrong, hidden_or_false, differ))
+        self.assertGreater(shown.sum(), 0.2 * expected.sum())
+        self.assertGreater(hidden, 0.05 * expected.sum())
         self.assertEqual(wrong, 0)
         self.assertEqual(hidden_or_false, 0)
         self.assertLessEqual(differ, SILHOUETTE_PIXELS)
@@ -261,6 +266,26 @@ class Passes(unittest.TestCase):
         self.assertLessEqual(differ, SILHOUETTE_PIXELS)
         self.assertLessEqual(min(eyes), SILHOUETTE_PIXELS)
         quad_buffer.window.Finalize()
+
+    def test_ambient_occlusion(self):
+        """Screen-space ambient occlusion darkens where the plane meets the sphere: the
+        mapper's picture against the polygon sphere's (no blotches: the pass reads each pixel's
+        view-space position and normal, which the mapper writes as the polygons do)."""
+        def configure(window, renderer):
+            renderer.UseSSAOOn()
+            renderer.SetSSAORadius(0.15)
+            renderer.SetSSAOBias(0.002)
+            renderer.SetSSAOBlur(True)
+        exact, _, polygons, _, _ = self.pair(configure, lighting=True)
+        plain, _, _ = self.scene.render(False, lighting=True)
+        differ = differing_pixels(exact, polygons)
+        darkened = differing_pixels(polygons, plain)
+        worst = int(np.abs(exact[..., :3] - polygons[..., :3]).max())
+        report("ambient occlusion", "%d pixels differ from polygons (largest channel "
+               "difference %d); the pass darkens %d pixels of the polygon picture"
+               % (differ, worst, darkened))
+        self.assertGreater(darkened, 100)  # (the pass does something to compare)
+        self.assertLessEqual(differ, SILHOUETTE_PIXELS)
 
 if __name__ == "__main__":
     result = unittest.main(exit=False, verbosity=2).result
