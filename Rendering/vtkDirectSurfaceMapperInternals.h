@@ -315,6 +315,8 @@ struct vtkDirectSurfaceMapper::Internals
 
   /// What the last report of an undrawable input (empty bounds) was made for.
   std::vector<std::uintptr_t> SilenceStamp;
+  /// What the last check of translucent neighbours was made for (renderer, count, technique).
+  std::vector<std::uintptr_t> NeighbourStamp;
 
   /// The resources of a view, made on first use. Entries of deleted windows, renderers or
   /// actors are dropped (a window releases its quads' and textures' OpenGL objects itself when

@@ -22,6 +22,8 @@ W, H = 200, 150
 RADIUS2 = 0.5
 SPHERE_COLOR = (1.0, 0.5, 0.0)
 PLANE_COLOR = (0.1, 0.3, 1.0)
+# The plane's corner and its two edges' ends: through the sphere, 37 degrees to the view.
+PLANE = ((-1.2, -1.1, -0.85), (1.2, -1.1, 0.95), (-1.2, 1.1, -0.85))
 EYE_ANGLE = 8.0  # degrees; ParaView's default is 2 (both are run)
 # A channel may differ by rounding between the mapper's colour (8-bit image) and the polygons'.
 COLOR_TOLERANCE = 3
@@ -72,6 +74,7 @@ class Scene:
             mapper.SetValue(0, RADIUS2)
             mapper.ScalarVisibilityOff()
             self.messages = Messages(mapper)
+            self.mapper = mapper
         else:
             source = vtkSphereSource()
             source.SetRadius(np.sqrt(RADIUS2))
@@ -81,9 +84,9 @@ class Scene:
             mapper.SetInputConnection(source.GetOutputPort())
         sphere.SetMapper(mapper)
         plane_source = vtkPlaneSource()
-        plane_source.SetOrigin(-1.2, -1.1, -0.85)  # (through the sphere, 37 degrees to the view)
-        plane_source.SetPoint1(1.2, -1.1, 0.95)
-        plane_source.SetPoint2(-1.2, 1.1, -0.85)
+        plane_source.SetOrigin(*PLANE[0])
+        plane_source.SetPoint1(*PLANE[1])
+        plane_source.SetPoint2(*PLANE[2])
         plane_mapper = vtkPolyDataMapper()
         plane_mapper.SetInputConnection(plane_source.GetOutputPort())
         plane = vtkActor()
@@ -137,6 +140,18 @@ def eye_matrix(renderer, eye):
 def sphere_depth(composite):
     """Window depth of each pixel ray's first hit with |x|^2 = RADIUS2 (1 on a miss) and how far
     each ray is from grazing it (|discriminant| / radius^2)."""
+    origin, direction = pixel_rays(composite)
+    b = np.sum(origin * direction, axis=1)
+    disc = b * b - (np.sum(origin * origin, axis=1) - RADIUS2)
+    hit = disc >= 0
+    depth = np.ones(len(b))
+    t = -b[hit] - np.sqrt(disc[hit])
+    depth[hit] = window_depth(composite, origin[hit] + t[:, None] * direction[hit])
+    return depth.reshape(H, W), (np.abs(disc) / RADIUS2).reshape(H, W)
+
+
+def pixel_rays(composite):
+    """Each pixel's ray (origin on the near plane, unit direction), from the inverse projection."""
     inverse = np.linalg.inv(composite)
     i, j = np.meshgrid(np.arange(W), np.arange(H))
     x = 2 * (i.ravel() + 0.5) / W - 1
@@ -147,14 +162,25 @@ def sphere_depth(composite):
         return p[:, :3] / p[:, 3:]
     origin = unproject(-1.0)
     direction = unproject(1.0) - origin
-    direction /= np.linalg.norm(direction, axis=1)[:, None]
+    return origin, direction / np.linalg.norm(direction, axis=1)[:, None]
+
+
+def sphere_and_plane(origin, direction):
+    """Per pixel (H x W): the ray parameters of the sphere's walls (NaN on a miss) and of the
+    scene's plane."""
     b = np.sum(origin * direction, axis=1)
     disc = b * b - (np.sum(origin * origin, axis=1) - RADIUS2)
-    hit = disc >= 0
-    depth = np.ones(len(b))
-    t = -b[hit] - np.sqrt(disc[hit])
-    depth[hit] = window_depth(composite, origin[hit] + t[:, None] * direction[hit])
-    return depth.reshape(H, W), (np.abs(disc) / RADIUS2).reshape(H, W)
+    root = np.sqrt(np.where(disc > 1e-3 * RADIUS2, disc, np.nan))
+    normal = np.cross(np.subtract(PLANE[1], PLANE[0]), np.subtract(PLANE[2], PLANE[0]))
+    tp = (np.subtract(PLANE[0], origin) @ normal) / (direction @ normal)
+    return [a.reshape(H, W) for a in (-b - root, -b + root, tp)]
+
+
+def dilate(mask):
+    """Each pixel and its 8 neighbours."""
+    padded = np.pad(mask, 1)
+    return np.any([padded[1 + dj:H + 1 + dj, 1 + di:W + 1 + di]
+                   for dj in (-1, 0, 1) for di in (-1, 0, 1)], axis=0)
 
 
 def stereo(kind, angle=EYE_ANGLE):
@@ -231,6 +257,10 @@ class Passes(unittest.TestCase):
             with self.subTest(kind=kind):
                 self.assertLessEqual(differ, SILHOUETTE_PIXELS)
                 self.assertGreater(parallax, 100)
+        # Each eye keeps its own image: a second frame casts neither.
+        self.scene.render(True, stereo("RedBlue"))
+        self.scene.window.Render()
+        self.assertTrue(self.scene.mapper.GetLastRenderReusedImage())
 
     def test_stereo_crystal_eyes(self):
         """Crystal eyes needs a quad-buffer visual, which Xvfb does not offer. In a window made
@@ -265,7 +295,7 @@ class Passes(unittest.TestCase):
         self.assertFalse(capable)
         self.assertLessEqual(differ, SILHOUETTE_PIXELS)
         self.assertLessEqual(min(eyes), SILHOUETTE_PIXELS)
-        quad_buffer.window.Finalize()
+
 
     def test_ambient_occlusion(self):
         """Screen-space ambient occlusion darkens where the plane meets the sphere: the
@@ -286,6 +316,120 @@ class Passes(unittest.TestCase):
                % (differ, worst, darkened))
         self.assertGreater(darkened, 100)  # (the pass does something to compare)
         self.assertLessEqual(differ, SILHOUETTE_PIXELS)
+
+    def test_fxaa(self):
+        """FXAA smooths the finished frame's edges: the mapper's sphere as the polygons'."""
+        def configure(window, renderer):
+            renderer.UseFXAAOn()
+        exact, z, polygons, polygon_z, _ = self.pair(configure, lighting=True)
+        plain, _, _ = self.scene.render(False, lighting=True)
+        differ = differing_pixels(exact, polygons)
+        report("FXAA", "%d pixels differ from polygons (largest channel difference %d); FXAA "
+               "changes %d pixels of the polygon picture" % (
+                   differ, int(np.abs(exact[..., :3] - polygons[..., :3]).max()),
+                   differing_pixels(polygons, plain)))
+        self.assertGreater(differing_pixels(polygons, plain), 50)
+        self.assertLessEqual(differ, SILHOUETTE_PIXELS)
+
+    def test_multisampling(self):
+        """A window of 8 samples a pixel. The mapper casts one ray a pixel: its silhouette is not
+        smoothed (each pixel is the sphere or not, as in the single-sample picture), while the
+        polygon sphere's is, and where the plane crosses it the quad's one depth a pixel meets
+        the plane's depth at each sample (the crossing is smoothed, a little differently from
+        the polygons'). Away from both the pictures agree and the depth is the exact hit's."""
+        single, _, _ = self.scene.render(True, lighting=True)
+        scene = Scene(multisamples=8)
+        exact, z, eyes = scene.render(True, lighting=True)
+        polygons, _, _ = scene.render(False, lighting=True)
+        truth, _ = sphere_depth(eyes[0])
+        t0, _, tp = sphere_and_plane(*pixel_rays(eyes[0]))
+        hit = truth < 1
+        silhouette = dilate(hit) & dilate(~hit)
+        crossing = dilate(hit & (tp < t0)) & dilate(hit & (tp > t0))
+        away = ~silhouette & ~crossing
+        differ = np.abs(exact[..., :3] - polygons[..., :3]).max(axis=2) > COLOR_TOLERANCE
+        sphere = hit & away & (tp > t0)
+        error = float(np.abs(z - truth)[sphere].max())
+        as_single = differing_pixels(np.where(silhouette[..., None], exact, 0),
+                                     np.where(silhouette[..., None], single, 0))
+        report("multisampling (8)", "%d pixels differ from polygons away from the silhouette and "
+               "the crossing, %d of %d silhouette pixels (%d differ from the single-sample "
+               "picture), %d of %d crossing pixels; max |depth - exact| %.1e on %d pixels"
+               % ((differ & away).sum(), (differ & silhouette).sum(), silhouette.sum(),
+                  as_single, (differ & crossing).sum(), crossing.sum(), error, sphere.sum()))
+        self.assertLessEqual(int((differ & away).sum()), SILHOUETTE_PIXELS)
+        self.assertLessEqual(as_single, SILHOUETTE_PIXELS)
+        self.assertLess(error, DEPTH_TOLERANCE)
+        self.assertGreater(sphere.sum(), 0.5 * hit.sum())
+
+    def test_depth_peeling(self):
+        """Depth peeling (VTK's and ParaView's way to draw translucent geometry). A translucent
+        sphere (opacity 0.5) alone: against the polygon sphere's picture. With the opaque plane
+        through it: against the blend composed from pictures of one surface each (the opaque
+        sphere O, the plane P, the translucent sphere alone S), chosen per pixel by where the
+        pixel's ray meets the plane (t_p) and the sphere (t_0 < t_1): P before the sphere,
+        O / 2 + P / 2 between its walls, S + P / 4 behind both. (The polygon sphere's picture is
+        reported against the same blend: VTK 9.2's peeling drops its far wall where the plane is
+        just behind it.)"""
+        def peeling(plane=True, sphere=True):
+            def configure(window, renderer):
+                renderer.UseDepthPeelingOn()
+                renderer.SetMaximumNumberOfPeels(8)
+                renderer.SetOcclusionRatio(0.0)
+                actors = renderer.GetActors()
+                if not plane:
+                    renderer.RemoveActor(actors.GetLastActor())
+                if not sphere:
+                    renderer.RemoveActor(actors.GetItemAsObject(0))
+            return configure
+        lit = dict(lighting=True)
+        alone, _, polygons, _, _ = self.pair(peeling(plane=False), opacity=0.5, **lit)
+        differ = differing_pixels(alone, polygons)
+        report("depth peeling, sphere alone", "%d pixels differ from polygons" % differ)
+        self.assertLessEqual(differ, SILHOUETTE_PIXELS)
+
+        rays = pixel_rays(self.scene.render(True, peeling(plane=False), **lit)[2][0])
+        t0, t1, tp = sphere_and_plane(*rays)
+        clear = np.isfinite(t0) & (np.minimum(np.abs(tp - t0), np.abs(tp - t1)) > 0.02)
+        for exact in (True, False):
+            opaque = self.scene.render(exact, peeling(plane=False), **lit)[0][..., :3]
+            plane = self.scene.render(exact, peeling(sphere=False), **lit)[0][..., :3]
+            single = self.scene.render(exact, peeling(plane=False), opacity=0.5, **lit)[0][..., :3]
+            both = self.scene.render(exact, peeling(), opacity=0.5, **lit)[0][..., :3]
+            blend = np.where((tp < t0)[..., None], plane, np.where(
+                (tp < t1)[..., None], (opaque + plane) / 2, single + plane / 4))
+            wrong = int(((np.abs(both - blend).max(axis=2) > COLOR_TOLERANCE + 2) & clear).sum())
+            report("depth peeling, opaque plane" + ("" if exact else " (polygons)"),
+                   "%d of %d pixels differ from the composed blend" % (wrong, clear.sum()))
+            if exact:
+                self.assertEqual(wrong, 0)
+
+    def test_translucent_neighbours(self):
+        """A translucent sphere with a translucent plane: the sphere is blended over the frame
+        after the plane, which neither depth peeling nor order-independent translucency can
+        interleave with it: a warning naming the technique and the count of such props, once
+        per change (none with the plane opaque)."""
+        def translucency(peeling):
+            def configure(window, renderer):
+                renderer.SetUseDepthPeeling(peeling)
+            return configure
+        expected = {True: "depth peeling", False: "order-independent translucency"}
+        for peeling in (True, False):
+            for plane_opacity in (1.0, 0.5):
+                self.scene.render(True, translucency(peeling), opacity=0.5,
+                                  plane_opacity=plane_opacity)
+                warnings = [w for w in self.scene.messages.warnings if "translucent" in w]
+                report("translucent plane (%s), plane opacity %g" % (expected[peeling],
+                                                                     plane_opacity),
+                       "%d warnings%s" % (len(warnings), ": " + warnings[0].split("): ")[-1].strip()
+                                          if warnings else ""))
+                self.assertEqual(len(warnings), 1 if plane_opacity < 1 else 0)
+                if warnings:
+                    self.assertIn("after the view's 1 other translucent prop: "
+                                  + expected[peeling] + " cannot interleave", warnings[0])
+                    self.scene.window.Render()  # (again: no new warning)
+                    self.assertEqual(
+                        len([w for w in self.scene.messages.warnings if "translucent" in w]), 1)
 
 if __name__ == "__main__":
     result = unittest.main(exit=False, verbosity=2).result
