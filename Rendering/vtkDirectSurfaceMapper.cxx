@@ -19,6 +19,7 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkPlane.h"
 #include "vtkPlaneCollection.h"
+#include "vtkProp3D.h"
 #include "vtkPropCollection.h"
 #include "vtkProperty.h"
 #include "vtkRenderWindowInteractor.h"
@@ -135,8 +136,9 @@ void vtkDirectSurfaceMapper::DrawDeferred(vtkObject* object, unsigned long, void
 
 void vtkDirectSurfaceMapper::CheckTranslucentNeighbours(vtkRenderer* renderer)
 {
-  // The renderer's other translucent props (not this kind's deferred surfaces, which are sorted
-  // among themselves): their layers are in the frame already.
+  // The renderer's other translucent 3D props (not this kind's deferred surfaces, which are
+  // sorted among themselves; not 2D annotations, drawn over everything): their layers are in
+  // the frame already.
   int others = 0;
   vtkPropCollection* props = renderer->GetViewProps();
   vtkCollectionSimpleIterator it;
@@ -145,7 +147,10 @@ void vtkDirectSurfaceMapper::CheckTranslucentNeighbours(vtkRenderer* renderer)
   {
     auto* actor = vtkActor::SafeDownCast(prop);
     const bool deferred = actor && vtkDirectSurfaceMapper::SafeDownCast(actor->GetMapper());
-    others += prop->GetVisibility() && !deferred && prop->HasTranslucentPolygonalGeometry() ? 1 : 0;
+    others += vtkProp3D::SafeDownCast(prop) && prop->GetVisibility() && !deferred &&
+        prop->HasTranslucentPolygonalGeometry()
+      ? 1
+      : 0;
   }
   // Once per change of the count or the technique in this renderer, not every frame.
   const bool peeling = renderer->GetUseDepthPeeling() != 0;

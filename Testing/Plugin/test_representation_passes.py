@@ -1,6 +1,7 @@
 """The "Direct Surface" representation under ParaView's render-view passes: StereoRender with the
 stereo types 'Red-Blue', 'SplitViewportHorizontal', 'Left' and 'Right' (at ParaView's default eye
-angle of 2 degrees and at 8), and ambient occlusion (UseAmbientOcclusion). In one view, the exact
+angle of 2 degrees and at 8), ambient occlusion (UseAmbientOcclusion) and depth peeling (the
+view's default) with a translucent sphere. In one view, the exact
 sphere of Data/sphere_in_cell.vtu (the field |x - c|^2 - r^2, held exactly by its quadratic
 cells) cut by a polygon plane, then a polygon sphere of the same centre and radius in its place:
 the two screenshots must agree (pixels whose colour differs by more than rounding are counted;
@@ -17,7 +18,9 @@ import paraview.simple as simple
 from paraview import servermanager
 from paraview.simple import (CreateView, Hide, LoadPlugin, Plane, Render, SaveScreenshot, Show,
                              Sphere, XMLUnstructuredGridReader)
+from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonCore import VTK_STRING, vtkCommand
 from vtkmodules.vtkIOImage import vtkPNGReader
 import numpy as np
 
@@ -147,6 +150,43 @@ check(np.abs(occluded - occluded_polygons).max() <= 12,
 check(differing(occluded_polygons, plain) > 100,
       "ambient occlusion changed the polygon picture too little to compare")
 view.UseAmbientOcclusion = 0
+
+# Translucency: ParaView's view peels depth by default. The translucent sphere alone against the
+# translucent polygon sphere; then, with the plane translucent too, the mapper's one warning
+# that it cannot interleave the two, and none with the plane opaque beside 2D text.
+check(view.DepthPeeling == 1, "the render view's depth peeling is on by default")
+for display in (exact, polygons):
+    display.Opacity = 0.5
+Hide(plane_source, view)
+compare("depth peeling, translucent sphere alone")
+Hide(polygon_source, view)
+Show(plane_source, view)
+Show(simple.Text(Text="2D text over the view"), view)
+Show(reader, view)
+Render(view)
+actors = view.GetRenderer().GetActors()
+mapper = [actors.GetItemAsObject(k).GetMapper() for k in range(actors.GetNumberOfItems())
+          if actors.GetItemAsObject(k).GetMapper() is not None
+          and actors.GetItemAsObject(k).GetMapper().IsA("vtkDirectSurfaceMapper")][0]
+warnings = []
+
+
+@calldata_type(VTK_STRING)
+def on_warning(caller, event, text):
+    warnings.append(text)
+
+
+mapper.AddObserver(vtkCommand.WarningEvent, on_warning)
+for plane_opacity in (1.0, 0.5):
+    plane.Opacity = plane_opacity
+    Render(view)
+    Render(view)
+    said = [w for w in warnings if "translucent" in w]
+    rows.append(("translucent plane, opacity %g" % plane_opacity, "%d warnings" % len(said)))
+    check(len(said) == (1 if plane_opacity < 1 else 0),
+          f"plane opacity {plane_opacity}: expected {1 if plane_opacity < 1 else 0} warning, got {said}")
+check(any("1 other translucent prop: depth peeling cannot interleave" in w for w in warnings),
+      f"the warning names depth peeling and the one prop: {warnings}")
 
 print("\nmode -> result")
 for name, text in rows:
