@@ -13,6 +13,7 @@
 #include "vtkContourValues.h"
 #include "vtkDataArray.h"
 #include "vtkInformation.h"
+#include "vtkInformationObjectBaseVectorKey.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
 #include "vtkMath.h"
@@ -186,12 +187,12 @@ void vtkDirectSurfaceMapper::Frame::CollectAmbientOcclusion(vtkRenderer* rendere
   // A render pass lists itself in the props' keys while it renders them (vtkOpenGLRenderPass);
   // vtkSSAOPass renders the opaque pass into its G-buffer.
   vtkInformation* keys = this->Actor->GetPropertyKeys();
-  const int passes =
-    keys && keys->Has(vtkOpenGLRenderPass::RenderPasses()) ? keys->Length(vtkOpenGLRenderPass::RenderPasses()) : 0;
+  vtkInformationObjectBaseVectorKey* passKey = vtkOpenGLRenderPass::RenderPasses();
+  const int passes = keys && keys->Has(passKey) ? keys->Length(passKey) : 0;
   this->AmbientOcclusion = false;
   for (int k = 0; k < passes && !this->Translucent; ++k)
   {
-    vtkObjectBase* pass = keys->Get(vtkOpenGLRenderPass::RenderPasses(), k);
+    vtkObjectBase* pass = keys->Get(passKey, k);
     this->AmbientOcclusion = this->AmbientOcclusion || (pass && pass->IsA("vtkSSAOPass"));
   }
   if (!this->AmbientOcclusion)
@@ -201,7 +202,8 @@ void vtkDirectSurfaceMapper::Frame::CollectAmbientOcclusion(vtkRenderer* rendere
   // As vtkSSAOPass and the polygons see view space: the camera's model-view matrix and its
   // projection (with the stereo eye's shear, as SetUpView).
   vtkCamera* camera = renderer->GetActiveCamera();
-  const glm::dmat4 modelToView = ToGlm(camera->GetModelViewTransformMatrix()) * this->ModelToWorld;
+  const glm::dmat4 modelToView =
+    ToGlm(camera->GetModelViewTransformMatrix()) * this->ModelToWorld;
   this->ViewSpace.NdcToView = glm::inverse(
     ToGlm(camera->GetProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1.0, 1.0)));
   this->ViewSpace.NormalToView = glm::transpose(glm::inverse(glm::dmat3(modelToView)));

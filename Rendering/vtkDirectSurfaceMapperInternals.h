@@ -236,9 +236,10 @@ struct vtkDirectSurfaceMapper::Internals
   };
   std::vector<Deferred> DeferredDraws;
 
-  /// What one view (a window's renderer, an actor of this mapper, a stereo eye) draws its image with:
-  /// textures and quad (OpenGL objects belong to the window's context), the signature and size
-  /// of the image the textures hold, so that each view re-uses its own, and its background cast.
+  /// What one view (a window's renderer, an actor of this mapper, a stereo eye) draws its image
+  /// with: textures and quad (OpenGL objects belong to the window's context), the signature and
+  /// size of the image the textures hold, so that each view re-uses its own, and its background
+  /// cast.
   struct ViewResources
   {
     vtkWeakPointer<vtkOpenGLRenderWindow> Window;
