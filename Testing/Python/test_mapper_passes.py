@@ -10,6 +10,7 @@ import sys
 import unittest
 
 import numpy as np
+from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet
 from vtkmodules.vtkFiltersSources import vtkPlaneSource, vtkSphereSource
 from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
@@ -59,9 +60,11 @@ class Scene:
         else:
             self.window.OffScreenRenderingOn()
 
-    def render(self, exact, configure=None, opacity=1.0, plane_opacity=1.0, lighting=False):
+    def render(self, exact, configure=None, opacity=1.0, plane_opacity=1.0, lighting=False,
+               mesh=None):
         """Renders the scene with the mapper's sphere (`exact`) or the polygon sphere; returns
-        (rgba, window depth, the eyes' world-to-NDC matrices: eye_matrix by -1, 0, 1)."""
+        (rgba, window depth, the eyes' world-to-NDC matrices: eye_matrix by -1, 0, 1). `mesh`:
+        the mapper's input, if not the lattice."""
         renderers = self.window.GetRenderers()
         while renderers.GetNumberOfItems():
             self.window.RemoveRenderer(renderers.GetFirstRenderer())
@@ -70,7 +73,7 @@ class Scene:
         sphere = vtkActor()
         if exact:
             mapper = vtkDirectSurfaceMapper()
-            mapper.SetInputData(self.mesh)
+            mapper.SetInputData(self.mesh if mesh is None else mesh)
             mapper.SetValue(0, RADIUS2)
             mapper.ScalarVisibilityOff()
             self.messages = Messages(mapper)
@@ -317,6 +320,17 @@ class Passes(unittest.TestCase):
                % (differ, worst, darkened))
         self.assertGreater(darkened, 100)  # (the pass does something to compare)
         self.assertLessEqual(differ, SILHOUETTE_PIXELS)
+
+        # The mesh as two blocks of a multiblock dataset: each pixel's normal is its nearest
+        # block's, and the picture is the one grid's.
+        blocks = vtkMultiBlockDataSet()
+        cells = Scene.mesh.GetNumberOfCells()
+        for b, cell_range in enumerate([(0, cells // 2), (cells // 2, cells)]):
+            blocks.SetBlock(b, grid(cell_range=cell_range))
+        composite, _, _ = self.scene.render(True, configure, lighting=True, mesh=blocks)
+        report("ambient occlusion, two blocks", "%d pixels differ from the one grid's picture"
+               % differing_pixels(composite, exact))
+        self.assertEqual(differing_pixels(composite, exact), 0)
 
         # An interactive frame (cast at half resolution, upsampled): its normals are the nearest
         # cast pixel's; it differs from the still picture along the silhouette and the plane's
