@@ -19,6 +19,8 @@
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkPlane.h"
 #include "vtkPlaneCollection.h"
+#include "vtkProp3D.h"
+#include "vtkPropCollection.h"
 #include "vtkProperty.h"
 #include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
@@ -110,6 +112,10 @@ void vtkDirectSurfaceMapper::DrawDeferred(vtkObject* object, unsigned long, void
       deferred.Actors.clear();
     }
   }
+  if (!actors.empty())
+  {
+    this->CheckTranslucentNeighbours(renderer);
+  }
   // Each is blended over the frame and writes no depth: the farthest first, so that nearer
   // surfaces are blended over farther ones (by the distance of the actors' centres).
   double eye[3];
@@ -126,6 +132,39 @@ void vtkDirectSurfaceMapper::DrawDeferred(vtkObject* object, unsigned long, void
   {
     this->Draw(renderer, actor, true);
   }
+}
+
+void vtkDirectSurfaceMapper::CheckTranslucentNeighbours(vtkRenderer* renderer)
+{
+  // The renderer's other translucent 3D props (not this kind's deferred surfaces, which are
+  // sorted among themselves; not 2D annotations, drawn over everything): their layers are in
+  // the frame already.
+  int others = 0;
+  vtkPropCollection* props = renderer->GetViewProps();
+  vtkCollectionSimpleIterator it;
+  props->InitTraversal(it);
+  while (vtkProp* prop = props->GetNextProp(it))
+  {
+    auto* actor = vtkActor::SafeDownCast(prop);
+    const bool deferred = actor && vtkDirectSurfaceMapper::SafeDownCast(actor->GetMapper());
+    others += vtkProp3D::SafeDownCast(prop) && prop->GetVisibility() && !deferred &&
+        prop->HasTranslucentPolygonalGeometry()
+      ? 1
+      : 0;
+  }
+  // Once per change of the count or the technique in this renderer, not every frame.
+  const bool peeling = renderer->GetUseDepthPeeling() != 0;
+  std::vector<std::uintptr_t> stamp{ reinterpret_cast<std::uintptr_t>(renderer),
+    static_cast<std::uintptr_t>(others), peeling ? 1u : 0u };
+  if (stamp == this->Internal->NeighbourStamp)
+  {
+    return;
+  }
+  this->Internal->NeighbourStamp = stamp;
+  adapter::Messages messages;
+  tetdsr::checkTranslucentNeighbours(
+    others, peeling ? "depth peeling" : "order-independent translucency", messages);
+  adapter::ReportMessages(this, messages);
 }
 
 int vtkDirectSurfaceMapper::FillInputPortInformation(int, vtkInformation* info)

@@ -329,6 +329,9 @@ private:
   /// The renderer's EndEvent: draws the translucent surfaces its actors of this mapper asked
   /// for, farthest actor first.
   void DrawDeferred(vtkObject* renderer, unsigned long event, void* data);
+  /// Warns (once per change) when the renderer has other translucent props, which translucent
+  /// surfaces, blended over the finished frame, cannot interleave with.
+  void CheckTranslucentNeighbours(vtkRenderer* renderer);
   /// The culler drops an actor whose bounds are empty before Render is called: then (once per
   /// change of the input or the settings) the reason is reported from GetBounds.
   void ReportWhyNothingIsDrawn();

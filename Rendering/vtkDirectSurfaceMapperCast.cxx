@@ -12,10 +12,13 @@
 #include "vtkCompositeDataSet.h"
 #include "vtkContourValues.h"
 #include "vtkDataArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationObjectBaseVectorKey.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
 #include "vtkMath.h"
 #include "vtkNew.h"
+#include "vtkOpenGLRenderPass.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkProperty.h"
 #include "vtkRenderWindowInteractor.h"
@@ -73,6 +76,23 @@ tetdsr::Light CoreLight(vtkLight* light)
   return entry;
 }
 
+/// The world-to-NDC matrix of the renderer's view. `eye`: the one the window's polygons are
+/// drawn with in this render (vtkOpenGLCamera::GetKeyMatrices: the camera's projection, with the
+/// stereo eye's shear when the window renders in stereo, times its model-view matrix). Else the
+/// centre view VTK's pickers use: the camera's composite projection, which leaves the eye's shear
+/// out, so that a frame cast with it would show the centre view to both eyes.
+glm::dmat4 WorldToNdc(vtkRenderer* renderer, bool eye)
+{
+  vtkCamera* camera = renderer->GetActiveCamera();
+  const double aspect = renderer->GetTiledAspectRatio();
+  if (!eye)
+  {
+    return ToGlm(camera->GetCompositeProjectionTransformMatrix(aspect, -1.0, 1.0));
+  }
+  return ToGlm(camera->GetProjectionTransformMatrix(aspect, -1.0, 1.0)) *
+    ToGlm(camera->GetModelViewTransformMatrix());
+}
+
 /// The colour of a block's surface from `mapper`'s scalars on `grid`, as a polygon mapper would
 /// map them (direct colours, or through its lookup table and scalar range); none, with a
 /// warning, for a cell array, which has no value at a hit.
@@ -125,7 +145,8 @@ void ChooseColors(vtkMapper* mapper, vtkUnstructuredGrid* grid, adapter::Prepare
 }
 
 //------------------------------------------------------------------------------
-bool vtkDirectSurfaceMapper::Frame::SetUpView(vtkRenderer* renderer, double sampleDistance)
+bool vtkDirectSurfaceMapper::Frame::SetUpView(
+  vtkRenderer* renderer, double sampleDistance, bool eye)
 {
   int width, height, originX, originY;
   renderer->GetTiledSizeAndOrigin(&width, &height, &originX, &originY);
@@ -139,9 +160,9 @@ bool vtkDirectSurfaceMapper::Frame::SetUpView(vtkRenderer* renderer, double samp
   this->Viewport[3] = height;
   this->CastWidth = std::max(1, static_cast<int>(std::ceil(width / sampleDistance)));
   this->CastHeight = std::max(1, static_cast<int>(std::ceil(height / sampleDistance)));
+  const glm::dmat4 worldToNdc = WorldToNdc(renderer, eye);
   vtkCamera* camera = renderer->GetActiveCamera();
-  const glm::dmat4 worldToNdc = ToGlm(
-    camera->GetCompositeProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1.0, 1.0));
+  this->Eye = eye && camera->GetStereo() && !camera->GetLeftEye() ? 1 : 0;
   this->Identity = this->Actor->GetIsIdentity() != 0;
   this->ModelToWorld = this->Identity ? glm::dmat4(1.0) : ToGlm(this->Actor->GetMatrix());
   this->WorldToModel = glm::inverse(this->ModelToWorld);
@@ -153,6 +174,33 @@ bool vtkDirectSurfaceMapper::Frame::SetUpView(vtkRenderer* renderer, double samp
   }
   this->Rays = tetdsr::RayGenerator(this->NdcToModel, this->CastWidth, this->CastHeight);
   return true;
+}
+
+void vtkDirectSurfaceMapper::Frame::CollectAmbientOcclusion(vtkRenderer* renderer)
+{
+  // A render pass lists itself in the props' keys while it renders them (vtkOpenGLRenderPass);
+  // vtkSSAOPass renders the opaque pass into its G-buffer.
+  vtkInformation* keys = this->Actor->GetPropertyKeys();
+  vtkInformationObjectBaseVectorKey* passKey = vtkOpenGLRenderPass::RenderPasses();
+  const int passes = keys && keys->Has(passKey) ? keys->Length(passKey) : 0;
+  this->AmbientOcclusion = false;
+  for (int k = 0; k < passes && !this->Translucent; ++k)
+  {
+    vtkObjectBase* pass = keys->Get(passKey, k);
+    this->AmbientOcclusion = this->AmbientOcclusion || (pass && pass->IsA("vtkSSAOPass"));
+  }
+  if (!this->AmbientOcclusion)
+  {
+    return;
+  }
+  // As vtkSSAOPass and the polygons see view space: the camera's model-view matrix and its
+  // projection (with the stereo eye's shear, as SetUpView).
+  vtkCamera* camera = renderer->GetActiveCamera();
+  const glm::dmat4 modelToView =
+    ToGlm(camera->GetModelViewTransformMatrix()) * this->ModelToWorld;
+  this->ViewSpace.NdcToView = glm::inverse(
+    ToGlm(camera->GetProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1.0, 1.0)));
+  this->ViewSpace.NormalToView = glm::transpose(glm::inverse(glm::dmat3(modelToView)));
 }
 
 void vtkDirectSurfaceMapper::Frame::CollectLights(vtkRenderer* renderer)
@@ -208,6 +256,7 @@ void vtkDirectSurfaceMapper::ImageCast::Resize(std::size_t pixels, bool severalB
     std::fill(this->Colors.begin(), this->Colors.end(), 0);
     this->BlockColors.resize(4 * pixels);
     this->BlockDepth.resize(pixels);
+    this->BlockNormals.resize(3 * pixels);
     this->BlockCellIds.resize(pixels);
   }
 }
@@ -249,7 +298,7 @@ tetdsr::ImageView vtkDirectSurfaceMapper::ImageCast::BlockImage(const Frame& fra
   image.height = frame.CastHeight;
   image.colors = several ? this->BlockColors.data() : this->Colors.data();
   image.depth = several ? this->BlockDepth.data() : this->Depth.data();
-  image.normals = this->Normals.data();
+  image.normals = several ? this->BlockNormals.data() : this->Normals.data();
   image.cellIds = several ? this->BlockCellIds.data() : this->CellIds.data();
   image.rayLimits = frame.Translucent && !frame.CollectLayers ? this->RayLimits.data() : nullptr;
   if (frame.CollectLayers)
@@ -270,6 +319,7 @@ void vtkDirectSurfaceMapper::ImageCast::KeepNearest(std::size_t pixels, unsigned
       this->Depth[p] = this->BlockDepth[p];
       this->CellIds[p] = this->BlockCellIds[p];
       std::copy_n(&this->BlockColors[4 * p], 4, &this->Colors[4 * p]);
+      std::copy_n(&this->BlockNormals[3 * p], 3, &this->Normals[3 * p]);
       if (blocks)
       {
         this->PixelBlocks[p] = block;
@@ -338,9 +388,12 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
     return; // an empty viewport, or a singular projection
   }
   frame.CollectLights(renderer);
+  frame.CollectAmbientOcclusion(renderer);
+  const vtkDirectSurfaceViewSpace* viewSpace =
+    frame.AmbientOcclusion ? &frame.ViewSpace : nullptr;
 
   Internals& in = *this->Internal;
-  Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor);
+  Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor, frame.Eye);
   vtkRenderWindowInteractor* interactor = window->GetInteractor();
   const bool eventLoop =
     this->ProgressiveRefinement && interactor && this->EventLoopRuns(interactor);
@@ -349,7 +402,7 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   // The image this view holds: of the same scene (camera, data, settings), and of the size.
   const bool sameSize = gl.ImageSize[0] == frame.CastWidth && gl.ImageSize[1] == frame.CastHeight;
   auto drawImage = [&]() {
-    Internals::Draw(gl, window, translucent, frame.Viewport);
+    Internals::Draw(gl, window, translucent, frame.Viewport, viewSpace);
     timer->StopTimer();
     this->TimeToDraw = timer->GetElapsedTime();
   };
@@ -367,8 +420,8 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
       if (refinement.Finished)
       {
         refinement.Worker.join(); // (it has returned)
-        Internals::Upload(
-          gl, window, refinement.Cast, refinement.Width, refinement.Height, distance);
+        Internals::Upload(gl, window, refinement.Cast, refinement.Width, refinement.Height,
+          distance, frame.AmbientOcclusion);
         gl.Signature = refinement.Signature;
         in.LastCastSeconds = refinement.Seconds;
         in.SampleDistance = distance;
@@ -418,8 +471,9 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
     return;
   }
   in.ComputeWindowDepth(frame);
-  Internals::Upload(gl, window, in.Cast, frame.CastWidth, frame.CastHeight, distance);
-  Internals::Draw(gl, window, translucent, frame.Viewport);
+  Internals::Upload(
+    gl, window, in.Cast, frame.CastWidth, frame.CastHeight, distance, frame.AmbientOcclusion);
+  Internals::Draw(gl, window, translucent, frame.Viewport, viewSpace);
   gl.Signature = std::move(frame.Signature);
   timer->StopTimer();
   this->CastFinished(frame, distance, timer->GetElapsedTime());
@@ -552,6 +606,7 @@ void vtkDirectSurfaceMapper::ComputeSignature(Frame& frame, bool shading)
   }
   // And what decides its colour: the lights, and the opaque depth translucent rays stop at.
   signature.push_back(frame.Settings.lighting.headlightOnly ? 1.0 : 0.0);
+  signature.push_back(frame.AmbientOcclusion ? 1.0 : 0.0); // (the normals are loaded for it)
   signature.insert(signature.end(), frame.LightState.begin(), frame.LightState.end());
   if (frame.Translucent)
   {

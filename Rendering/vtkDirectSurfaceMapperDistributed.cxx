@@ -270,7 +270,7 @@ void vtkDirectSurfaceMapper::DrawTranslucentAcrossProcesses(vtkRenderer* rendere
   else
   {
     in.ComputeWindowDepth(frame);
-    Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor);
+    Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor, frame.Eye);
     gl.Refining.reset();
     Internals::Upload(gl, window, cast, frame.CastWidth, frame.CastHeight, distance);
     Internals::Draw(gl, window, true, frame.Viewport);

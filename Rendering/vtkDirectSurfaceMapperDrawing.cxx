@@ -2,7 +2,8 @@
 // actor), the textures a cast image is uploaded to and the full-screen quads that draw them with
 // their exact depth (gl_FragDepth), a reduced image upsampled without blending across
 // silhouettes (the core's render/Upsampling maps, as two more textures); and the opaque depth
-// read back under translucent surfaces.
+// read back under translucent surfaces; under screen-space ambient occlusion, each pixel's
+// view-space position and normal into the pass's G-buffer.
 #include "vtkDirectSurfaceMapper.h"
 #include "vtkDirectSurfaceMapperInternals.h"
 
@@ -97,11 +98,30 @@ const char* const kQuadUpsample = R"(
   gl_FragDepth = depth;
   gl_FragData[0] = color;
 )";
+/// Appended to either quad under screen-space ambient occlusion: what vtkSSAOPass's G-buffer
+/// holds for polygons (vtkOpenGLPolyDataMapper's vertexVC and normalVCVSOutput): the pixel's
+/// view-space position, from its window position and depth through the inverse projection, and
+/// its normal turned to the viewer, from the nearest cast pixel's normal.
+const char* const kViewSpaceDeclarations = R"(
+uniform sampler2D normalTexture;
+uniform mat4 ndcToView;
+uniform mat3 normalToView;
+)";
+const char* const kViewSpace = R"(
+  vec4 pointVC = ndcToView * vec4(2.0 * texCoord - 1.0, 2.0 * depth - 1.0, 1.0);
+  vec3 positionVC = pointVC.xyz / pointVC.w;
+  ivec2 normalSize = textureSize(normalTexture, 0);
+  vec3 normalVC = normalize(normalToView *
+    texelFetch(normalTexture, min(ivec2(texCoord * vec2(normalSize)), normalSize - 1), 0).xyz);
+  normalVC = dot(normalVC, positionVC) > 0.0 ? -normalVC : normalVC;
+  gl_FragData[1] = vec4(positionVC, 1.0);
+  gl_FragData[2] = vec4(normalVC, 1.0);
+)";
 }
 
 //------------------------------------------------------------------------------
 vtkDirectSurfaceMapper::Internals::ViewResources& vtkDirectSurfaceMapper::Internals::ResourcesOf(
-  vtkOpenGLRenderWindow* window, vtkRenderer* renderer, vtkActor* actor)
+  vtkOpenGLRenderWindow* window, vtkRenderer* renderer, vtkActor* actor, int eye)
 {
   for (auto it = this->Views.begin(); it != this->Views.end();)
   {
@@ -114,7 +134,7 @@ vtkDirectSurfaceMapper::Internals::ViewResources& vtkDirectSurfaceMapper::Intern
       }
       it = this->Views.erase(it);
     }
-    else if (r.Window == window && r.Renderer == renderer && r.Actor == actor)
+    else if (r.Window == window && r.Renderer == renderer && r.Actor == actor && r.Eye == eye)
     {
       return r;
     }
@@ -128,6 +148,7 @@ vtkDirectSurfaceMapper::Internals::ViewResources& vtkDirectSurfaceMapper::Intern
   made.Window = window;
   made.Renderer = renderer;
   made.Actor = actor;
+  made.Eye = eye;
   return made;
 }
 
@@ -151,8 +172,8 @@ void vtkDirectSurfaceMapper::Internals::ViewResources::Release(vtkWindow* window
       quad.reset();
     }
   }
-  for (auto* texture :
-    { &this->ColorTexture, &this->DepthTexture, &this->MaskTexture, &this->BlockTexture })
+  for (auto* texture : { &this->ColorTexture, &this->DepthTexture, &this->NormalTexture,
+         &this->MaskTexture, &this->BlockTexture })
   {
     if (*texture)
     {
@@ -161,6 +182,7 @@ void vtkDirectSurfaceMapper::Internals::ViewResources::Release(vtkWindow* window
     }
   }
   this->TexturesValid = false;
+  this->NormalsValid = false;
   this->UpsamplingValid = false;
   this->Signature.clear();
 }
@@ -225,10 +247,18 @@ void vtkDirectSurfaceMapper::Internals::LoadUpsampling(
 }
 
 void vtkDirectSurfaceMapper::Internals::Upload(ViewResources& gl, vtkOpenGLRenderWindow* window,
-  const ImageCast& images, int width, int height, double sampleDistance)
+  const ImageCast& images, int width, int height, double sampleDistance, bool normals)
 {
   LoadTextures(window, gl.ColorTexture, gl.DepthTexture, width, height, images.Colors.data(),
     images.WindowDepth.data(), vtkTextureObject::Linear);
+  gl.NormalsValid = normals;
+  if (normals)
+  {
+    const std::vector<float> unit(images.Normals.begin(), images.Normals.end());
+    Ready(gl.NormalTexture, window);
+    gl.NormalTexture->Create2DFromRaw(
+      width, height, 3, VTK_FLOAT, const_cast<float*>(unit.data()));
+  }
   gl.UpsamplingValid = false;
   if (sampleDistance > 1.0) // (a cast of the viewport's size is drawn texel for texel)
   {
@@ -240,14 +270,14 @@ void vtkDirectSurfaceMapper::Internals::Upload(ViewResources& gl, vtkOpenGLRende
   gl.ImageSampleDistance = sampleDistance;
 }
 
-bool vtkDirectSurfaceMapper::Internals::Draw(
-  ViewResources& gl, vtkOpenGLRenderWindow* window, bool translucent, const int viewport[4])
+bool vtkDirectSurfaceMapper::Internals::Draw(ViewResources& gl, vtkOpenGLRenderWindow* window,
+  bool translucent, const int viewport[4], const vtkDirectSurfaceViewSpace* viewSpace)
 {
   // (An image of another size without its upsampling, which no Upload makes, is drawn from
   // its nearest cast pixels.)
   const bool upsample = gl.ImageSize[0] != viewport[2] || gl.ImageSize[1] != viewport[3];
   return DrawTextures(gl, window, translucent, viewport, gl.ColorTexture, gl.DepthTexture,
-    upsample && gl.UpsamplingValid);
+    upsample && gl.UpsamplingValid, gl.NormalsValid ? viewSpace : nullptr);
 }
 
 bool vtkDirectSurfaceMapper::Internals::ReadyQuad(std::unique_ptr<vtkOpenGLQuadHelper>& quad,
@@ -266,11 +296,17 @@ bool vtkDirectSurfaceMapper::Internals::ReadyQuad(std::unique_ptr<vtkOpenGLQuadH
 
 bool vtkDirectSurfaceMapper::Internals::DrawTextures(ViewResources& gl,
   vtkOpenGLRenderWindow* window, bool translucent, const int viewport[4], vtkTextureObject* color,
-  vtkTextureObject* depth, bool upsample)
+  vtkTextureObject* depth, bool upsample, const vtkDirectSurfaceViewSpace* viewSpace)
 {
-  const int k = upsample ? 1 : 0;
-  if (!ReadyQuad(gl.Quads[k], window, upsample ? kQuadUpsampleDeclarations : kQuadDeclarations,
-        upsample ? kQuadUpsample : kQuadFull))
+  const int k = (upsample ? 1 : 0) + (viewSpace ? 2 : 0);
+  std::string declarations = upsample ? kQuadUpsampleDeclarations : kQuadDeclarations;
+  std::string implementation = upsample ? kQuadUpsample : kQuadFull;
+  if (viewSpace)
+  {
+    declarations += kViewSpaceDeclarations;
+    implementation += kViewSpace;
+  }
+  if (!ReadyQuad(gl.Quads[k], window, declarations.c_str(), implementation.c_str()))
   {
     return false;
   }
@@ -317,7 +353,26 @@ bool vtkDirectSurfaceMapper::Internals::DrawTextures(ViewResources& gl,
     program->SetUniformi("maskTexture", gl.MaskTexture->GetTextureUnit());
     program->SetUniformi("blockTexture", gl.BlockTexture->GetTextureUnit());
   }
+  // Under ambient occlusion the pass has three colour attachments bound, and activates them
+  // only for polygon mappers (vtkSSAOPass::SetShaderParameters): the quad activates them itself.
+  unsigned int attachments[3] = { GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1,
+    GL_COLOR_ATTACHMENT2 };
+  if (viewSpace)
+  {
+    gl.NormalTexture->Activate();
+    program->SetUniformi("normalTexture", gl.NormalTexture->GetTextureUnit());
+    const glm::mat4 ndcToView(viewSpace->NdcToView);
+    const glm::mat3 normalToView(viewSpace->NormalToView);
+    program->SetUniformMatrix4x4("ndcToView", const_cast<float*>(&ndcToView[0][0]));
+    program->SetUniformMatrix3x3("normalToView", const_cast<float*>(&normalToView[0][0]));
+    state->vtkglDrawBuffers(3, attachments);
+  }
   gl.Quads[k]->Render();
+  if (viewSpace)
+  {
+    state->vtkglDrawBuffers(1, attachments);
+    gl.NormalTexture->Deactivate();
+  }
   if (upsample)
   {
     gl.BlockTexture->Deactivate();

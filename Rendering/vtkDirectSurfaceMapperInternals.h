@@ -57,6 +57,17 @@ inline glm::dmat4 ToGlm(const vtkMatrix4x4* matrix)
 }
 }
 
+/// What screen-space ambient occlusion reads besides colour and depth: each pixel's view-space
+/// position and normal, in the extra colour attachments of vtkSSAOPass's G-buffer (written by
+/// vtkOpenGLPolyDataMapper under that pass). The quad makes them from the window depth and the
+/// cast's normals with these: the inverse of the view's projection, and the model-to-view
+/// matrix of normals.
+struct vtkDirectSurfaceViewSpace
+{
+  glm::dmat4 NdcToView{ 1.0 };
+  glm::dmat3 NormalToView{ 1.0 };
+};
+
 /// What one Draw works with, from stage to stage: the blocks, the view, the settings of the cast
 /// and its messages.
 struct vtkDirectSurfaceMapper::Frame
@@ -83,9 +94,17 @@ struct vtkDirectSurfaceMapper::Frame
   int Viewport[4] = { 0, 0, 0, 0 };
   int CastWidth = 0;
   int CastHeight = 0;
+  /// The stereo eye the frame is cast for: 1 the right eye of a stereo render, else 0 (each eye
+  /// keeps its own image: ViewResources).
+  int Eye = 0;
   bool Identity = true; ///< the actor's matrix is the identity
   glm::dmat4 ModelToWorld{ 1.0 }, WorldToModel{ 1.0 }, ModelToNdc{ 1.0 }, NdcToModel{ 1.0 };
   tetdsr::RayGenerator Rays{ glm::dmat4(1.0), 1, 1 }; ///< set with the view
+
+  /// The renderer draws its opaque pass into vtkSSAOPass's G-buffer (the actor carries the
+  /// pass): the quad writes position and normal too (ViewSpace).
+  bool AmbientOcclusion = false;
+  vtkDirectSurfaceViewSpace ViewSpace;
 
   std::vector<double> LightState; ///< the switched-on lights' parameters, for the signature
   std::vector<double> Signature;  ///< everything the image depends on
@@ -100,9 +119,14 @@ struct vtkDirectSurfaceMapper::Frame
   bool SeveralBlocks() const { return this->Blocks.size() > 1; }
 
   /// The viewport, cast at `sampleDistance` pixels a ray, and the actor seen through the active
-  /// camera's composite projection (as the GL matrices use it, so explicit and tiled projections
-  /// work). False for an empty viewport.
-  bool SetUpView(vtkRenderer* renderer, double sampleDistance);
+  /// camera's projection: with `eye`, as the GL matrices of this render use it (so explicit and
+  /// tiled projections and each stereo eye work); else the centre view of VTK's pickers. False
+  /// for an empty viewport.
+  bool SetUpView(vtkRenderer* renderer, double sampleDistance, bool eye = true);
+
+  /// Whether an opaque frame is drawn under screen-space ambient occlusion (AmbientOcclusion)
+  /// and, if so, its ViewSpace (after SetUpView, with the same eye).
+  void CollectAmbientOcclusion(vtkRenderer* renderer);
 
   /// The renderer's lights, as vtkOpenGLRenderer hands them to the polygon shaders (none when
   /// the actor's property is unlit), with the camera position as the eye of the Phong model.
@@ -122,6 +146,7 @@ struct vtkDirectSurfaceMapper::ImageCast
   std::vector<float> WindowDepth;
   std::vector<std::uint8_t> BlockColors;
   std::vector<double> BlockDepth;
+  std::vector<double> BlockNormals;
   std::vector<tetdsr::NodeId> BlockCellIds;
   std::vector<double> RayLimits;
   std::vector<unsigned int> CasterBlocks; ///< each caster's block (flat index)
@@ -211,23 +236,29 @@ struct vtkDirectSurfaceMapper::Internals
   };
   std::vector<Deferred> DeferredDraws;
 
-  /// What one view (a window's renderer and an actor of this mapper) draws its image with:
-  /// textures and quad (OpenGL objects belong to the window's context), the signature and size
-  /// of the image the textures hold, so that each view re-uses its own, and its background cast.
+  /// What one view (a window's renderer, an actor of this mapper, a stereo eye) draws its image
+  /// with: textures and quad (OpenGL objects belong to the window's context), the signature and
+  /// size of the image the textures hold, so that each view re-uses its own, and its background
+  /// cast.
   struct ViewResources
   {
     vtkWeakPointer<vtkOpenGLRenderWindow> Window;
     vtkWeakPointer<vtkRenderer> Renderer;
     vtkWeakPointer<vtkActor> Actor;
+    int Eye = 0; ///< Frame::Eye
     vtkSmartPointer<vtkTextureObject> ColorTexture;
     vtkSmartPointer<vtkTextureObject> DepthTexture;
+    /// The cast's normals (model coordinates), loaded only for ambient occlusion.
+    vtkSmartPointer<vtkTextureObject> NormalTexture;
+    bool NormalsValid = false;
     /// For an image smaller than the viewport: per cast pixel its same-surface bits, per 2 x 2
     /// block its kind (tetdsr/render/Upsampling.h), and those as textures.
     tetdsr::UpsampleMaps Upsampling;
     vtkSmartPointer<vtkTextureObject> MaskTexture;
     vtkSmartPointer<vtkTextureObject> BlockTexture;
     bool UpsamplingValid = false;
-    std::unique_ptr<vtkOpenGLQuadHelper> Quads[2]; ///< kQuadFull, kQuadUpsample
+    /// kQuadFull, kQuadUpsample, and the two writing the G-buffer of ambient occlusion too.
+    std::unique_ptr<vtkOpenGLQuadHelper> Quads[4];
     bool TexturesValid = false;
     std::vector<double> Signature;
     int ImageSize[2] = { 0, 0 };
@@ -285,11 +316,14 @@ struct vtkDirectSurfaceMapper::Internals
 
   /// What the last report of an undrawable input (empty bounds) was made for.
   std::vector<std::uintptr_t> SilenceStamp;
+  /// What the last check of translucent neighbours was made for (renderer, count, technique).
+  std::vector<std::uintptr_t> NeighbourStamp;
 
   /// The resources of a view, made on first use. Entries of deleted windows, renderers or
   /// actors are dropped (a window releases its quads' and textures' OpenGL objects itself when
   /// it goes; those of a deleted renderer or actor are released here).
-  ViewResources& ResourcesOf(vtkOpenGLRenderWindow* window, vtkRenderer* renderer, vtkActor* actor);
+  ViewResources& ResourcesOf(
+    vtkOpenGLRenderWindow* window, vtkRenderer* renderer, vtkActor* actor, int eye);
 
   /// Cancels every view's background cast and waits for its threads: a cast on the GL thread
   /// may rebuild the prepared meshes they read.
@@ -321,11 +355,13 @@ struct vtkDirectSurfaceMapper::Internals
   static void LoadUpsampling(ViewResources& gl, vtkOpenGLRenderWindow* window, const float* depth,
     int width, int height);
 
+  /// Loads a cast's images into the view's textures (its normals too with `normals`).
   static void Upload(ViewResources& gl, vtkOpenGLRenderWindow* window, const ImageCast& images,
-    int width, int height, double sampleDistance);
+    int width, int height, double sampleDistance, bool normals = false);
 
-  static bool Draw(
-    ViewResources& gl, vtkOpenGLRenderWindow* window, bool translucent, const int viewport[4]);
+  /// Draws the view's image; with `viewSpace`, into the G-buffer of ambient occlusion too.
+  static bool Draw(ViewResources& gl, vtkOpenGLRenderWindow* window, bool translucent,
+    const int viewport[4], const vtkDirectSurfaceViewSpace* viewSpace = nullptr);
 
   /// The quad drawing with `declarations` and `implementation` (made on first use); false if it
   /// does not compile.
@@ -333,9 +369,12 @@ struct vtkDirectSurfaceMapper::Internals
     const char* declarations, const char* implementation);
 
   /// Draws `color` at `depth` (a texture each, of the viewport's size unless `upsample`: then
-  /// with the view's upsampling maps) with the view's quad.
+  /// with the view's upsampling maps) with the view's quad; with `viewSpace`, each pixel's
+  /// view-space position and normal (from the view's NormalTexture) into colour attachments 1
+  /// and 2, as vtkSSAOPass reads them.
   static bool DrawTextures(ViewResources& gl, vtkOpenGLRenderWindow* window, bool translucent,
-    const int viewport[4], vtkTextureObject* color, vtkTextureObject* depth, bool upsample);
+    const int viewport[4], vtkTextureObject* color, vtkTextureObject* depth, bool upsample,
+    const vtkDirectSurfaceViewSpace* viewSpace = nullptr);
 };
 
 #endif

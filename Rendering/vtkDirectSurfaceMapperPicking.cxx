@@ -30,7 +30,7 @@ bool vtkDirectSurfaceMapper::Pick(
     return false;
   }
   Frame frame(vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow()), actor, false);
-  if (!frame.SetUpView(renderer, 1.0))
+  if (!frame.SetUpView(renderer, 1.0, false)) // (the centre view, as VTK's pickers)
   {
     adapter::ReportMessages(this, frame.Messages); // (a singular projection's error)
     return false;

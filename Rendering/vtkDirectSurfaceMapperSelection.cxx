@@ -39,7 +39,7 @@ void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* acto
     return;
   }
   Internals& in = *this->Internal;
-  Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor);
+  Internals::ViewResources& gl = in.ResourcesOf(window, renderer, actor, frame.Eye);
   auto& image = gl.Selection;
 
   // The passes of one selection share one cast: of the view, the data and the settings that

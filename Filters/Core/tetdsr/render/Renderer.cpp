@@ -609,6 +609,19 @@ void Renderer::writePixel(std::size_t pixel, const glm::dvec3& premultiplied, do
   writeRgba(Image_.colors + 4 * pixel, premultiplied, opacity);
 }
 
+void checkTranslucentNeighbours(
+  int otherTranslucentProps, const char* technique, Messages& messages)
+{
+  if (otherTranslucentProps > 0)
+  {
+    messages.warnings.push_back(text("The translucent surface is blended over the frame after ",
+      "the view's ", otherTranslucentProps, " other translucent ",
+      otherTranslucentProps == 1 ? "prop" : "props", ": ", technique,
+      " cannot interleave their layers with the surface's, so where they lie in front of it, "
+      "the surface wrongly covers them. Make them or the surface opaque for a correct picture."));
+  }
+}
+
 void compositeLayers(std::vector<PixelLayer>& layers, std::size_t pixels, double gap,
   const double* rayLimits, std::uint8_t* colors)
 {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "tetdsr/common/Camera.h"
+#include "tetdsr/common/Messages.h"
 #include "tetdsr/index/Scene.h"
 #include "tetdsr/index/SurfaceIndex.h"
 
@@ -211,6 +212,14 @@ struct ImageView
 /// RGBA colours (not premultiplied; (0, 0, 0, 0) where nothing is taken). Sorts `layers`.
 void compositeLayers(std::vector<PixelLayer>& layers, std::size_t pixels, double gap,
   const double* rayLimits, std::uint8_t* colors);
+
+/// A translucent surface is blended over the finished frame, after the other translucent
+/// geometry of its view (a renderer's depth peeling or order-independent translucency cannot
+/// take its layers between theirs): warns, when `otherTranslucentProps` > 0, that where those lie
+/// in front of the surface the picture is wrong, naming the view's translucency technique
+/// (`technique`, e.g. "depth peeling").
+void checkTranslucentNeighbours(
+  int otherTranslucentProps, const char* technique, Messages& messages);
 
 /// Frames that re-use the last one: the last frame's hits (its rays, its depth and hitEntries)
 /// carried to the pixels of a new view, whose points `worldToNdc` takes to normalised device
