@@ -63,6 +63,17 @@ vtkDirectSurfaceMapper::~vtkDirectSurfaceMapper()
       deferred.Renderer->RemoveObserver(deferred.ObserverTag);
     }
   }
+  for (const auto& postponed : this->Internal->PostponedFXAAs)
+  {
+    if (postponed.Renderer)
+    {
+      postponed.Renderer->RemoveObserver(postponed.ObserverTag);
+      if (postponed.Due)
+      {
+        postponed.Renderer->SetUseFXAA(true); // (gone before the frame ended)
+      }
+    }
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -349,6 +360,15 @@ void vtkDirectSurfaceMapper::ReportWhyNothingIsDrawn()
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceMapper::ReleaseGraphicsResources(vtkWindow* window)
 {
+  for (auto& postponed : this->Internal->PostponedFXAAs)
+  {
+    if (postponed.Filter && postponed.Renderer &&
+      (!window || postponed.Renderer->GetRenderWindow() == window))
+    {
+      postponed.Filter->ReleaseGraphicsResources();
+      postponed.Filter = nullptr; // (made again on its next use)
+    }
+  }
   auto& views = this->Internal->Views;
   for (auto it = views.begin(); it != views.end();)
   {
@@ -383,6 +403,7 @@ void vtkDirectSurfaceMapper::Render(vtkRenderer* renderer, vtkActor* actor)
     return;
   }
   vtkMultiProcessController* controller = this->Internal->Controller;
+  this->PostponeFXAA(renderer);
   if (controller && controller->GetNumberOfProcesses() > 1)
   {
     return; // drawn by DrawTranslucentAcrossProcesses

@@ -138,7 +138,8 @@ public:
    * pixels covering the viewport, row-major from the bottom); null reads process 0's depth
    * buffer. `compositedColors`, when given (RGBA, premultiplied, as a compositor such as IceT
    * holds its image, `frameSize` pixels), is blended into in place, before it is shown;
-   * otherwise the surfaces are drawn over process 0's frame buffer. Collective: a process with
+   * otherwise the surfaces are drawn over process 0's frame buffer (with FXAA on, the renderer
+   * applies it after them: PostponeFXAA). Collective: a process with
    * no input, an invisible or opaque actor, or no window takes part with no crossings. The
    * default controller is none.
    */
@@ -329,6 +330,14 @@ private:
   /// The renderer's EndEvent: draws the translucent surfaces its actors of this mapper asked
   /// for, farthest actor first.
   void DrawDeferred(vtkObject* renderer, unsigned long event, void* data);
+  /// Translucent surfaces are drawn after the renderer's passes, which end with its FXAA (VTK
+  /// applies it after the translucent polygons; ParaView's compositors after compositing): so
+  /// that they are anti-aliased as every other surface, this switches the renderer's FXAA off
+  /// for the frame, and ApplyPostponedFXAA (its EndEvent, after every translucent draw at
+  /// priority 1) applies it over the finished frame and switches it back on. Nothing to do
+  /// where FXAA is off (ParaView's compositors switch it off while the processes render).
+  void PostponeFXAA(vtkRenderer* renderer);
+  void ApplyPostponedFXAA(vtkObject* renderer, unsigned long event, void* data);
   /// The culler drops an actor whose bounds are empty before Render is called: then (once per
   /// change of the input or the settings) the reason is reported from GetBounds.
   void ReportWhyNothingIsDrawn();
