@@ -135,11 +135,12 @@ public:
    * those in front of the composited depth, composites them front to back exactly as one process
    * holding every cell would, and blends them over its frame: the serial picture whatever the
    * distribution of the cells. `compositedDepth` is that depth (window coordinates, `frameSize`
-   * pixels covering the viewport, row-major from the bottom); null reads process 0's depth
-   * buffer. `compositedColors`, when given (RGBA, premultiplied, as a compositor such as IceT
+   * pixels covering the viewport, row-major from the bottom); null (no compositor, or one that
+   * blends without depth) composites every process's own depth buffer, the nearest of each
+   * pixel. `compositedColors`, when given (RGBA, premultiplied, as a compositor such as IceT
    * holds its image, `frameSize` pixels), is blended into in place, before it is shown;
-   * otherwise the surfaces are drawn over process 0's frame buffer (with FXAA on, the renderer
-   * applies it after them: PostponeFXAA). Collective: a process with
+   * otherwise the surfaces are drawn over process 0's frame buffer. With FXAA on, the renderer
+   * applies it after these surfaces (PostponeFXAA). Collective: a process with
    * no input, an invisible or opaque actor, or no window takes part with no crossings. The
    * default controller is none.
    */

@@ -326,16 +326,18 @@ void vtkDirectSurfaceRepresentation::DrawTranslucent(vtkObject* caller, unsigned
   {
     vtkSynchronizedRenderers::vtkRawImage tile;
     icet->GetLastRenderedTile(tile);
-    vtkFloatArray* depths = icet->GetLastRenderedDepths();
     const vtkIdType pixels = static_cast<vtkIdType>(tile.GetWidth()) * tile.GetHeight();
-    if (depths && tile.IsValid() && depths->GetNumberOfTuples() == pixels &&
-      tile.GetRawPtr()->GetNumberOfComponents() == 4 &&
+    if (tile.IsValid() && tile.GetRawPtr()->GetNumberOfComponents() == 4 &&
       tile.GetRawPtr()->GetNumberOfTuples() >= pixels) // (a reduced image keeps the buffer)
     {
-      depth = depths->GetPointer(0);
       colors = tile.GetRawPtr()->GetPointer(0);
       size[0] = tile.GetWidth();
       size[1] = tile.GetHeight();
+      // No depth when IceT blends the processes' images in order (ParaView's ordered
+      // compositing, when another representation is translucent): the mapper composites the
+      // processes' own opaque depth then.
+      vtkFloatArray* depths = icet->GetLastRenderedDepths();
+      depth = depths && depths->GetNumberOfTuples() == pixels ? depths->GetPointer(0) : nullptr;
     }
   }
   this->Mapper->DrawTranslucentAcrossProcesses(renderer, this->Actor, depth, colors, size);

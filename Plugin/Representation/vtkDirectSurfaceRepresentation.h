@@ -33,8 +33,10 @@
  * sorts them along each ray, drops those behind the composited depth, composites them front to
  * back and blends them over the composited frame (vtkDirectSurfaceMapper::
  * DrawTranslucentAcrossProcesses): the serial picture for any distribution of the cells, with no
- * cell moved. Other props' translucent geometry is composited by ParaView, not sorted with this
- * surface.
+ * cell moved. When another representation is translucent, ParaView composites in order (IceT
+ * blends the processes' images without depth): the mapper then composites the processes' own
+ * opaque depth itself. Other props' translucent geometry is composited by ParaView, not sorted
+ * with this surface.
  * Selection (Select Cells / Points On, hovering, Extract Selection) sees the surface: its actor is
  * registered with the view's hardware selector, and each process draws the cells its rays hit
  * (vtkDirectSurfaceMapper).
