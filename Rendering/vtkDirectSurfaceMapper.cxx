@@ -397,14 +397,15 @@ void vtkDirectSurfaceMapper::Render(vtkRenderer* renderer, vtkActor* actor)
     this->DrawSelection(renderer, actor);
     return;
   }
-  if (!this->IsTranslucent(actor))
+  vtkMultiProcessController* controller = this->Internal->Controller;
+  const bool distributed = controller && controller->GetNumberOfProcesses() > 1;
+  if (!this->IsTranslucent(actor) && !(distributed && this->CompositeOpaqueAcrossProcesses))
   {
     this->Draw(renderer, actor, false);
     return;
   }
-  vtkMultiProcessController* controller = this->Internal->Controller;
   this->PostponeFXAA(renderer);
-  if (controller && controller->GetNumberOfProcesses() > 1)
+  if (distributed)
   {
     return; // drawn by DrawTranslucentAcrossProcesses
   }
@@ -459,6 +460,8 @@ void vtkDirectSurfaceMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "InteractiveImageSampleDistance: " << this->InteractiveImageSampleDistance << "\n";
   os << indent << "ProgressiveRefinement: " << this->ProgressiveRefinement << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "CompositeOpaqueAcrossProcesses: " << this->CompositeOpaqueAcrossProcesses
+     << "\n";
   os << indent << "LastImageSampleDistance: " << this->LastImageSampleDistance << "\n";
   os << indent << "LastRenderReusedImage: " << this->LastRenderReusedImage << "\n";
   os << indent << "LastRenderRefining: " << this->LastRenderRefining << "\n";

@@ -152,6 +152,21 @@ public:
 
   ///@{
   /**
+   * With a controller of several processes, opaque surfaces too are left to
+   * DrawTranslucentAcrossProcesses (composited there by depth across the processes, exactly, and
+   * drawn over the compositor's image): for compositors that blend the processes' images in an
+   * order without depth, such as ParaView's ordered compositing, which would otherwise show one
+   * process's surfaces over another's whatever their depth. Other props' translucent geometry in
+   * front of these surfaces is then hidden by them (it was blended into the compositor's image
+   * before them). Default off.
+   */
+  vtkSetMacro(CompositeOpaqueAcrossProcesses, bool);
+  vtkGetMacro(CompositeOpaqueAcrossProcesses, bool);
+  vtkBooleanMacro(CompositeOpaqueAcrossProcesses, bool);
+  ///@}
+
+  ///@{
+  /**
    * Picking the exact surface. Pick: what `actor` shows through `renderer`'s camera at a display
    * position in a still frame, in display coordinates as VTK's pickers take them (pixels from
    * the render window's lower left, continuous: pixel (i, j) covers [i, i + 1) x [j, j + 1), and
@@ -267,6 +282,7 @@ protected:
   double MaximumImageSampleDistance = 8.0;
   double InteractiveImageSampleDistance = 2.0;
   bool ProgressiveRefinement = true;
+  bool CompositeOpaqueAcrossProcesses = false;
   int NumberOfThreads = 0;
 
   double LastImageSampleDistance = 1.0;

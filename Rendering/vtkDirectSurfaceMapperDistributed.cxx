@@ -207,7 +207,7 @@ void vtkDirectSurfaceMapper::DrawTranslucentAcrossProcesses(vtkRenderer* rendere
   const bool root = controller->GetLocalProcessId() == 0;
   auto* window = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
   const bool takesPart = window && !renderer->GetSelector() && actor->GetVisibility() &&
-    this->IsTranslucent(actor);
+    (this->IsTranslucent(actor) || this->CompositeOpaqueAcrossProcesses);
 
   // Process 0 chooses the resolution (interaction lowers it) and every process casts at it.
   Frame frame(window, actor, true);
