@@ -130,8 +130,8 @@ bool NeedsOwnDepths(vtkMultiProcessController* controller, bool wanted, const in
 /// Collective: per pixel, the nearest of every process's `local` depth (window coordinates, the
 /// same number of pixels on each), on process 0 (`composited`): the processes' opaque depth as a
 /// z-buffer compositor would composite it.
-void NearestOverProcesses(
-  vtkMultiProcessController* controller, const std::vector<float>& local, std::vector<float>& composited)
+void NearestOverProcesses(vtkMultiProcessController* controller, const std::vector<float>& local,
+  std::vector<float>& composited)
 {
   std::vector<float> nearest(local.size());
   controller->Reduce(local.data(), nearest.data(), static_cast<vtkIdType>(local.size()),

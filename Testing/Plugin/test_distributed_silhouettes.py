@@ -16,10 +16,10 @@ Usage:
 The field is |x|^2 on quadratic tetrahedra, which hold it exactly: the surfaces are exact spheres
 (radius 0.55 opaque, radius 1 at opacity 0.4), seen from two cameras, each with ParaView's
 default FXAA, without, and with the box translucent (ParaView's ordered compositing), and both
-spheres opaque beside the translucent box from two more. The pieces are the cells on either side of the
-plane x + 0.35 y = 0.05 (by centroid): the cut crosses both spheres, off the lattice's planes, so
-the rank boundary runs through the surfaces and along the silhouettes in every view. Every pixel
-of every view must be within 2 / 255 of the serial picture; a difference picture
+spheres opaque beside the translucent box from two more. The pieces are the cells on either side
+of the plane x + 0.35 y = 0.05 (by centroid): the cut crosses both spheres, off the lattice's
+planes, so the rank boundary runs through the surfaces and along the silhouettes in every view.
+Every pixel of every view must be within 2 / 255 of the serial picture; a difference picture
 (<tag>_<view>_difference.png) shows where any is.
 """
 import argparse
@@ -177,7 +177,8 @@ if args.mode == "reference":
     # Each piece alone must change the picture (else a lost piece could go unnoticed), and the
     # translucent sphere must show (else one lost in compositing could).
     for k in range(2):
-        piece = XMLUnstructuredGridReader(FileName=[os.path.join(args.work, f"sphere_piece{k}.vtu")])
+        piece = XMLUnstructuredGridReader(
+            FileName=[os.path.join(args.work, f"sphere_piece{k}.vtu")])
         alone = render_views(piece, f"piece{k}")
         for name in VIEWS:
             changed = int((np.abs(alone[name] - pictures[name]).max(axis=1) > TOLERANCE).sum())
