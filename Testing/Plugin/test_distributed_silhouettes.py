@@ -109,6 +109,14 @@ def write_mesh():
     writer.Write()
     centroids = points[cells[:, :4]].mean(axis=1)
     side = (centroids[:, 0] + 0.35 * centroids[:, 1] >= 0.05).astype(int)
+    # Each sphere crosses cells of both pieces (cells whose nodal values straddle its iso-value).
+    nodal = np.sum(points ** 2, axis=1)[cells]
+    for iso in (INNER, OUTER):
+        crossed = (nodal.min(axis=1) < iso) & (nodal.max(axis=1) > iso)
+        counts = [int((crossed & (side == k)).sum()) for k in (0, 1)]
+        check(min(counts) > 20, f"the sphere |x|^2 = {iso}: expected it in more than 20 cells of "
+                                f"each piece, got {counts}")
+        print(f"the sphere |x|^2 = {iso:.4f} crosses {counts} cells of the two pieces")
     write_pieces(grid, side, args.work, "sphere_piece")
     os.replace(os.path.join(args.work, "sphere_piece.pvtu"), os.path.join(args.work, "sphere.pvtu"))
     return [int((side == k).sum()) for k in (0, 1)]
@@ -213,11 +221,16 @@ else:
     ranks = servermanager.ActiveConnection.GetNumberOfDataPartitions()
     check(ranks == 2, f"{args.mode}: expected 2 rendering processes, got {ranks}")
     pieces = XMLPartitionedUnstructuredGridReader(FileName=[os.path.join(args.work, "sphere.pvtu")])
-    if args.mode == "compare":  # (the representation speaks on process 0, this one)
+    if args.mode == "compare":
+        # The representation speaks on process 0, this one. (pvbatch prints this script's output
+        # through the output window too: the usual one is put back before anything is printed.)
+        usual = vtkOutputWindow.GetInstance()
         messages = vtkStringOutputWindow()
         vtkOutputWindow.SetInstance(messages)
     pictures = render_views(pieces, tag)
     if args.mode == "compare":
+        vtkOutputWindow.SetInstance(usual)
+        print(messages.GetOutput(), flush=True)
         said = messages.GetOutput().count(ORDERED_WARNING)
         check(said == 1, f"ordered compositing with opaque spheres: expected the representation's "
                          f"warning once, got it {said} times")
