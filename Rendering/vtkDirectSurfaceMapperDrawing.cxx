@@ -364,6 +364,10 @@ void vtkDirectSurfaceMapper::PostponeFXAA(vtkRenderer* renderer)
 void vtkDirectSurfaceMapper::ApplyPostponedFXAA(vtkObject* object, unsigned long, void*)
 {
   auto* renderer = vtkOpenGLRenderer::SafeDownCast(object);
+  if (!renderer)
+  {
+    return;
+  }
   for (auto& entry : this->Internal->PostponedFXAAs)
   {
     if (entry.Renderer != renderer || !entry.Due)
