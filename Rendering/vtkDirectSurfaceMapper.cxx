@@ -65,6 +65,17 @@ vtkDirectSurfaceMapper::~vtkDirectSurfaceMapper()
       deferred.Renderer->RemoveObserver(deferred.ObserverTag);
     }
   }
+  for (const auto& postponed : this->Internal->PostponedFXAAs)
+  {
+    if (postponed.Renderer)
+    {
+      postponed.Renderer->RemoveObserver(postponed.ObserverTag);
+      if (postponed.Due)
+      {
+        postponed.Renderer->SetUseFXAA(true); // (gone before the frame ended)
+      }
+    }
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -388,6 +399,15 @@ void vtkDirectSurfaceMapper::ReportWhyNothingIsDrawn()
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceMapper::ReleaseGraphicsResources(vtkWindow* window)
 {
+  for (auto& postponed : this->Internal->PostponedFXAAs)
+  {
+    if (postponed.Filter && postponed.Renderer &&
+      (!window || postponed.Renderer->GetRenderWindow() == window))
+    {
+      postponed.Filter->ReleaseGraphicsResources();
+      postponed.Filter = nullptr; // (made again on its next use)
+    }
+  }
   auto& views = this->Internal->Views;
   for (auto it = views.begin(); it != views.end();)
   {
@@ -416,13 +436,15 @@ void vtkDirectSurfaceMapper::Render(vtkRenderer* renderer, vtkActor* actor)
     this->DrawSelection(renderer, actor);
     return;
   }
-  if (!this->IsTranslucent(actor))
+  vtkMultiProcessController* controller = this->Internal->Controller;
+  const bool distributed = controller && controller->GetNumberOfProcesses() > 1;
+  if (!this->IsTranslucent(actor) && !(distributed && this->CompositeOpaqueAcrossProcesses))
   {
     this->Draw(renderer, actor, false);
     return;
   }
-  vtkMultiProcessController* controller = this->Internal->Controller;
-  if (controller && controller->GetNumberOfProcesses() > 1)
+  this->PostponeFXAA(renderer);
+  if (distributed)
   {
     return; // drawn by DrawTranslucentAcrossProcesses
   }
@@ -477,6 +499,8 @@ void vtkDirectSurfaceMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "InteractiveImageSampleDistance: " << this->InteractiveImageSampleDistance << "\n";
   os << indent << "ProgressiveRefinement: " << this->ProgressiveRefinement << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "CompositeOpaqueAcrossProcesses: " << this->CompositeOpaqueAcrossProcesses
+     << "\n";
   os << indent << "LastImageSampleDistance: " << this->LastImageSampleDistance << "\n";
   os << indent << "LastRenderReusedImage: " << this->LastRenderReusedImage << "\n";
   os << indent << "LastRenderRefining: " << this->LastRenderRefining << "\n";

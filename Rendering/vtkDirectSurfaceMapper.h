@@ -135,10 +135,12 @@ public:
    * those in front of the composited depth, composites them front to back exactly as one process
    * holding every cell would, and blends them over its frame: the serial picture whatever the
    * distribution of the cells. `compositedDepth` is that depth (window coordinates, `frameSize`
-   * pixels covering the viewport, row-major from the bottom); null reads process 0's depth
-   * buffer. `compositedColors`, when given (RGBA, premultiplied, as a compositor such as IceT
+   * pixels covering the viewport, row-major from the bottom); null (no compositor, or one that
+   * blends without depth) composites every process's own depth buffer, the nearest of each
+   * pixel. `compositedColors`, when given (RGBA, premultiplied, as a compositor such as IceT
    * holds its image, `frameSize` pixels), is blended into in place, before it is shown;
-   * otherwise the surfaces are drawn over process 0's frame buffer. Collective: a process with
+   * otherwise the surfaces are drawn over process 0's frame buffer. With FXAA on, the renderer
+   * applies it after these surfaces (PostponeFXAA). Collective: a process with
    * no input, an invisible or opaque actor, or no window takes part with no crossings. The
    * default controller is none.
    */
@@ -146,6 +148,21 @@ public:
   vtkMultiProcessController* GetController();
   void DrawTranslucentAcrossProcesses(vtkRenderer* renderer, vtkActor* actor,
     const float* compositedDepth, unsigned char* compositedColors, const int frameSize[2]);
+  ///@}
+
+  ///@{
+  /**
+   * With a controller of several processes, opaque surfaces too are left to
+   * DrawTranslucentAcrossProcesses (composited there by depth across the processes, exactly, and
+   * drawn over the compositor's image): for compositors that blend the processes' images in an
+   * order without depth, such as ParaView's ordered compositing, which would otherwise show one
+   * process's surfaces over another's whatever their depth. Other props' translucent geometry in
+   * front of these surfaces is then hidden by them (it was blended into the compositor's image
+   * before them). Default off.
+   */
+  vtkSetMacro(CompositeOpaqueAcrossProcesses, bool);
+  vtkGetMacro(CompositeOpaqueAcrossProcesses, bool);
+  vtkBooleanMacro(CompositeOpaqueAcrossProcesses, bool);
   ///@}
 
   ///@{
@@ -265,6 +282,7 @@ protected:
   double MaximumImageSampleDistance = 8.0;
   double InteractiveImageSampleDistance = 2.0;
   bool ProgressiveRefinement = true;
+  bool CompositeOpaqueAcrossProcesses = false;
   int NumberOfThreads = 0;
 
   double LastImageSampleDistance = 1.0;
@@ -332,6 +350,14 @@ private:
   /// Warns (once per change) when the renderer has other translucent props, which translucent
   /// surfaces, blended over the finished frame, cannot interleave with.
   void CheckTranslucentNeighbours(vtkRenderer* renderer);
+  /// Translucent surfaces are drawn after the renderer's passes, which end with its FXAA (VTK
+  /// applies it after the translucent polygons; ParaView's compositors after compositing): so
+  /// that they are anti-aliased as every other surface, this switches the renderer's FXAA off
+  /// for the frame, and ApplyPostponedFXAA (its EndEvent, after every translucent draw at
+  /// priority 1) applies it over the finished frame and switches it back on. Nothing to do
+  /// where FXAA is off (ParaView's compositors switch it off while the processes render).
+  void PostponeFXAA(vtkRenderer* renderer);
+  void ApplyPostponedFXAA(vtkObject* renderer, unsigned long event, void* data);
   /// The culler drops an actor whose bounds are empty before Render is called: then (once per
   /// change of the input or the settings) the reason is reported from GetBounds.
   void ReportWhyNothingIsDrawn();

@@ -1,7 +1,8 @@
 // vtkDirectSurfaceMapper's translucent surfaces across processes: each process casts the
 // crossings of the cells it holds, process 0 gathers them (packed by the core's LayerExchange),
-// composites them per pixel in front of the composited opaque depth as one process holding every
-// cell would, and blends the result over the compositor's image or its own frame.
+// composites them per pixel in front of the composited opaque depth (the compositor's, or the
+// processes' own depth buffers composited here) as one process holding every cell would, and
+// blends the result over the compositor's image or its own frame.
 #include "vtkDirectSurfaceMapper.h"
 #include "vtkDirectSurfaceMapperInternals.h"
 
@@ -114,6 +115,33 @@ void ResampleDepth(const float* compositedDepth, const int depthSize[2], const i
   }
 }
 
+/// Collective: whether process 0 needs the processes' own opaque depth composited (its
+/// compositor gave none, or of no size) and the viewport size it casts, as process 0 says.
+bool NeedsOwnDepths(vtkMultiProcessController* controller, bool wanted, const int viewport[4],
+  int size[2])
+{
+  int message[3] = { wanted ? 1 : 0, viewport[2], viewport[3] };
+  controller->Broadcast(message, 3, 0);
+  size[0] = message[1];
+  size[1] = message[2];
+  return message[0] != 0;
+}
+
+/// Collective: per pixel, the nearest of every process's `local` depth (window coordinates, the
+/// same number of pixels on each), on process 0 (`composited`): the processes' opaque depth as a
+/// z-buffer compositor would composite it.
+void NearestOverProcesses(vtkMultiProcessController* controller, const std::vector<float>& local,
+  std::vector<float>& composited)
+{
+  std::vector<float> nearest(local.size());
+  controller->Reduce(local.data(), nearest.data(), static_cast<vtkIdType>(local.size()),
+    vtkCommunicator::MIN_OP, 0);
+  if (controller->GetLocalProcessId() == 0)
+  {
+    composited.swap(nearest);
+  }
+}
+
 /// Per cast pixel, the ray parameter of its nearest crossing within its ray limit (+inf where
 /// there is none); `layers` sorted by pixel, each pixel's nearest first (compositeLayers).
 void NearestCrossings(const std::vector<tetdsr::PixelLayer>& layers,
@@ -179,7 +207,7 @@ void vtkDirectSurfaceMapper::DrawTranslucentAcrossProcesses(vtkRenderer* rendere
   const bool root = controller->GetLocalProcessId() == 0;
   auto* window = vtkOpenGLRenderWindow::SafeDownCast(renderer->GetRenderWindow());
   const bool takesPart = window && !renderer->GetSelector() && actor->GetVisibility() &&
-    this->IsTranslucent(actor);
+    (this->IsTranslucent(actor) || this->CompositeOpaqueAcrossProcesses);
 
   // Process 0 chooses the resolution (interaction lowers it) and every process casts at it.
   Frame frame(window, actor, true);
@@ -232,6 +260,26 @@ void vtkDirectSurfaceMapper::DrawTranslucentAcrossProcesses(vtkRenderer* rendere
   const double diagonal = SceneDiagonal(controller, lo, hi);
   const GatheredCrossings gathered = GatherCrossings(
     controller, packed, hasView ? frame.CastWidth : 0, hasView ? frame.CastHeight : 0);
+  // The opaque depth the rays stop at: the compositor's; without it (plain VTK, or ParaView's
+  // ordered compositing, which blends the processes' images without depth) each process's own
+  // depth buffer, the nearest of each pixel kept.
+  const bool composited = depthSize && depthSize[0] > 0 && depthSize[1] > 0;
+  int size[2];
+  if (NeedsOwnDepths(
+        controller, root && hasView && !(compositedDepth && composited), frame.Viewport, size))
+  {
+    std::vector<float> own(static_cast<std::size_t>(size[0]) * size[1], 1.0f);
+    if (hasView && frame.Viewport[2] == size[0] && frame.Viewport[3] == size[1])
+    {
+      in.ReadOpaqueDepth(frame);
+      own.swap(in.OpaqueDepth);
+    }
+    NearestOverProcesses(controller, own, in.OpaqueDepth);
+  }
+  else if (root && hasView)
+  {
+    ResampleDepth(compositedDepth, depthSize, frame.Viewport, in.OpaqueDepth);
+  }
   if (!root || !hasView)
   {
     return;
@@ -246,15 +294,6 @@ void vtkDirectSurfaceMapper::DrawTranslucentAcrossProcesses(vtkRenderer* rendere
     vtkWarningMacro(<< mismatched << " of " << processes
                     << " processes cast a view of another size: their translucent surfaces are "
                        "not drawn.");
-  }
-  const bool composited = depthSize && depthSize[0] > 0 && depthSize[1] > 0;
-  if (compositedDepth && composited)
-  {
-    ResampleDepth(compositedDepth, depthSize, frame.Viewport, in.OpaqueDepth);
-  }
-  else
-  {
-    in.ReadOpaqueDepth(frame);
   }
   ImageCast& cast = in.Cast;
   cast.Resize(frame.Pixels(), false);

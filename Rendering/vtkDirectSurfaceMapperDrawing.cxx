@@ -1,13 +1,17 @@
 // vtkDirectSurfaceMapper's OpenGL resources and drawing: per view (a window's renderer and an
 // actor), the textures a cast image is uploaded to and the full-screen quads that draw them with
 // their exact depth (gl_FragDepth), a reduced image upsampled without blending across
-// silhouettes (the core's render/Upsampling maps, as two more textures); and the opaque depth
-// read back under translucent surfaces; under screen-space ambient occlusion, each pixel's
-// view-space position and normal into the pass's G-buffer.
+// silhouettes (the core's render/Upsampling maps, as two more textures); the opaque depth read
+// back under translucent surfaces; the renderer's FXAA moved after them; and under screen-space
+// ambient occlusion, each pixel's view-space position and normal into the pass's G-buffer.
 #include "vtkDirectSurfaceMapper.h"
 #include "vtkDirectSurfaceMapperInternals.h"
 
+#include "vtkCommand.h"
+#include "vtkFXAAOptions.h"
+#include "vtkOpenGLFXAAFilter.h"
 #include "vtkOpenGLRenderUtilities.h"
+#include "vtkOpenGLRenderer.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLShaderCache.h"
 #include "vtkOpenGLState.h"
@@ -15,6 +19,7 @@
 #include "vtkSMPTools.h"
 #include "vtkShaderProgram.h"
 
+#include <algorithm>
 #include <functional>
 #include <string>
 
@@ -381,4 +386,68 @@ bool vtkDirectSurfaceMapper::Internals::DrawTextures(ViewResources& gl,
   depth->Deactivate();
   color->Deactivate();
   return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceMapper::PostponeFXAA(vtkRenderer* renderer)
+{
+  if (!renderer || !renderer->GetUseFXAA() || !vtkOpenGLRenderer::SafeDownCast(renderer))
+  {
+    return; // (off, or already postponed this frame: depth peeling asks once per peel)
+  }
+  auto& postponed = this->Internal->PostponedFXAAs;
+  postponed.erase(std::remove_if(postponed.begin(), postponed.end(),
+                    [](const Internals::PostponedFXAA& entry) { return !entry.Renderer; }),
+    postponed.end());
+  auto entry = std::find_if(postponed.begin(), postponed.end(),
+    [renderer](const Internals::PostponedFXAA& e) { return e.Renderer == renderer; });
+  if (entry == postponed.end())
+  {
+    Internals::PostponedFXAA added;
+    added.Renderer = renderer;
+    // After the translucent surfaces' draws (priority 1: DrawDeferred, and the callers of
+    // DrawTranslucentAcrossProcesses), before a compositor's observers (priority 0).
+    added.ObserverTag = renderer->AddObserver(
+      vtkCommand::EndEvent, this, &vtkDirectSurfaceMapper::ApplyPostponedFXAA, 0.5);
+    postponed.push_back(added);
+    entry = postponed.end() - 1;
+  }
+  entry->Due = true;
+  renderer->SetUseFXAA(false);
+}
+
+void vtkDirectSurfaceMapper::ApplyPostponedFXAA(vtkObject* object, unsigned long, void*)
+{
+  auto* renderer = vtkOpenGLRenderer::SafeDownCast(object);
+  if (!renderer)
+  {
+    return;
+  }
+  for (auto& entry : this->Internal->PostponedFXAAs)
+  {
+    if (entry.Renderer != renderer || !entry.Due)
+    {
+      continue;
+    }
+    entry.Due = false;
+    renderer->SetUseFXAA(true);
+    if (!entry.Filter)
+    {
+      entry.Filter = vtkSmartPointer<vtkOpenGLFXAAFilter>::New();
+    }
+    // As vtkOpenGLRenderer applies it: the renderer's options, over its viewport of the frame
+    // (the filter draws into the current GL viewport, which its passes may have left another).
+    if (vtkFXAAOptions* options = renderer->GetFXAAOptions())
+    {
+      entry.Filter->UpdateConfiguration(options);
+    }
+    vtkOpenGLState* state = renderer->GetState();
+    vtkOpenGLState::ScopedglViewport savedViewport(state);
+    vtkOpenGLState::ScopedglScissor savedScissor(state);
+    int width, height, x, y;
+    renderer->GetTiledSizeAndOrigin(&width, &height, &x, &y);
+    state->vtkglViewport(x, y, width, height);
+    state->vtkglScissor(x, y, width, height);
+    entry.Filter->Execute(renderer);
+  }
 }

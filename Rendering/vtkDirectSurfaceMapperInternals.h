@@ -16,6 +16,7 @@
 
 #include "vtkMatrix4x4.h"
 #include "vtkMultiProcessController.h"
+#include "vtkOpenGLFXAAFilter.h"
 #include "vtkOpenGLQuadHelper.h"
 #include "vtkSmartPointer.h"
 #include "vtkTextureObject.h"
@@ -235,6 +236,18 @@ struct vtkDirectSurfaceMapper::Internals
     std::vector<vtkWeakPointer<vtkActor>> Actors;
   };
   std::vector<Deferred> DeferredDraws;
+
+  // FXAA after the translucent surfaces (PostponeFXAA): per renderer whose FXAA this mapper
+  // switched off for a frame, the EndEvent observer that applies it over the finished frame,
+  // the filter it applies (OpenGL objects of the renderer's window) and whether it is due.
+  struct PostponedFXAA
+  {
+    vtkWeakPointer<vtkRenderer> Renderer;
+    unsigned long ObserverTag = 0;
+    vtkSmartPointer<vtkOpenGLFXAAFilter> Filter;
+    bool Due = false;
+  };
+  std::vector<PostponedFXAA> PostponedFXAAs;
 
   /// What one view (a window's renderer, an actor of this mapper, a stereo eye) draws its image
   /// with: textures and quad (OpenGL objects belong to the window's context), the signature and

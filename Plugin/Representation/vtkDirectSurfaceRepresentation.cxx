@@ -286,8 +286,34 @@ int vtkDirectSurfaceRepresentation::ProcessViewRequest(
     auto* grid = vtkUnstructuredGrid::SafeDownCast(delivered);
     this->DeliveredDrawable = !grid || grid->GetNumberOfCells() > 0;
     this->UpdateActorVisibility();
+    this->FollowOrderedCompositing();
   }
   return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkDirectSurfaceRepresentation::FollowOrderedCompositing()
+{
+  // With another representation translucent, ParaView on several processes composites in order,
+  // without depth (ordered compositing): the processes' pieces of an opaque surface would show
+  // over each other whatever their depth, so the mapper composites them by depth itself.
+  auto* view = vtkPVRenderView::SafeDownCast(this->GetView());
+  const bool ordered = view && view->GetUseOrderedCompositing();
+  this->Mapper->SetCompositeOpaqueAcrossProcesses(ordered);
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const bool warn = ordered && this->Visible && !this->IsTranslucent() && controller &&
+    controller->GetLocalProcessId() == 0;
+  if (warn && !this->WarnedOrderedCompositing)
+  {
+    vtkWarningMacro(<< "Another representation in the view is translucent, so ParaView composites "
+                       "the images of its "
+                    << controller->GetNumberOfProcesses()
+                    << " rendering processes in order, without depth (ordered compositing): "
+                       "this Direct Surface is composited by depth across them and drawn over "
+                       "that image, so translucent geometry of other representations in front of "
+                       "it is hidden. Make the other representations opaque to see it.");
+  }
+  this->WarnedOrderedCompositing = warn;
 }
 
 //------------------------------------------------------------------------------
@@ -307,7 +333,7 @@ void vtkDirectSurfaceRepresentation::DrawTranslucent(vtkObject* caller, unsigned
   vtkMultiProcessController* controller = this->Mapper->GetController();
   auto* renderer = vtkRenderer::SafeDownCast(caller);
   if (!renderer || !controller || controller->GetNumberOfProcesses() < 2 || !this->Visible ||
-    !this->IsTranslucent())
+    !(this->IsTranslucent() || this->Mapper->GetCompositeOpaqueAcrossProcesses()))
   {
     return;
   }
@@ -326,16 +352,18 @@ void vtkDirectSurfaceRepresentation::DrawTranslucent(vtkObject* caller, unsigned
   {
     vtkSynchronizedRenderers::vtkRawImage tile;
     icet->GetLastRenderedTile(tile);
-    vtkFloatArray* depths = icet->GetLastRenderedDepths();
     const vtkIdType pixels = static_cast<vtkIdType>(tile.GetWidth()) * tile.GetHeight();
-    if (depths && tile.IsValid() && depths->GetNumberOfTuples() == pixels &&
-      tile.GetRawPtr()->GetNumberOfComponents() == 4 &&
+    if (tile.IsValid() && tile.GetRawPtr()->GetNumberOfComponents() == 4 &&
       tile.GetRawPtr()->GetNumberOfTuples() >= pixels) // (a reduced image keeps the buffer)
     {
-      depth = depths->GetPointer(0);
       colors = tile.GetRawPtr()->GetPointer(0);
       size[0] = tile.GetWidth();
       size[1] = tile.GetHeight();
+      // No depth when IceT blends the processes' images in order (ParaView's ordered
+      // compositing, when another representation is translucent): the mapper composites the
+      // processes' own opaque depth then.
+      vtkFloatArray* depths = icet->GetLastRenderedDepths();
+      depth = depths && depths->GetNumberOfTuples() == pixels ? depths->GetPointer(0) : nullptr;
     }
   }
   this->Mapper->DrawTranslucentAcrossProcesses(renderer, this->Actor, depth, colors, size);

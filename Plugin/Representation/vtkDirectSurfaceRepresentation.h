@@ -33,8 +33,11 @@
  * sorts them along each ray, drops those behind the composited depth, composites them front to
  * back and blends them over the composited frame (vtkDirectSurfaceMapper::
  * DrawTranslucentAcrossProcesses): the serial picture for any distribution of the cells, with no
- * cell moved. Other props' translucent geometry is composited by ParaView, not sorted with this
- * surface.
+ * cell moved. When another representation is translucent, ParaView composites in order (IceT
+ * blends the processes' images without depth): the mapper then composites the processes' own
+ * opaque depth itself, and opaque surfaces too are composited across the processes and drawn
+ * over IceT's image (a warning says that translucent geometry in front of them is hidden then).
+ * Other props' translucent geometry is composited by ParaView, not sorted with this surface.
  * Selection (Select Cells / Points On, hovering, Extract Selection) sees the surface: its actor is
  * registered with the view's hardware selector, and each process draws the cells its rays hit
  * (vtkDirectSurfaceMapper).
@@ -211,6 +214,10 @@ private:
   bool InputDrawable = true;
   /// Whether the piece the view delivered for this render has cells.
   bool DeliveredDrawable = true;
+  /// Under ordered compositing the mapper composites opaque surfaces across the processes too
+  /// (vtkDirectSurfaceMapper::SetCompositeOpaqueAcrossProcesses); said once each time it starts.
+  void FollowOrderedCompositing();
+  bool WarnedOrderedCompositing = false;
   /// Lists refused for a count of numbers that is not whole colours or planes.
   bool IsoValueColorsRefused = false;
   bool ClipPlanesRefused = false;
