@@ -946,7 +946,9 @@ int vtkDirectSurfaceRayCaster::RequestData(
         tetdsr::Renderer::kLayerGap * diagonal, outputVector->GetInformationObject(0),
         vtkImageData::GetData(outputVector)))
   {
-    vtkErrorMacro("Cannot composite the processes' images into the requested extent.");
+    adapter::Messages messages;
+    tetdsr::describeCompositingFailure(messages);
+    adapter::ReportMessages(this, messages);
     return 0;
   }
   return 1;

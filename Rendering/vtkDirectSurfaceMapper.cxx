@@ -188,12 +188,13 @@ int vtkDirectSurfaceMapper::FillInputPortInformation(int, vtkInformation* info)
 //------------------------------------------------------------------------------
 void vtkDirectSurfaceMapper::SetInputData(vtkDataObject* input)
 {
-  if (input && !vtkUnstructuredGrid::SafeDownCast(input) &&
-    !vtkCompositeDataSet::SafeDownCast(input))
+  adapter::Messages messages;
+  if (input &&
+    !tetdsr::checkInputKind(
+      vtkUnstructuredGrid::SafeDownCast(input) || vtkCompositeDataSet::SafeDownCast(input),
+      input->GetClassName(), messages))
   {
-    vtkErrorMacro("SetInputData: a " << input->GetClassName()
-                                     << " cannot be drawn: give a vtkUnstructuredGrid of quadratic "
-                                        "tetrahedra, or a composite dataset of them.");
+    adapter::ReportMessages(this, messages);
     return;
   }
   this->SetInputDataInternal(0, input);

@@ -533,17 +533,11 @@ bool vtkDirectSurfaceMapper::CollectBlocks(Frame& frame)
     }
     it = kept ? std::next(it) : meshes.erase(it);
   }
-  if (frame.Blocks.empty())
-  {
-    vtkErrorMacro("The input is neither a vtkUnstructuredGrid nor a composite dataset of them.");
-    return false;
-  }
-  if (otherBlocks > 0)
-  {
-    vtkWarningMacro(<< otherBlocks << " of " << otherBlocks + frame.Blocks.size()
-                    << " blocks of the composite input are not vtkUnstructuredGrid: not drawn.");
-  }
-  return true;
+  adapter::Messages messages;
+  const bool drawable =
+    tetdsr::checkBlocks(frame.Blocks.size(), static_cast<std::size_t>(otherBlocks), messages);
+  adapter::ReportMessages(this, messages);
+  return drawable;
 }
 
 double vtkDirectSurfaceMapper::ChooseSampleDistance(const Frame& frame)

@@ -16,6 +16,8 @@
 #include "vtkTimerLog.h"
 #include "vtkUnstructuredGrid.h"
 
+#include "vtkDirectSurfaceReporting.h"
+
 #include "tetdsr/render/LayerExchange.h"
 
 #include <algorithm>
@@ -289,12 +291,9 @@ void vtkDirectSurfaceMapper::DrawTranslucentAcrossProcesses(vtkRenderer* rendere
   int mismatched = 0;
   std::vector<tetdsr::PixelLayer> layers =
     ReadCrossings(gathered, frame.CastWidth, frame.CastHeight, mismatched);
-  if (mismatched > 0)
-  {
-    vtkWarningMacro(<< mismatched << " of " << processes
-                    << " processes cast a view of another size: their translucent surfaces are "
-                       "not drawn.");
-  }
+  adapter::Messages messages;
+  tetdsr::describeMismatchedViews(mismatched, processes, messages);
+  adapter::ReportMessages(this, messages);
   ImageCast& cast = in.Cast;
   cast.Resize(frame.Pixels(), false);
   cast.ComputeRayLimits(frame, in.OpaqueDepth);

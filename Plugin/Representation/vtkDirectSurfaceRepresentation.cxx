@@ -28,6 +28,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include "tetdsr/input/MeshInput.h"
+#include "tetdsr/render/LayerExchange.h"
 #include "tetdsr/input/Settings.h"
 
 #include <algorithm>
@@ -305,13 +306,9 @@ void vtkDirectSurfaceRepresentation::FollowOrderedCompositing()
     controller->GetLocalProcessId() == 0;
   if (warn && !this->WarnedOrderedCompositing)
   {
-    vtkWarningMacro(<< "Another representation in the view is translucent, so ParaView composites "
-                       "the images of its "
-                    << controller->GetNumberOfProcesses()
-                    << " rendering processes in order, without depth (ordered compositing): "
-                       "this Direct Surface is composited by depth across them and drawn over "
-                       "that image, so translucent geometry of other representations in front of "
-                       "it is hidden. Make the other representations opaque to see it.");
+    tetdsr::Messages messages;
+    tetdsr::describeOrderedCompositing(controller->GetNumberOfProcesses(), messages);
+    tetdsr::vtkadapter::ReportMessages(this, messages);
   }
   this->WarnedOrderedCompositing = warn;
 }

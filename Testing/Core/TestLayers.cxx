@@ -229,3 +229,20 @@ TEST(Layers, RayLimitsAndDuplicates)
   // Pixel 2: beyond its limit: nothing.
   EXPECT_EQ(colors[11], 0);
 }
+
+// What the faces say about compositing across processes is written here, once.
+TEST(Layers, CompositingMessages)
+{
+  tetdsr::Messages messages;
+  tetdsr::describeMismatchedViews(0, 4, messages);
+  EXPECT_TRUE(messages.warnings.empty());
+  tetdsr::describeMismatchedViews(1, 4, messages);
+  ASSERT_EQ(messages.warnings.size(), 1u);
+  EXPECT_EQ(messages.warnings[0].rfind("1 of 4 processes cast a view of another size", 0), 0u);
+  tetdsr::describeOrderedCompositing(3, messages);
+  ASSERT_EQ(messages.warnings.size(), 2u);
+  EXPECT_NE(messages.warnings[1].find("composites the images of its 3 rendering processes in order"),
+    std::string::npos);
+  tetdsr::describeCompositingFailure(messages);
+  EXPECT_EQ(messages.errors.size(), 1u);
+}

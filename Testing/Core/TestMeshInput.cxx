@@ -526,3 +526,21 @@ TEST(MeshInput, GhostArraysAreCheckedAndAllGhostPiecesSaySo)
       << messages.errors[0];
   }
 }
+
+TEST(MeshInput, InputKindsAndBlocksAreChecked)
+{
+  tetdsr::Messages messages;
+  EXPECT_TRUE(tetdsr::checkInputKind(true, "vtkUnstructuredGrid", messages));
+  EXPECT_FALSE(tetdsr::checkInputKind(false, "vtkPolyData", messages));
+  ASSERT_EQ(messages.errors.size(), 1u);
+  EXPECT_EQ(messages.errors[0].rfind("A vtkPolyData cannot be drawn", 0), 0u);
+  tetdsr::Messages blocks;
+  EXPECT_TRUE(tetdsr::checkBlocks(3, 0, blocks));
+  EXPECT_TRUE(blocks.warnings.empty() && blocks.errors.empty());
+  EXPECT_TRUE(tetdsr::checkBlocks(1, 1, blocks));
+  ASSERT_EQ(blocks.warnings.size(), 1u);
+  EXPECT_EQ(blocks.warnings[0],
+    "1 of 2 blocks of the composite input are not vtkUnstructuredGrid: not drawn.");
+  EXPECT_FALSE(tetdsr::checkBlocks(0, 2, blocks));
+  EXPECT_EQ(blocks.errors.size(), 1u);
+}

@@ -95,7 +95,7 @@ class Setters(unittest.TestCase):
         mapper.SetInputData(vtkPolyData())
         print("errors:", [e.strip().splitlines()[-1] for e in messages.errors])
         self.assertEqual(len(messages.errors), 1)
-        self.assertIn("a vtkPolyData cannot be drawn", messages.errors[0])
+        self.assertIn("A vtkPolyData cannot be drawn", messages.errors[0])
         self.assertIs(mapper.GetInputDataObject(0, 0), MESH)
 
     def test_many_component_field_advice_names_a_real_setting(self):

@@ -286,6 +286,32 @@ bool checkMeshHasFinitePoints(bool anyFinitePoint, NodeId numberOfCells, Message
   return true;
 }
 
+bool checkInputKind(bool drawable, const std::string& kind, Messages& messages)
+{
+  if (!drawable)
+  {
+    messages.errors.push_back(text("A ", kind, " cannot be drawn: give a vtkUnstructuredGrid of "
+      "the cells TetDSR reads, or a composite dataset of them."));
+  }
+  return drawable;
+}
+
+bool checkBlocks(std::size_t grids, std::size_t others, Messages& messages)
+{
+  if (grids == 0)
+  {
+    messages.errors.push_back(
+      "The input is neither a vtkUnstructuredGrid nor a composite dataset of them.");
+    return false;
+  }
+  if (others > 0)
+  {
+    messages.warnings.push_back(text(others, " of ", others + grids,
+      " blocks of the composite input are not vtkUnstructuredGrid: not drawn."));
+  }
+  return true;
+}
+
 struct PreparedMesh::Internals
 {
   // Copies of what could not be viewed (another number type or layout).

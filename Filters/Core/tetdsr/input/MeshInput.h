@@ -81,6 +81,14 @@ bool checkMeshNotEmpty(NodeId numberOfPoints, NodeId numberOfCells, Messages& me
 /// bounds are not finite; a renderer culls it before any cell is looked at).
 bool checkMeshHasFinitePoints(bool anyFinitePoint, NodeId numberOfCells, Messages& messages);
 
+/// An input of a kind that cannot be drawn (`kind`: its class): an error naming it, unless
+/// `drawable` (a vtkUnstructuredGrid or a composite dataset).
+bool checkInputKind(bool drawable, const std::string& kind, Messages& messages);
+
+/// The blocks of an input: an error when none is a vtkUnstructuredGrid (`grids`), and a warning
+/// counting the `others`, which are not drawn.
+bool checkBlocks(std::size_t grids, std::size_t others, Messages& messages);
+
 /// A mesh prepared for rendering: its scene (validation, every decision on every cell), the
 /// arrays converted for it, the surface index of the last iso-values, and a colour array's
 /// values. Build one, keep it while the input does not change (the face decides that: VTK's

@@ -31,4 +31,27 @@ void unpackLayers(const double* packed, std::size_t count, std::vector<PixelLaye
   }
 }
 
+void describeMismatchedViews(int mismatched, int processes, Messages& messages)
+{
+  if (mismatched > 0)
+  {
+    messages.warnings.push_back(text(mismatched, " of ", processes,
+      " processes cast a view of another size: their translucent surfaces are not drawn."));
+  }
+}
+
+void describeOrderedCompositing(int processes, Messages& messages)
+{
+  messages.warnings.push_back(text("Another representation in the view is translucent, so "
+    "ParaView composites the images of its ", processes, " rendering processes in order, "
+    "without depth (ordered compositing): this Direct Surface is composited by depth across "
+    "them and drawn over that image, so translucent geometry of other representations in front "
+    "of it is hidden. Make the other representations opaque to see it."));
+}
+
+void describeCompositingFailure(Messages& messages)
+{
+  messages.errors.push_back("Cannot composite the processes' images into the requested extent.");
+}
+
 } // namespace tetdsr
