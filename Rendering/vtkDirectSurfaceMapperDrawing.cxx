@@ -138,9 +138,13 @@ const char* const kSampleMask = R"(
 //------------------------------------------------------------------------------
 std::vector<glm::dvec2> vtkDirectSurfaceMapper::Internals::SamplePositions()
 {
+  std::vector<glm::dvec2> positions;
+  if (!GLEW_ARB_sample_shading) // (the quad's gl_SampleMask: none, one ray a pixel as before)
+  {
+    return positions;
+  }
   GLint samples = 0;
   glGetIntegerv(GL_SAMPLES, &samples);
-  std::vector<glm::dvec2> positions;
   for (GLint k = 0; samples > 1 && samples <= tetdsr::kMaxCoverageSamples && k < samples; ++k)
   {
     GLfloat position[2] = { 0.5f, 0.5f };

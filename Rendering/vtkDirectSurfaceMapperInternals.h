@@ -369,7 +369,8 @@ struct vtkDirectSurfaceMapper::Internals
   void ComputeWindowDepth(const Frame& frame);
 
   /// The sample positions of the bound draw framebuffer (within a pixel), if it has 2 to
-  /// tetdsr::kMaxCoverageSamples samples; else none.
+  /// tetdsr::kMaxCoverageSamples samples and the context has GL_ARB_sample_shading (which the
+  /// quad's gl_SampleMask needs); else none.
   static std::vector<glm::dvec2> SamplePositions();
 
   /// A texture of the window's context (made on first use), clamped to its edge, read as
