@@ -126,7 +126,8 @@ const char* const kViewSpace = R"(
 /// Appended to the full-resolution quad in a multisampled framebuffer: the samples of the pixel
 /// that see the surface (tetdsr/render/Multisampling.h), so that its silhouette is smoothed as
 /// polygons' are. (gl_SampleMask: GLSL 4.0, or this extension to VTK's GLSL 1.50.)
-const char* const kSampleMaskExtension = "//VTK::System::Dec\n#extension GL_ARB_sample_shading : require\n";
+const char* const kSampleMaskExtension =
+  "//VTK::System::Dec\n#extension GL_ARB_sample_shading : require\n";
 const char* const kSampleMaskDeclarations = R"(
 uniform sampler2D sampleMaskTexture;
 )";

@@ -479,8 +479,8 @@ class Passes(unittest.TestCase):
         outside = filled & ~((z >= low - spread) & (z <= high + spread))
         report("multisampling (8), silhouette depth",
                "%d pixels whose centre sees the sphere show a covered sample's depth: %d not the "
-               "exact hit; %d filled (centre misses): %d outside their sphere neighbours' and rim's "
-               "depths"
+               "exact hit; %d filled (centre misses): %d outside their sphere neighbours' and "
+               "rim's depths"
                % (centre.sum(), centre_wrong, filled.sum(), outside.sum()))
         self.assertGreater(int(centre.sum()), 50)
         self.assertEqual(centre_wrong, 0)
