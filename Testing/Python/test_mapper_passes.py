@@ -552,6 +552,61 @@ class Passes(unittest.TestCase):
             self.assertLessEqual(int((gap & away).sum()), SILHOUETTE_PIXELS)
             self.assertLessEqual(int((gap & edge).sum()), SILHOUETTE_PIXELS)
 
+    def test_multisampling_background_refinement(self):
+        """In a multisampled window with an event loop, the still frame after interaction is
+        cast in the background (a full-resolution cast): its silhouette gets its per-sample rays
+        there too, and the frame the loop shows equals a synchronous still frame's, which is
+        smoothed (a flat-coloured sphere: silhouette pixels blending it with the background)."""
+        import time
+        from vtkmodules.vtkRenderingCore import vtkRenderWindowInteractor
+        from test_mapper import scene as mapper_scene
+        window = vtkRenderWindow()  # on screen, as an event loop's window is
+        window.SetMultiSamples(8)
+        window.SetSize(W, H)
+        window, renderer, mapper, actor = mapper_scene(self.scene.mesh, window=window)
+        actor.GetProperty().SetColor(*SPHERE_COLOR)
+        actor.GetProperty().LightingOff()
+        mapper.AutoAdjustSampleDistancesOff()
+        mapper.SetInteractiveImageSampleDistance(2)
+        interactor = vtkRenderWindowInteractor()
+        interactor.SetRenderWindow(window)
+        interactor.SetStillUpdateRate(0.0001)
+        interactor.Initialize()
+
+        def process_events(until, seconds):
+            end = time.perf_counter() + seconds
+            while not until() and time.perf_counter() < end:
+                interactor.ProcessEvents()
+                time.sleep(0.005)
+            return until()
+        window.SetDesiredUpdateRate(0.0001)
+        window.Render()
+        process_events(lambda: False, 0.2)  # (the loop runs: the mapper's timer fires)
+        renderer.GetActiveCamera().Azimuth(10)
+        window.SetDesiredUpdateRate(15)
+        window.Render()
+        window.SetDesiredUpdateRate(0.0001)
+        window.Render()
+        self.assertTrue(mapper.GetLastRenderRefining(), "the full frame is cast in the background")
+        self.assertTrue(process_events(lambda: tuple(mapper.GetLastCastSize()) == (W, H), 60))
+        refined = rgba(window), zbuffer(window)
+        mapper.ProgressiveRefinementOff()  # (a changed setting: cast again, synchronously)
+        window.Render()
+        self.assertFalse(mapper.GetLastRenderReusedImage())
+        still = rgba(window), zbuffer(window)
+        sphere = np.array(SPHERE_COLOR) * 255
+        share = still[0][..., 0] / 255.0  # (the background is black)
+        blended = (np.abs(still[0][..., :3] - share[..., None] * sphere).max(axis=2) <= 3) & \
+            (share > 0.05) & (share < 0.95)
+        report("multisampling (8), background refinement",
+               "%d pixels differ from the synchronous still frame; %d silhouette pixels blended"
+               % (differing_pixels(refined[0], still[0]), blended.sum()))
+        np.testing.assert_array_equal(refined[1], still[1])
+        np.testing.assert_array_equal(refined[0], still[0])
+        self.assertGreater(int(blended.sum()), 50)
+        interactor.TerminateApp()
+        window.Finalize()
+
     def test_depth_peeling(self):
         """Depth peeling (VTK's and ParaView's way to draw translucent geometry). A translucent
         sphere (opacity 0.5) alone: against the polygon sphere's picture. With the opaque plane
