@@ -32,6 +32,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <string>
 #include <utility>
@@ -328,6 +329,41 @@ void vtkDirectSurfaceMapper::ImageCast::KeepNearest(std::size_t pixels, unsigned
   }
 }
 
+void vtkDirectSurfaceMapper::ImageCast::ComputeSampleMasks(const tetdsr::RayGenerator& rays,
+  int width, int height, const std::vector<glm::dvec2>& samplePositions, bool parallel)
+{
+  if (samplePositions.empty())
+  {
+    this->SampleMasks.clear();
+    return;
+  }
+  this->SampleMasks.resize(static_cast<std::size_t>(width) * height);
+  // The nearest surface over the blocks' casters, as the merged image shows.
+  auto firstHit = [this](const tetdsr::Ray& ray) {
+    double nearest = std::numeric_limits<double>::infinity();
+    tetdsr::Pick pick;
+    for (const auto& caster : this->Casters)
+    {
+      if (caster->pick(ray, pick, nearest))
+      {
+        nearest = std::min(nearest, pick.t);
+      }
+    }
+    return nearest;
+  };
+  auto parallelFor = [parallel](tetdsr::NodeId count,
+                       const std::function<void(tetdsr::NodeId, tetdsr::NodeId)>& body) {
+    if (!parallel)
+    {
+      body(0, count);
+      return;
+    }
+    vtkSMPTools::For(0, count, [&](vtkIdType begin, vtkIdType end) { body(begin, end); });
+  };
+  tetdsr::multisampleCoverage(rays, firstHit, samplePositions, width, height, this->Depth.data(),
+    this->Colors.data(), this->Normals.data(), this->SampleMasks.data(), parallelFor);
+}
+
 void vtkDirectSurfaceMapper::ImageCast::ComputeWindowDepth(const tetdsr::RayGenerator& rays,
   const glm::dmat4& modelToNdc, int castWidth, int rowBegin, int rowEnd)
 {
@@ -389,6 +425,10 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   }
   frame.CollectLights(renderer);
   frame.CollectAmbientOcclusion(renderer);
+  if (!translucent)
+  {
+    frame.SamplePositions = Internals::SamplePositions();
+  }
   const vtkDirectSurfaceViewSpace* viewSpace =
     frame.AmbientOcclusion ? &frame.ViewSpace : nullptr;
 
@@ -470,6 +510,8 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   {
     return;
   }
+  in.Cast.ComputeSampleMasks(frame.Rays, frame.CastWidth, frame.CastHeight,
+    distance == 1.0 ? frame.SamplePositions : std::vector<glm::dvec2>(), true);
   in.ComputeWindowDepth(frame);
   Internals::Upload(
     gl, window, in.Cast, frame.CastWidth, frame.CastHeight, distance, frame.AmbientOcclusion);
@@ -601,6 +643,10 @@ void vtkDirectSurfaceMapper::ComputeSignature(Frame& frame, bool shading)
   // And what decides its colour: the lights, and the opaque depth translucent rays stop at.
   signature.push_back(frame.Settings.lighting.headlightOnly ? 1.0 : 0.0);
   signature.push_back(frame.AmbientOcclusion ? 1.0 : 0.0); // (the normals are loaded for it)
+  for (const glm::dvec2& sample : frame.SamplePositions) // (the masks are made for them)
+  {
+    signature.insert(signature.end(), { sample.x, sample.y });
+  }
   signature.insert(signature.end(), frame.LightState.begin(), frame.LightState.end());
   if (frame.Translucent)
   {

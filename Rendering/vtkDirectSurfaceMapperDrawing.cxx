@@ -2,8 +2,9 @@
 // actor), the textures a cast image is uploaded to and the full-screen quads that draw them with
 // their exact depth (gl_FragDepth), a reduced image upsampled without blending across
 // silhouettes (the core's render/Upsampling maps, as two more textures); the opaque depth read
-// back under translucent surfaces; the renderer's FXAA moved after them; and under screen-space
-// ambient occlusion, each pixel's view-space position and normal into the pass's G-buffer.
+// back under translucent surfaces; the renderer's FXAA moved after them; under screen-space
+// ambient occlusion, each pixel's view-space position and normal into the pass's G-buffer; and
+// in a multisampled framebuffer, each pixel's sample mask.
 #include "vtkDirectSurfaceMapper.h"
 #include "vtkDirectSurfaceMapperInternals.h"
 
@@ -122,6 +123,36 @@ const char* const kViewSpace = R"(
   gl_FragData[1] = vec4(positionVC, 1.0);
   gl_FragData[2] = vec4(normalVC, 1.0);
 )";
+/// Appended to the full-resolution quad in a multisampled framebuffer: the samples of the pixel
+/// that see the surface (tetdsr/render/Multisampling.h), so that its silhouette is smoothed as
+/// polygons' are. (gl_SampleMask: GLSL 4.0, or this extension to VTK's GLSL 1.50.)
+const char* const kSampleMaskExtension =
+  "//VTK::System::Dec\n#extension GL_ARB_sample_shading : require\n";
+const char* const kSampleMaskDeclarations = R"(
+uniform sampler2D sampleMaskTexture;
+)";
+const char* const kSampleMask = R"(
+  gl_SampleMask[0] = int(texelFetch(sampleMaskTexture, nearest, 0).r * 255.0 + 0.5);
+)";
+}
+
+//------------------------------------------------------------------------------
+std::vector<glm::dvec2> vtkDirectSurfaceMapper::Internals::SamplePositions()
+{
+  std::vector<glm::dvec2> positions;
+  if (!GLEW_ARB_sample_shading) // (the quad's gl_SampleMask: none, one ray a pixel as before)
+  {
+    return positions;
+  }
+  GLint samples = 0;
+  glGetIntegerv(GL_SAMPLES, &samples);
+  for (GLint k = 0; samples > 1 && samples <= tetdsr::kMaxCoverageSamples && k < samples; ++k)
+  {
+    GLfloat position[2] = { 0.5f, 0.5f };
+    glGetMultisamplefv(GL_SAMPLE_POSITION, static_cast<GLuint>(k), position);
+    positions.emplace_back(position[0], position[1]);
+  }
+  return positions;
 }
 
 //------------------------------------------------------------------------------
@@ -178,7 +209,7 @@ void vtkDirectSurfaceMapper::Internals::ViewResources::Release(vtkWindow* window
     }
   }
   for (auto* texture : { &this->ColorTexture, &this->DepthTexture, &this->NormalTexture,
-         &this->MaskTexture, &this->BlockTexture })
+         &this->SampleMaskTexture, &this->MaskTexture, &this->BlockTexture })
   {
     if (*texture)
     {
@@ -188,6 +219,7 @@ void vtkDirectSurfaceMapper::Internals::ViewResources::Release(vtkWindow* window
   }
   this->TexturesValid = false;
   this->NormalsValid = false;
+  this->SampleMasksValid = false;
   this->UpsamplingValid = false;
   this->Signature.clear();
 }
@@ -256,6 +288,14 @@ void vtkDirectSurfaceMapper::Internals::Upload(ViewResources& gl, vtkOpenGLRende
 {
   LoadTextures(window, gl.ColorTexture, gl.DepthTexture, width, height, images.Colors.data(),
     images.WindowDepth.data(), vtkTextureObject::Linear);
+  gl.SampleMasksValid =
+    images.SampleMasks.size() == static_cast<std::size_t>(width) * height && sampleDistance == 1.0;
+  if (gl.SampleMasksValid)
+  {
+    Ready(gl.SampleMaskTexture, window);
+    gl.SampleMaskTexture->Create2DFromRaw(
+      width, height, 1, VTK_UNSIGNED_CHAR, const_cast<std::uint8_t*>(images.SampleMasks.data()));
+  }
   gl.NormalsValid = normals;
   if (normals)
   {
@@ -282,15 +322,21 @@ bool vtkDirectSurfaceMapper::Internals::Draw(ViewResources& gl, vtkOpenGLRenderW
   // its nearest cast pixels.)
   const bool upsample = gl.ImageSize[0] != viewport[2] || gl.ImageSize[1] != viewport[3];
   return DrawTextures(gl, window, translucent, viewport, gl.ColorTexture, gl.DepthTexture,
-    upsample && gl.UpsamplingValid, gl.NormalsValid ? viewSpace : nullptr);
+    upsample && gl.UpsamplingValid, gl.NormalsValid ? viewSpace : nullptr,
+    !upsample && !translucent && gl.SampleMasksValid);
 }
 
 bool vtkDirectSurfaceMapper::Internals::ReadyQuad(std::unique_ptr<vtkOpenGLQuadHelper>& quad,
-  vtkOpenGLRenderWindow* window, const char* declarations, const char* implementation)
+  vtkOpenGLRenderWindow* window, const char* declarations, const char* implementation,
+  const char* system)
 {
   if (!quad)
   {
     std::string fragment = vtkOpenGLRenderUtilities::GetFullScreenQuadFragmentShaderTemplate();
+    if (system)
+    {
+      vtkShaderProgram::Substitute(fragment, "//VTK::System::Dec", system);
+    }
     vtkShaderProgram::Substitute(fragment, "//VTK::FSQ::Decl", declarations);
     vtkShaderProgram::Substitute(fragment, "//VTK::FSQ::Impl", implementation);
     quad.reset(new vtkOpenGLQuadHelper(window,
@@ -301,9 +347,11 @@ bool vtkDirectSurfaceMapper::Internals::ReadyQuad(std::unique_ptr<vtkOpenGLQuadH
 
 bool vtkDirectSurfaceMapper::Internals::DrawTextures(ViewResources& gl,
   vtkOpenGLRenderWindow* window, bool translucent, const int viewport[4], vtkTextureObject* color,
-  vtkTextureObject* depth, bool upsample, const vtkDirectSurfaceViewSpace* viewSpace)
+  vtkTextureObject* depth, bool upsample, const vtkDirectSurfaceViewSpace* viewSpace,
+  bool sampleMask)
 {
-  const int k = (upsample ? 1 : 0) + (viewSpace ? 2 : 0);
+  sampleMask = sampleMask && !upsample;
+  const int k = (upsample ? 1 : 0) + (viewSpace ? 2 : 0) + (sampleMask ? 4 : 0);
   std::string declarations = upsample ? kQuadUpsampleDeclarations : kQuadDeclarations;
   std::string implementation = upsample ? kQuadUpsample : kQuadFull;
   if (viewSpace)
@@ -311,7 +359,13 @@ bool vtkDirectSurfaceMapper::Internals::DrawTextures(ViewResources& gl,
     declarations += kViewSpaceDeclarations;
     implementation += kViewSpace;
   }
-  if (!ReadyQuad(gl.Quads[k], window, declarations.c_str(), implementation.c_str()))
+  if (sampleMask)
+  {
+    declarations += kSampleMaskDeclarations;
+    implementation += kSampleMask;
+  }
+  if (!ReadyQuad(gl.Quads[k], window, declarations.c_str(), implementation.c_str(),
+        sampleMask ? kSampleMaskExtension : nullptr))
   {
     return false;
   }
@@ -362,6 +416,11 @@ bool vtkDirectSurfaceMapper::Internals::DrawTextures(ViewResources& gl,
   // only for polygon mappers (vtkSSAOPass::SetShaderParameters): the quad activates them itself.
   unsigned int attachments[3] = { GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1,
     GL_COLOR_ATTACHMENT2 };
+  if (sampleMask)
+  {
+    gl.SampleMaskTexture->Activate();
+    program->SetUniformi("sampleMaskTexture", gl.SampleMaskTexture->GetTextureUnit());
+  }
   if (viewSpace)
   {
     gl.NormalTexture->Activate();
@@ -377,6 +436,10 @@ bool vtkDirectSurfaceMapper::Internals::DrawTextures(ViewResources& gl,
   {
     state->vtkglDrawBuffers(1, attachments);
     gl.NormalTexture->Deactivate();
+  }
+  if (sampleMask)
+  {
+    gl.SampleMaskTexture->Deactivate();
   }
   if (upsample)
   {

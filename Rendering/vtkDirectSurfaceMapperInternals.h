@@ -23,6 +23,7 @@
 #include "vtkWeakPointer.h"
 
 #include "vtkDirectSurfaceAdapter.h"
+#include "tetdsr/render/Multisampling.h"
 #include "tetdsr/render/Upsampling.h"
 
 #include <atomic>
@@ -106,6 +107,10 @@ struct vtkDirectSurfaceMapper::Frame
   /// pass): the quad writes position and normal too (ViewSpace).
   bool AmbientOcclusion = false;
   vtkDirectSurfaceViewSpace ViewSpace;
+  /// An opaque frame into a multisampled framebuffer: its sample positions (within a pixel;
+  /// empty for one sample a pixel, or more than a mask holds). Silhouettes of a full-resolution
+  /// cast are then covered sample by sample (ImageCast::SampleMasks).
+  std::vector<glm::dvec2> SamplePositions;
 
   std::vector<double> LightState; ///< the switched-on lights' parameters, for the signature
   std::vector<double> Signature;  ///< everything the image depends on
@@ -145,6 +150,8 @@ struct vtkDirectSurfaceMapper::ImageCast
   std::vector<double> Normals;
   std::vector<tetdsr::NodeId> CellIds;
   std::vector<float> WindowDepth;
+  /// Per pixel, the samples that see a surface (Frame::SamplePositions; empty without them).
+  std::vector<std::uint8_t> SampleMasks;
   std::vector<std::uint8_t> BlockColors;
   std::vector<double> BlockDepth;
   std::vector<double> BlockNormals;
@@ -171,6 +178,11 @@ struct vtkDirectSurfaceMapper::ImageCast
   /// PixelBlocks is sized).
   void KeepNearest(std::size_t pixels, unsigned int block);
 
+  /// SampleMasks of a full-resolution cast (the core's multisampleCoverage, the nearest hit over
+  /// the casters), when `samplePositions` has any; else none. Before the window depth.
+  void ComputeSampleMasks(const tetdsr::RayGenerator& rays, int width, int height,
+    const std::vector<glm::dvec2>& samplePositions, bool parallel);
+
   /// Window depth of each hit in rows [rowBegin, rowEnd) (the core's windowDepths).
   void ComputeWindowDepth(const tetdsr::RayGenerator& rays, const glm::dmat4& modelToNdc,
     int castWidth, int rowBegin, int rowEnd);
@@ -189,6 +201,7 @@ struct vtkDirectSurfaceMapper::Refinement
   tetdsr::RayGenerator Rays{ glm::dmat4(1.0), 1, 1 };
   glm::dmat4 ModelToNdc{ 1.0 };
   bool SeveralBlocks = false;
+  std::vector<glm::dvec2> SamplePositions; ///< Frame::SamplePositions
   ImageCast Cast;
   double Seconds = 0.0; ///< the cast's wall-clock time, once Finished
 
@@ -264,14 +277,18 @@ struct vtkDirectSurfaceMapper::Internals
     /// The cast's normals (model coordinates), loaded only for ambient occlusion.
     vtkSmartPointer<vtkTextureObject> NormalTexture;
     bool NormalsValid = false;
+    /// The cast's sample masks (multisampled framebuffers, full-resolution casts only).
+    vtkSmartPointer<vtkTextureObject> SampleMaskTexture;
+    bool SampleMasksValid = false;
     /// For an image smaller than the viewport: per cast pixel its same-surface bits, per 2 x 2
     /// block its kind (tetdsr/render/Upsampling.h), and those as textures.
     tetdsr::UpsampleMaps Upsampling;
     vtkSmartPointer<vtkTextureObject> MaskTexture;
     vtkSmartPointer<vtkTextureObject> BlockTexture;
     bool UpsamplingValid = false;
-    /// kQuadFull, kQuadUpsample, and the two writing the G-buffer of ambient occlusion too.
-    std::unique_ptr<vtkOpenGLQuadHelper> Quads[4];
+    /// kQuadFull, kQuadUpsample; those writing the G-buffer of ambient occlusion too (+2); and
+    /// those writing a sample mask (+4, full resolution only).
+    std::unique_ptr<vtkOpenGLQuadHelper> Quads[8];
     bool TexturesValid = false;
     std::vector<double> Signature;
     int ImageSize[2] = { 0, 0 };
@@ -351,6 +368,11 @@ struct vtkDirectSurfaceMapper::Internals
   /// The window depth of the GL thread's cast, its rows on vtkSMPTools' threads.
   void ComputeWindowDepth(const Frame& frame);
 
+  /// The sample positions of the bound draw framebuffer (within a pixel), if it has 2 to
+  /// tetdsr::kMaxCoverageSamples samples and the context has GL_ARB_sample_shading (which the
+  /// quad's gl_SampleMask needs); else none.
+  static std::vector<glm::dvec2> SamplePositions();
+
   /// A texture of the window's context (made on first use), clamped to its edge, read as
   /// `filter` says.
   static void Ready(vtkSmartPointer<vtkTextureObject>& texture, vtkOpenGLRenderWindow* window,
@@ -376,18 +398,20 @@ struct vtkDirectSurfaceMapper::Internals
   static bool Draw(ViewResources& gl, vtkOpenGLRenderWindow* window, bool translucent,
     const int viewport[4], const vtkDirectSurfaceViewSpace* viewSpace = nullptr);
 
-  /// The quad drawing with `declarations` and `implementation` (made on first use); false if it
-  /// does not compile.
+  /// The quad drawing with `declarations` and `implementation` (made on first use; `system`, if
+  /// any, replaces the template's //VTK::System::Dec, keeping it first); false if it does not
+  /// compile.
   static bool ReadyQuad(std::unique_ptr<vtkOpenGLQuadHelper>& quad, vtkOpenGLRenderWindow* window,
-    const char* declarations, const char* implementation);
+    const char* declarations, const char* implementation, const char* system = nullptr);
 
   /// Draws `color` at `depth` (a texture each, of the viewport's size unless `upsample`: then
   /// with the view's upsampling maps) with the view's quad; with `viewSpace`, each pixel's
   /// view-space position and normal (from the view's NormalTexture) into colour attachments 1
-  /// and 2, as vtkSSAOPass reads them.
+  /// and 2, as vtkSSAOPass reads them; with `sampleMask` (full resolution), each pixel's samples
+  /// from the view's SampleMaskTexture.
   static bool DrawTextures(ViewResources& gl, vtkOpenGLRenderWindow* window, bool translucent,
     const int viewport[4], vtkTextureObject* color, vtkTextureObject* depth, bool upsample,
-    const vtkDirectSurfaceViewSpace* viewSpace = nullptr);
+    const vtkDirectSurfaceViewSpace* viewSpace = nullptr, bool sampleMask = false);
 };
 
 #endif

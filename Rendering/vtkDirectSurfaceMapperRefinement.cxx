@@ -66,6 +66,8 @@ void vtkDirectSurfaceMapper::Refinement::Run(int threads)
       this->Cast.KeepNearest(this->Cast.Depth.size(), 0);
     }
   }
+  this->Cast.ComputeSampleMasks(this->Rays, this->Width, this->Height, this->SamplePositions,
+    false); // (this worker's thread: vtkSMPTools may be busy on the GL thread)
   this->Cast.ComputeWindowDepth(this->Rays, this->ModelToNdc, this->Width, 0, this->Height);
   this->Seconds =
     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -86,6 +88,7 @@ std::unique_ptr<vtkDirectSurfaceMapper::Refinement> vtkDirectSurfaceMapper::Star
   refinement->Rays = frame.Rays;
   refinement->ModelToNdc = frame.ModelToNdc;
   refinement->SeveralBlocks = frame.SeveralBlocks();
+  refinement->SamplePositions = frame.SamplePositions; // (a refinement is a full-resolution cast)
   // The worker cannot render (the window's context belongs to this thread): the event loop
   // polls it.
   refinement->Interactor = interactor;

@@ -54,9 +54,13 @@ WINDOW = []
 
 def shared_window():
     """One render window (one X connection) for every test, emptied of its renderers: Xvfb on
-    these machines refuses a few connections in a hundred under load."""
+    these machines refuses a few connections in a hundred under load. Single-sampled: the tests
+    check coverage and depth at pixel centres, the mapper's one ray a pixel there (VTK's windows
+    ask for 8 samples by default, and in a multisampled window the mapper covers its silhouettes
+    sample by sample: test_mapper_passes.py)."""
     if not WINDOW:
         window = vtkRenderWindow()
+        window.SetMultiSamples(0)
         window.SetSize(W, H)
         window.OffScreenRenderingOn()
         WINDOW.append(window)
@@ -567,6 +571,7 @@ class Mapper(unittest.TestCase):
         # background; the event loop then shows it, equal to a synchronous still render. A new
         # interactive frame cancels a background cast instead of waiting for it.
         window = vtkRenderWindow()  # on screen, as an event loop's window is
+        window.SetMultiSamples(0)  # (pixel-centre pictures, as shared_window's)
         window.SetSize(800, 600)
         window, renderer, mapper, _ = scene(self.mesh, window=window)
         mapper.SetNumberOfThreads(1)  # a background cast of some tenths of a second

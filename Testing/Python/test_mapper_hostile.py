@@ -223,6 +223,7 @@ class Sharing(unittest.TestCase):
         windows, renderers = [], []
         for w in range(2):
             window = vtkRenderWindow()
+            window.SetMultiSamples(0)  # (pixel-centre pictures, as test_mapper's shared_window)
             window.SetSize(W, H)
             window.OffScreenRenderingOn()
             windows.append(window)

@@ -180,6 +180,20 @@ def sphere_and_plane(origin, direction):
     return [a.reshape(H, W) for a in (-b - root, -b + root, tp)]
 
 
+def plane_edges(origin, direction):
+    """Pixels (H x W) along the plane's outline: their 3 x 3 neighbourhood has pixel centres on
+    the plane and off it (the plane's two edge vectors are orthogonal)."""
+    *_, tp = sphere_and_plane(origin, direction)
+    point = origin + tp.ravel()[:, None] * direction - np.array(PLANE[0])
+    inside = np.ones(len(point), bool)
+    for corner in PLANE[1:]:
+        edge = np.subtract(corner, PLANE[0])
+        u = point @ edge / (edge @ edge)
+        inside &= (u >= 0) & (u <= 1)
+    inside = inside.reshape(H, W) & (tp > 0)
+    return dilate(inside) & dilate(~inside)
+
+
 def dilate(mask):
     """Each pixel and its 8 neighbours."""
     padded = np.pad(mask, 1)
@@ -369,36 +383,229 @@ class Passes(unittest.TestCase):
         self.assertGreater(differing_pixels(polygons, plain), 50)
         self.assertLessEqual(differ, SILHOUETTE_PIXELS)
 
-    def test_multisampling(self):
-        """A window of 8 samples a pixel. The mapper casts one ray a pixel: its silhouette is not
-        smoothed (each pixel is the sphere or not, as in the single-sample picture), while the
-        polygon sphere's is, and where the plane crosses it the quad's one depth a pixel meets
-        the plane's depth at each sample (the crossing is smoothed, a little differently from
-        the polygons'). Away from both the pictures agree and the depth is the exact hit's."""
-        single, _, _ = self.scene.render(True, lighting=True)
+    def multisampled(self):
+        """The sphere (mapper's and polygons') in a window of 8 samples a pixel (llvmpipe gives
+        4), flat colours, and the pixel classes: hit (the pixel centre's ray meets the sphere),
+        silhouette, crossing (where the plane crosses the sphere, wider where that meets the
+        silhouette) and away from both."""
         scene = Scene(multisamples=8)
-        exact, z, eyes = scene.render(True, lighting=True)
-        polygons, _, _ = scene.render(False, lighting=True)
-        truth, _ = sphere_depth(eyes[0])
+        exact, z, eyes = scene.render(True)
+        self.assertEqual(scene.messages.errors, [])
+        scene.eyes = eyes
+        polygons, _, _ = scene.render(False)
+        truth, margin = sphere_depth(eyes[0])
         t0, _, tp = sphere_and_plane(*pixel_rays(eyes[0]))
         hit = truth < 1
         silhouette = dilate(hit) & dilate(~hit)
-        crossing = dilate(hit & (tp < t0)) & dilate(hit & (tp > t0))
+        core = dilate(hit & (tp < t0)) & dilate(hit & (tp > t0))
+        crossing = dilate(dilate(core))
+        for _ in range(3):  # (where it meets the silhouette, a little wider)
+            core = dilate(core)
+        crossing |= core & dilate(dilate(silhouette))
+        return scene, exact, z, polygons, truth, margin, t0, tp, hit, silhouette, crossing
+
+    def test_multisampling(self):
+        """A window of 8 samples a pixel, flat colours: a pixel on the sphere's silhouette is the
+        blend of the surfaces its samples see, as for polygons (the mapper casts a ray per sample
+        there, at the framebuffer's sample positions, and writes the pixel's sample mask). Each
+        silhouette pixel's sphere coverage (its colour solved as a blend of the sphere, the
+        plane and the background) against the polygons' pixel by pixel and summed; the mapper's
+        one-ray-a-pixel picture (a single-sampled window: the picture before per-sample rays) as
+        the count to beat. Covered samples keep the exact depth: a pixel whose centre sees the
+        sphere writes the centre's exact hit to its covered samples. Where the plane crosses the
+        sphere the quad's one depth a pixel meets the plane's depth at each sample: smoothed,
+        but not as the polygons' per-sample depths (not compared, nor where the crossing meets
+        the silhouette). Elsewhere the pictures agree and the depth is the exact hit's."""
+        single, _, _ = self.scene.render(True)
+        (scene, exact, z, polygons, truth, margin, t0, tp, hit, silhouette,
+         crossing) = self.multisampled()
         away = ~silhouette & ~crossing
         differ = np.abs(exact[..., :3] - polygons[..., :3]).max(axis=2) > COLOR_TOLERANCE
         sphere = hit & away & (tp > t0)
         error = float(np.abs(z - truth)[sphere].max())
-        as_single = differing_pixels(np.where(silhouette[..., None], exact, 0),
-                                     np.where(silhouette[..., None], single, 0))
+
+        def coverage(image):
+            """The sphere's share of each pixel: colour = a sphere + b plane + c black solved
+            for a (the sphere has no blue: b = B / 255, a = (R - 0.1 B) / 255)."""
+            return (image[..., 0] - PLANE_COLOR[0] * image[..., 2]) / 255.0
+        edge = silhouette & ~crossing
+        shares = {name: coverage(image)[edge] for name, image in
+                  (("exact", exact), ("polygons", polygons), ("single", single))}
+        # (one sample of 8 is 0.125 of a pixel; rounding of the 8-bit channels is within 0.01)
+        off = {name: int((np.abs(shares[name] - shares["polygons"]) > 1 / 16).sum())
+               for name in ("exact", "single")}
+        total = {name: float(shares[name].sum()) for name in shares}
+        quanta = np.unique(np.round(shares["polygons"] * 8) / 8)
         report("multisampling (8)", "%d pixels differ from polygons away from the silhouette and "
-               "the crossing, %d of %d silhouette pixels (%d differ from the single-sample "
-               "picture), %d of %d crossing pixels; max |depth - exact| %.1e on %d pixels"
-               % ((differ & away).sum(), (differ & silhouette).sum(), silhouette.sum(),
-                  as_single, (differ & crossing).sum(), crossing.sum(), error, sphere.sum()))
+               "the crossing; silhouette off the crossing: %d pixels, sphere coverage differs from "
+               "the polygons' in %d (one ray a pixel: %d), summed coverage %.2f pixels (polygons "
+               "%.2f, one ray a pixel %.2f); %d of %d crossing pixels differ; max |depth - exact| "
+               "%.1e on %d pixels"
+               % ((differ & away).sum(), edge.sum(), off["exact"], off["single"], total["exact"],
+                  total["polygons"], total["single"], (differ & crossing).sum(), crossing.sum(),
+                  error, sphere.sum()))
         self.assertLessEqual(int((differ & away).sum()), SILHOUETTE_PIXELS)
-        self.assertLessEqual(as_single, SILHOUETTE_PIXELS)
+        self.assertLessEqual(off["exact"], SILHOUETTE_PIXELS)
+        self.assertGreater(off["single"], 10 * SILHOUETTE_PIXELS)  # (the test can fail)
+        self.assertGreater(len(quanta), 3)  # (the polygons' silhouette is smoothed)
+        self.assertLess(abs(total["exact"] - total["polygons"]), 0.01 * edge.sum())
         self.assertLess(error, DEPTH_TOLERANCE)
         self.assertGreater(sphere.sum(), 0.5 * hit.sum())
+
+        # The depth on the silhouette: the resolved depth is one sample's, which may be the
+        # plane's behind or the background's. A pixel whose centre sees the sphere writes that
+        # exact hit to its covered samples; a pixel whose centre misses it but some samples see
+        # it, its nearest covered sample's ray parameter along the centre's ray: between its
+        # sphere neighbours' depths and the rim's (the centre ray's closest approach to the
+        # sphere's centre: a grazing sample's hit is as deep). Anything else is wrong.
+        origin, direction = pixel_rays(scene.eyes[0])
+        plane_z = window_depth(scene.eyes[0], origin + tp.reshape(-1, 1) * direction)
+        plane_z = plane_z.reshape(H, W)
+        step = np.abs(np.gradient(plane_z)).sum(axis=0)  # (a pixel's change)
+        background = (z == 1) | (np.abs(z - plane_z) <= step)
+        clear = edge & ~dilate(dilate(hit & ~(tp > t0))) & (margin > 1e-6)
+        centre = clear & hit & ~background
+        centre_wrong = int((centre & (np.abs(z - truth) > DEPTH_TOLERANCE)).sum())
+        padded = np.pad(np.where(hit, truth, np.nan), 1, constant_values=np.nan)
+        around = np.stack([padded[1 + dj:H + 1 + dj, 1 + di:W + 1 + di]
+                           for dj in (-1, 0, 1) for di in (-1, 0, 1)])
+        with np.errstate(all="ignore"):
+            low, high = np.nanmin(around, axis=0), np.nanmax(around, axis=0)
+        spread = high - low
+        rim = window_depth(scene.eyes[0], origin - np.sum(origin * direction, axis=1)[:, None]
+                           * direction).reshape(H, W)
+        high = np.maximum(high, rim)
+        filled = clear & ~hit & ~background
+        outside = filled & ~((z >= low - spread) & (z <= high + spread))
+        report("multisampling (8), silhouette depth",
+               "%d pixels whose centre sees the sphere show a covered sample's depth: %d not the "
+               "exact hit; %d filled (centre misses): %d outside their sphere neighbours' and "
+               "rim's depths"
+               % (centre.sum(), centre_wrong, filled.sum(), outside.sum()))
+        self.assertGreater(int(centre.sum()), 50)
+        self.assertEqual(centre_wrong, 0)
+        self.assertEqual(int(outside.sum()), 0)
+
+    def test_single_sampled_pixel_centres(self):
+        """In a single-sampled window nothing changes: one ray a pixel centre, no sample masks.
+        Every pixel's coverage is its centre's analytic hit (rays grazing the sphere within 1e-6
+        left out), silhouette included, and its depth that hit's, as before per-sample rays."""
+        exact, z, eyes = self.scene.render(True)
+        truth, margin = sphere_depth(eyes[0])
+        origin, direction = pixel_rays(eyes[0])
+        *_, tp = sphere_and_plane(origin, direction)
+        b = np.sum(origin * direction, axis=1)
+        disc = b * b - (np.sum(origin * origin, axis=1) - RADIUS2)
+        t0 = (-b - np.sqrt(np.maximum(disc, 0))).reshape(H, W)  # (grazing rays too)
+        clear = (margin > 1e-6) & (np.abs(tp - t0) > 1e-3)
+        sphere = np.all(np.abs(exact[..., :3] - np.array(SPHERE_COLOR) * 255) <= COLOR_TOLERANCE,
+                        axis=2)
+        expected = (truth < 1) & (tp > t0)
+        wrong = int(((sphere != expected) & clear).sum())
+        error = float(np.abs(z - truth)[sphere & clear].max())
+        silhouette = dilate(truth < 1) & dilate(truth == 1)
+        report("single-sampled", "%d pixels' coverage differs from the pixel centre's analytic hit "
+               "(%d silhouette pixels); max |depth - exact| %.1e on %d pixels"
+               % (wrong, (silhouette & clear).sum(), error, (sphere & clear).sum()))
+        self.assertEqual(wrong, 0)
+        self.assertLess(error, DEPTH_TOLERANCE)
+
+    def test_multisampling_interactive_and_translucent(self):
+        """A multisampled window's frames that get no per-sample rays: an interactive frame
+        (cast at half resolution, upsampled) and a translucent sphere (drawn over the finished
+        frame). Each equals the same frame in a single-sampled window away from the sphere's
+        silhouette, the crossing and the plane's outline (smoothed there in the multisampled
+        window), and on the silhouette too: a pixel is the sphere's or not, not smoothed, as
+        before per-sample rays (the polygons' picture, for scale, is smoothed there)."""
+        (scene, _, _, polygons, truth, _, t0, tp, hit, silhouette,
+         crossing) = self.multisampled()
+        origin, direction = pixel_rays(scene.eyes[0])
+        _, t1, _ = sphere_and_plane(origin, direction)
+        back = dilate(dilate(hit & (tp < t1)) & dilate(hit & (tp > t1)))  # (seen through)
+        away = ~silhouette & ~crossing & ~back & ~plane_edges(origin, direction)
+        edge = silhouette & ~crossing & ~dilate(dilate(hit & ~(tp > t0)))
+
+        def interactive(target):
+            def configure(window, renderer):
+                window.SetDesiredUpdateRate(15)
+                target.mapper.AutoAdjustSampleDistancesOff()
+                target.mapper.SetInteractiveImageSampleDistance(2)
+            return configure
+        one_ray, _, _ = self.scene.render(True)
+        for name, many, one in (
+                ("interactive", lambda: scene.render(True, interactive(scene)),
+                 lambda: self.scene.render(True, interactive(self.scene))),
+                ("translucent", lambda: scene.render(True, opacity=0.5),
+                 lambda: self.scene.render(True, opacity=0.5))):
+            many, one = many()[0], one()[0]
+            self.assertEqual(scene.messages.errors, [])
+            if name == "interactive":
+                self.assertEqual(scene.mapper.GetLastImageSampleDistance(), 2.0)
+                self.assertEqual(self.scene.mapper.GetLastImageSampleDistance(), 2.0)
+            gap = np.abs(many[..., :3] - one[..., :3]).max(axis=2) > COLOR_TOLERANCE
+            report("multisampling (8), " + name, "%d of %d pixels differ from the single-sampled "
+                   "window's frame away from the silhouette, the crossing and the plane's "
+                   "outline; %d of %d silhouette pixels (polygons' still picture: %d)"
+                   % ((gap & away).sum(), away.sum(), (gap & edge).sum(), edge.sum(),
+                      differing_pixels(np.where(edge[..., None], polygons, 0),
+                                       np.where(edge[..., None], one_ray, 0))))
+            self.assertLessEqual(int((gap & away).sum()), SILHOUETTE_PIXELS)
+            self.assertLessEqual(int((gap & edge).sum()), SILHOUETTE_PIXELS)
+
+    def test_multisampling_background_refinement(self):
+        """In a multisampled window with an event loop, the still frame after interaction is
+        cast in the background (a full-resolution cast): its silhouette gets its per-sample rays
+        there too, and the frame the loop shows equals a synchronous still frame's, which is
+        smoothed (a flat-coloured sphere: silhouette pixels blending it with the background)."""
+        import time
+        from vtkmodules.vtkRenderingCore import vtkRenderWindowInteractor
+        from test_mapper import scene as mapper_scene
+        window = vtkRenderWindow()  # on screen, as an event loop's window is
+        window.SetMultiSamples(8)
+        window.SetSize(W, H)
+        window, renderer, mapper, actor = mapper_scene(self.scene.mesh, window=window)
+        actor.GetProperty().SetColor(*SPHERE_COLOR)
+        actor.GetProperty().LightingOff()
+        mapper.AutoAdjustSampleDistancesOff()
+        mapper.SetInteractiveImageSampleDistance(2)
+        interactor = vtkRenderWindowInteractor()
+        interactor.SetRenderWindow(window)
+        interactor.SetStillUpdateRate(0.0001)
+        interactor.Initialize()
+
+        def process_events(until, seconds):
+            end = time.perf_counter() + seconds
+            while not until() and time.perf_counter() < end:
+                interactor.ProcessEvents()
+                time.sleep(0.005)
+            return until()
+        window.SetDesiredUpdateRate(0.0001)
+        window.Render()
+        process_events(lambda: False, 0.2)  # (the loop runs: the mapper's timer fires)
+        renderer.GetActiveCamera().Azimuth(10)
+        window.SetDesiredUpdateRate(15)
+        window.Render()
+        window.SetDesiredUpdateRate(0.0001)
+        window.Render()
+        self.assertTrue(mapper.GetLastRenderRefining(), "the full frame is cast in the background")
+        self.assertTrue(process_events(lambda: tuple(mapper.GetLastCastSize()) == (W, H), 60))
+        refined = rgba(window), zbuffer(window)
+        mapper.ProgressiveRefinementOff()  # (a changed setting: cast again, synchronously)
+        window.Render()
+        self.assertFalse(mapper.GetLastRenderReusedImage())
+        still = rgba(window), zbuffer(window)
+        sphere = np.array(SPHERE_COLOR) * 255
+        share = still[0][..., 0] / 255.0  # (the background is black)
+        blended = (np.abs(still[0][..., :3] - share[..., None] * sphere).max(axis=2) <= 3) & \
+            (share > 0.05) & (share < 0.95)
+        report("multisampling (8), background refinement",
+               "%d pixels differ from the synchronous still frame; %d silhouette pixels blended"
+               % (differing_pixels(refined[0], still[0]), blended.sum()))
+        np.testing.assert_array_equal(refined[1], still[1])
+        np.testing.assert_array_equal(refined[0], still[0])
+        self.assertGreater(int(blended.sum()), 50)
+        interactor.TerminateApp()
+        window.Finalize()
 
     def test_depth_peeling(self):
         """Depth peeling (VTK's and ParaView's way to draw translucent geometry). A translucent
