@@ -1,5 +1,6 @@
 // vtkDirectSurfaceMapper's view and cast: the frame path (Draw: level of detail, re-use of the
-// last image, the cast, its upload and drawing), the view a frame is cast from (Frame: viewport,
+// last image, a still frame shown at once and refined in the background, the cast, its upload
+// and drawing), the view a frame is cast from (Frame: viewport,
 // matrices, lights), the stages every job shares (the input's blocks, the settings, each block's
 // prepared mesh, the casters and their images: ImageCast) and the sample distance interactive
 // frames are cast at, from the time the last cast took.
@@ -36,6 +37,12 @@
 
 namespace
 {
+/// A still frame in a window with an event loop is cast on the GUI thread only when its cast is
+/// expected to take at most this long (a frame time the user does not notice as a stall); else a
+/// coarse frame, sized to take about kCoarseFrameSeconds, is shown and refined behind it.
+constexpr double kQuickStillSeconds = 0.15;
+constexpr double kCoarseFrameSeconds = 0.05;
+
 /// Whether two image signatures describe one scene up to rounding: a camera set again from its
 /// own parameters (as ParaView does before a still render) moves the matrices and lights by an
 /// ulp or two; 1e-12 of the numbers' size (at least 1) is far below a visible change, and keeps
@@ -159,6 +166,15 @@ bool vtkDirectSurfaceMapper::Frame::SetUpView(vtkRenderer* renderer, double samp
   this->NdcToModel = glm::inverse(this->ModelToNdc);
   this->Rays = tetdsr::RayGenerator(this->NdcToModel, this->CastWidth, this->CastHeight);
   return true;
+}
+
+std::vector<double> vtkDirectSurfaceMapper::Frame::SelectionSignature() const
+{
+  std::vector<double> signature(
+    this->Signature.begin(), this->Signature.begin() + this->CellSignatureSize);
+  signature.insert(signature.end(),
+    { static_cast<double>(this->CastWidth), static_cast<double>(this->CastHeight) });
+  return signature;
 }
 
 void vtkDirectSurfaceMapper::Frame::CollectLights(vtkRenderer* renderer)
@@ -367,9 +383,13 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
       this->LastRenderRefining = !refinement.Finished;
       if (refinement.Finished)
       {
-        refinement.Worker.join(); // (it has returned)
+        if (refinement.Worker.joinable())
+        {
+          refinement.Worker.join(); // (it has returned; a selection may have joined it)
+        }
         Internals::Upload(
           gl, window, refinement.Cast, refinement.Width, refinement.Height, distance);
+        gl.KeepForSelection(frame, refinement.Cast);
         gl.Signature = refinement.Signature;
         in.LastCastSeconds = refinement.Seconds;
         in.SampleDistance = distance;
@@ -398,19 +418,11 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   // Any cast below may rebuild the prepared meshes that background casts read.
   in.CancelRefinements();
 
-  // A still frame of the scene the last interactive frame showed: that image, upscaled, until the
-  // full resolution cast in the background is done, when the event loop can ask for the render
-  // that shows it.
-  if (eventLoop && gl.TexturesValid && gl.ImageSampleDistance > 1.0 && distance == 1.0 &&
-    SameScene(gl.Signature, frame.Signature))
+  // A still frame in a window whose event loop can show a background cast: drawn at once and
+  // refined behind (unless a full cast is quick, or a capture of the window needs it now).
+  if (eventLoop && distance == 1.0 && !this->SynchronousStillRenders &&
+    this->DrawThenRefine(frame, renderer, interactor, timer))
   {
-    gl.Refining = this->StartRefinement(frame, interactor);
-    if (gl.Refining)
-    {
-      this->LastRenderReusedImage = true;
-      this->LastRenderRefining = true;
-      drawImage();
-    }
     return;
   }
 
@@ -421,9 +433,76 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   in.ComputeWindowDepth(frame);
   Internals::Upload(gl, window, in.Cast, frame.CastWidth, frame.CastHeight, distance);
   Internals::Draw(gl, window, translucent, frame.Viewport);
+  gl.KeepForSelection(frame, in.Cast);
   gl.Signature = std::move(frame.Signature);
   timer->StopTimer();
   this->CastFinished(frame, distance, timer->GetElapsedTime());
+}
+
+bool vtkDirectSurfaceMapper::DrawThenRefine(
+  Frame& frame, vtkRenderer* renderer, vtkRenderWindowInteractor* interactor, vtkTimerLog* timer)
+{
+  Internals& in = *this->Internal;
+  Internals::ViewResources& gl = in.ResourcesOf(frame.Window, renderer, frame.Actor);
+  // Behind the last reduced image when it shows this scene (after interaction), else behind a
+  // coarse cast of its own.
+  const bool shown =
+    gl.TexturesValid && gl.ImageSampleDistance > 1.0 && SameScene(gl.Signature, frame.Signature);
+  if (!shown)
+  {
+    const double coarse = this->ChooseCoarseSampleDistance(frame);
+    if (coarse == 1.0)
+    {
+      return false; // the full cast is quick: made on this thread
+    }
+    if (!frame.SetUpView(renderer, coarse) || !this->CastBlocks(frame))
+    {
+      return true; // nothing to draw
+    }
+    in.ComputeWindowDepth(frame);
+    Internals::Upload(gl, frame.Window, in.Cast, frame.CastWidth, frame.CastHeight, coarse);
+    Internals::Draw(gl, frame.Window, frame.Translucent, frame.Viewport);
+    gl.Signature = frame.Signature;
+    timer->StopTimer();
+    this->CastFinished(frame, coarse, timer->GetElapsedTime());
+    frame.Messages = adapter::Messages(); // (said once, by the coarse cast)
+    frame.SetUpView(renderer, 1.0);
+  }
+  gl.Refining = this->StartRefinement(frame, interactor);
+  this->LastRenderReusedImage = shown;
+  this->LastRenderRefining = gl.Refining != nullptr;
+  if (shown && gl.Refining)
+  {
+    Internals::Draw(gl, frame.Window, frame.Translucent, frame.Viewport);
+    timer->StopTimer();
+    this->TimeToDraw = timer->GetElapsedTime();
+  }
+  return true;
+}
+
+double vtkDirectSurfaceMapper::ChooseCoarseSampleDistance(const Frame& frame)
+{
+  // The full cast's time, from the last cast's time per ray (preparing included: a first
+  // estimate errs on the slow side); none yet (the first show): the coarsest cast, cheap
+  // whatever the mesh.
+  const Internals& in = *this->Internal;
+  const double lastRays = static_cast<double>(this->LastCastSize[0]) * this->LastCastSize[1];
+  if (this->MaximumImageSampleDistance < 2.0)
+  {
+    return 1.0; // (no reduced frames wanted)
+  }
+  if (!(in.LastCastSeconds > 0.0) || !(lastRays > 0.0))
+  {
+    return this->MaximumImageSampleDistance;
+  }
+  const double expected = in.LastCastSeconds * static_cast<double>(frame.Pixels()) / lastRays;
+  if (expected <= kQuickStillSeconds)
+  {
+    return 1.0;
+  }
+  // The cast's time goes as its number of rays, 1 / distance^2.
+  return vtkMath::ClampValue(
+    std::sqrt(expected / kCoarseFrameSeconds), 2.0, this->MaximumImageSampleDistance);
 }
 
 void vtkDirectSurfaceMapper::CastFinished(const Frame& frame, double sampleDistance, double seconds)
@@ -547,6 +626,7 @@ void vtkDirectSurfaceMapper::ComputeSignature(Frame& frame, bool shading)
   {
     signature.push_back(static_cast<double>(adapter::MeshModifiedTime(block.second)));
   }
+  frame.CellSignatureSize = signature.size();
   if (!shading)
   {
     return;

@@ -89,6 +89,8 @@ struct vtkDirectSurfaceMapper::Frame
 
   std::vector<double> LightState; ///< the switched-on lights' parameters, for the signature
   std::vector<double> Signature;  ///< everything the image depends on
+  /// The leading part of Signature that decides which cell each pixel shows (not its colour).
+  std::size_t CellSignatureSize = 0;
   std::vector<double> Values;     ///< the iso-values
   tetdsr::RenderSettings Settings;
   adapter::Messages Messages;
@@ -98,6 +100,19 @@ struct vtkDirectSurfaceMapper::Frame
     return static_cast<std::size_t>(this->CastWidth) * this->CastHeight;
   }
   bool SeveralBlocks() const { return this->Blocks.size() > 1; }
+
+  /// What a hardware selection's passes share one cast by: the part of the signature that
+  /// decides which cell each pixel shows, and the cast's size.
+  std::vector<double> SelectionSignature() const;
+
+  /// Whether a selection of this view may take its cast's cells and depths: a single block (a
+  /// selection keeps each pixel's block only when it casts itself), opaque (translucent casts stop
+  /// at the opaque depth), at full resolution.
+  bool ServesSelection() const
+  {
+    return !this->SeveralBlocks() && !this->Translucent && !this->CollectLayers &&
+      this->CastWidth == this->Viewport[2] && this->CastHeight == this->Viewport[3];
+  }
 
   /// The viewport, cast at `sampleDistance` pixels a ray, and the actor seen through the active
   /// camera's composite projection (as the GL matrices use it, so explicit and tiled projections
@@ -158,6 +173,9 @@ struct vtkDirectSurfaceMapper::ImageCast
 struct vtkDirectSurfaceMapper::Refinement
 {
   std::vector<double> Signature; ///< the view it casts
+  /// Its frame's SelectionSignature when the frame ServesSelection (else empty): a selection of
+  /// the same view waits for this cast instead of casting again.
+  std::vector<double> SelectionSignature;
   int Width = 0;
   int Height = 0;
   tetdsr::RayGenerator Rays{ glm::dmat4(1.0), 1, 1 };
@@ -265,6 +283,10 @@ struct vtkDirectSurfaceMapper::Internals
       /// actor's and the process's passes (`propColor`).
       void EncodePass(int pass, const float* propColor, bool composite);
     } Selection;
+
+    /// Keeps a full-resolution cast of this view (when its frame ServesSelection) for the next
+    /// selection of the same view, so that hovering or selecting casts nothing more.
+    void KeepForSelection(const Frame& frame, const ImageCast& cast);
 
     void Release(vtkWindow* window);
   };
