@@ -372,13 +372,18 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   };
 
   // This view's background cast: shown once finished, waited for while it runs (the upscaled
-  // image drawn again), and dropped when the frame is anything else.
+  // image drawn again; a capture waits for it to finish), and dropped when the frame is anything
+  // else.
   if (gl.Refining)
   {
     Refinement& refinement = *gl.Refining;
     if (SameScene(refinement.Signature, frame.Signature) && refinement.Width == frame.CastWidth &&
       refinement.Height == frame.CastHeight)
     {
+      if (this->SynchronousStillRenders && refinement.Worker.joinable())
+      {
+        refinement.Worker.join(); // (a capture needs the full frame now: no sooner cast again)
+      }
       this->LastRenderReusedImage = !refinement.Finished;
       this->LastRenderRefining = !refinement.Finished;
       if (refinement.Finished)

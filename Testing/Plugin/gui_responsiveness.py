@@ -3,7 +3,8 @@ representation, measured as a user would feel it: right after each action an X c
 File menu and times how long the GUI takes to open it; and how long until the refined
 (full-resolution) frame is shown. A test with --limit (it fails when, in an action listed by
 --check, the mapper's render keeps the GUI thread longer than the limit, or the menu opens more
-than the limit and MENU_SLACK after the idle GUI's time), a measurement otherwise.
+than the limit and MENU_SLACK after the idle GUI's time, or a screenshot taken at once after a
+change differs from one of the refined view), a measurement otherwise.
 
 Usage (Linux; Xvfb, openbox and xdotool on PATH; the build must have run cmake):
   /usr/bin/python3 Testing/Plugin/gui_responsiveness.py PLUGIN DATA.vtu ARRAY ISO_SHOWN
@@ -12,7 +13,7 @@ Usage (Linux; Xvfb, openbox and xdotool on PATH; the build must have run cmake):
 
 It starts a private X server (Xvfb, 1600 x 1000 x 24, on a free display number) with openbox,
 and the paraview client (--dr) with gui_responsiveness_actions.py as its --script, which plays
-the actions (show, iso, colour, reset, wheel) from a timer of the GUI's event loop and logs when
+the actions (show, iso, colour, reset, wheel, screenshot) from a timer of the GUI's event loop and logs when
 each starts, returns and shows its refined frame. For each action this script, once it reads
 the start in the log, clicks the File menu (xdotool, at the menu bar's left end) and polls for the
 menu's pop-up window (a new visible window of the client); the time from the action's start to
@@ -31,6 +32,7 @@ import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+ACTIONS = ("show", "iso", "colour", "reset", "wheel", "screenshot")
 MENU_TIMEOUT = 60.0  # seconds to wait for the File menu before calling the GUI hung
 MENU_SLACK = 0.5  # seconds of ParaView's own work an action may add to the File menu's answer
 
@@ -175,7 +177,7 @@ def measure(args):
             time.sleep(0.2)
         results["idle"] = sorted(idle)[1]
         gui.acknowledge()
-        for action in ("show", "iso", "colour", "reset", "wheel"):
+        for action in ACTIONS:
             start = float(gui.wait_for("start", action)[2])
             if action == "wheel":
                 # (the view's centre: the main window's centre is within it on this layout)
@@ -194,6 +196,9 @@ def measure(args):
             results[action] = {"menu": answered, "gui_cpu": cpu, "render": render, "returned": returned - start,
                                "refined": float(refined[2]) - start,
                                "cast": [int(refined[3]), int(refined[4])]}
+            if action == "screenshot":
+                line = gui.wait_for("screenshot")
+                results["screenshot"]["capture"] = {"refining": int(line[1]), "differing": int(line[2])}
             gui.acknowledge()
         gui.process.wait(timeout=60)
     finally:
@@ -226,11 +231,14 @@ print(f"File menu with the GUI idle: {results['idle']:.3f} s (the median of 3: t
 print("| action | File menu opened after s | GUI thread's CPU s until then | action returned after s "
       "| the mapper's render in it s | refined frame after s | cast |")
 print("|---|---|---|---|---|---|---|")
-for action in ("show", "iso", "colour", "reset", "wheel"):
+for action in ACTIONS:
     r = results[action]
     print(f"| {action} | {r['menu']:.2f} | {r['gui_cpu']:.2f} | {r['returned']:.2f} "
           f"| {r['render']:.3f} | {r['refined']:.2f} "
           f"| {r['cast'][0]} x {r['cast'][1]} |")
+capture = results["screenshot"]["capture"]
+print(f"SaveScreenshot right after a change (the view {'refining' if capture['refining'] else 'not refining'}): "
+      f"{capture['differing']} pixels differ from the refined view's screenshot")
 if args.json:
     with open(args.json, "w") as out:
         json.dump(results, out, indent=1)
@@ -239,6 +247,9 @@ if args.limit is not None:
     # within MENU_SLACK of it beyond the idle GUI's time (ParaView's own work for an action, its
     # panels and its second render, took 0.15 to 0.5 s here on 2 loaded cores).
     slow = []
+    if not capture["refining"] or capture["differing"] != 0:
+        slow.append("a screenshot taken while the view refined is not the refined view's "
+                    f"(refining {capture['refining']}, {capture['differing']} pixels differ)")
     for a in args.check.split(","):
         r = results[a]
         if r["render"] > args.limit:

@@ -13,9 +13,12 @@ it; the first action waits for its measurement of the idle GUI). Log lines (the 
   returned <action> <time>           its synchronous part returned to the event loop
   refined <action> <time> <w> <h>    the mapper drew its full cast of <w> x <h> rays
   failed <text>                      and the GUI quits with status 1
-Actions: show (Surface to Direct Surface), iso (a new iso-value), colour (Color By another
+  screenshot <refining> <pixels>     at the screenshot action: whether the view was refining when
+                                     it was captured, and how many pixels differ from a capture of
+                                     the refined view (a capture is exact: 0)
+Actions: show (Surface to Direct Surface), iso (new iso-values), colour (Color By another
 array), reset (an orbit, then Reset Camera), wheel (the driver turns the mouse wheel over the
-view: only marked here). Environment: TETDSR_PLUGIN, TETDSR_GUI_DATA, TETDSR_GUI_ARRAY,
+view: only marked here), screenshot (the first iso-value again, and SaveScreenshot at once). Environment: TETDSR_PLUGIN, TETDSR_GUI_DATA, TETDSR_GUI_ARRAY,
 TETDSR_GUI_ISO (the iso-value shown, then the iso-values it changes to, comma-separated), TETDSR_GUI_COLOR, TETDSR_GUI_SIZE ("W H"),
 TETDSR_GUI_LOG, TETDSR_GUI_CONTROL.
 """
@@ -26,7 +29,7 @@ import traceback
 
 import paraview.simple as simple
 
-ACTIONS = ("show", "iso", "colour", "reset", "wheel")
+ACTIONS = ("show", "iso", "colour", "reset", "wheel", "screenshot")
 REFINE_TIMEOUT = 60.0  # seconds an action may take to show its refined frame
 
 log = open(os.environ["TETDSR_GUI_LOG"], "a", buffering=1)
@@ -97,8 +100,31 @@ def act(name):
         camera.Azimuth(35)
         camera.Elevation(20)
         view.ResetCamera()
+    elif name == "screenshot":
+        display.Isosurfaces = [iso_shown]
     if name != "wheel":  # (the driver turns the wheel: ParaView renders as it does for a user)
         simple.Render(view)
+    if name == "screenshot":  # at once, while the view shows the coarse frame
+        state["capture refining"] = int(mapper().GetLastRenderRefining())
+        simple.SaveScreenshot(screenshot_path(1), view, ImageResolution=[width, height])
+
+
+def screenshot_path(k):
+    return os.path.join(os.path.dirname(os.environ["TETDSR_GUI_LOG"]), f"screenshot{k}.png")
+
+
+def differing_pixels(first, second):
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    images = []
+    for path in (first, second):
+        png = vtkPNGReader()
+        png.SetFileName(path)
+        png.Update()
+        images.append(vtk_to_numpy(png.GetOutput().GetPointData().GetScalars()).astype(int))
+    if images[0].shape != images[1].shape:
+        return -1
+    return int((abs(images[0] - images[1]).max(axis=1) > 0).sum())
 
 
 state = {"next": 0, "pending": None, "since": 0.0, "ready": False}
@@ -124,6 +150,10 @@ def tick(caller, event):
             if (m is not None and m.GetLastCastSize()[0] >= width - 1 and not m.GetLastRenderRefining()
                     and m.GetLastImageSampleDistance() == 1.0 and (pending != "wheel" or moved)):
                 size = m.GetLastCastSize()
+                if pending == "screenshot":  # the refined view, captured again: the same image
+                    simple.SaveScreenshot(screenshot_path(2), view, ImageResolution=[width, height])
+                    say("screenshot", state["capture refining"],
+                        differing_pixels(screenshot_path(1), screenshot_path(2)))
                 say("refined", pending, now, size[0], size[1])
                 state["pending"] = None
             elif now - state["since"] > REFINE_TIMEOUT:
