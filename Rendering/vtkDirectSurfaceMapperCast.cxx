@@ -42,26 +42,9 @@ namespace
 /// coarse frame, sized to take about kCoarseFrameSeconds, is shown and refined behind it.
 constexpr double kQuickStillSeconds = 0.15;
 constexpr double kCoarseFrameSeconds = 0.05;
-
-/// Whether two image signatures describe one scene up to rounding: a camera set again from its
-/// own parameters (as ParaView does before a still render) moves the matrices and lights by an
-/// ulp or two; 1e-12 of the numbers' size (at least 1) is far below a visible change, and keeps
-/// modification times below 1e12 apart.
-bool SameScene(const std::vector<double>& a, const std::vector<double>& b)
-{
-  if (a.size() != b.size())
-  {
-    return false;
-  }
-  for (std::size_t k = 0; k < a.size(); ++k)
-  {
-    if (!(std::abs(a[k] - b[k]) <= 1e-12 * std::max({ 1.0, std::abs(a[k]), std::abs(b[k]) })))
-    {
-      return false;
-    }
-  }
-  return true;
-}
+/// A background cast expected to take longer than this is preceded by one at half the resolution
+/// (a quarter of the time), shown when done, when the image shown is coarser still.
+constexpr double kHalfStepSeconds = 1.0;
 
 /// A world point, and a world direction (made unit), in model coordinates: rays are cast there.
 glm::dvec3 ToModelPoint(const glm::dmat4& worldToModel, const double p[3])
@@ -304,11 +287,21 @@ void vtkDirectSurfaceMapper::ImageCast::ComputeWindowDepth(const tetdsr::RayGene
 }
 
 //------------------------------------------------------------------------------
-void vtkDirectSurfaceMapper::Internals::CancelRefinements()
+void vtkDirectSurfaceMapper::Internals::CancelRefinements(const Frame* sameData)
 {
+  // (The modification times follow the 16 numbers of the matrix: ComputeSignature.)
+  auto sameTimes = [sameData](const Refinement& refinement) {
+    const std::size_t end = sameData->CellSignatureSize;
+    return end > 16 && refinement.Signature.size() >= end && sameData->Signature.size() >= end &&
+      std::equal(sameData->Signature.begin() + 16, sameData->Signature.begin() + end,
+        refinement.Signature.begin() + 16);
+  };
   for (const auto& view : this->Views)
   {
-    view->Refining.reset();
+    if (view->Refining && !(sameData && sameTimes(*view->Refining)))
+    {
+      view->Refining.reset();
+    }
   }
 }
 
@@ -371,38 +364,12 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
     this->TimeToDraw = timer->GetElapsedTime();
   };
 
-  // This view's background cast: shown once finished, waited for while it runs (the upscaled
-  // image drawn again; a capture waits for it to finish), and dropped when the frame is anything
-  // else.
+  // This view's background cast: shown once finished, waited for while it runs (the image shown
+  // drawn again), and dropped when the frame is anything else.
   if (gl.Refining)
   {
-    Refinement& refinement = *gl.Refining;
-    if (SameScene(refinement.Signature, frame.Signature) && refinement.Width == frame.CastWidth &&
-      refinement.Height == frame.CastHeight)
+    if (distance == 1.0 && this->ShowRefinement(frame, renderer, interactor))
     {
-      if (this->SynchronousStillRenders && refinement.Worker.joinable())
-      {
-        refinement.Worker.join(); // (a capture needs the full frame now: no sooner cast again)
-      }
-      this->LastRenderReusedImage = !refinement.Finished;
-      this->LastRenderRefining = !refinement.Finished;
-      if (refinement.Finished)
-      {
-        if (refinement.Worker.joinable())
-        {
-          refinement.Worker.join(); // (it has returned; a selection may have joined it)
-        }
-        Internals::Upload(
-          gl, window, refinement.Cast, refinement.Width, refinement.Height, distance);
-        gl.KeepForSelection(frame, refinement.Cast);
-        gl.Signature = refinement.Signature;
-        in.LastCastSeconds = refinement.Seconds;
-        in.SampleDistance = distance;
-        this->LastImageSampleDistance = distance;
-        this->LastCastSize[0] = frame.CastWidth;
-        this->LastCastSize[1] = frame.CastHeight;
-        gl.Refining.reset();
-      }
       drawImage();
       return;
     }
@@ -473,7 +440,16 @@ bool vtkDirectSurfaceMapper::DrawThenRefine(
     frame.Messages = adapter::Messages(); // (said once, by the coarse cast)
     frame.SetUpView(renderer, 1.0);
   }
-  gl.Refining = this->StartRefinement(frame, interactor);
+  // The full frame, or first a frame at half its resolution when the full one takes long (a
+  // wheel zoom into curved hexahedra took 5 s): shown in a quarter of the time.
+  const double expected = this->ExpectedFullCastSeconds(frame);
+  const double step =
+    expected > kHalfStepSeconds && gl.ImageSampleDistance > 2.0 ? 2.0 : 1.0;
+  if (step > 1.0)
+  {
+    frame.SetUpView(renderer, step);
+  }
+  gl.Refining = this->StartRefinement(frame, interactor, step);
   this->LastRenderReusedImage = shown;
   this->LastRenderRefining = gl.Refining != nullptr;
   if (shown && gl.Refining)
@@ -485,22 +461,28 @@ bool vtkDirectSurfaceMapper::DrawThenRefine(
   return true;
 }
 
-double vtkDirectSurfaceMapper::ChooseCoarseSampleDistance(const Frame& frame)
+double vtkDirectSurfaceMapper::ExpectedFullCastSeconds(const Frame& frame) const
 {
-  // The full cast's time, from the last cast's time per ray (preparing included: a first
-  // estimate errs on the slow side); none yet (the first show): the coarsest cast, cheap
-  // whatever the mesh.
+  // From the last cast's time per ray (preparing included: the estimate errs on the slow side).
   const Internals& in = *this->Internal;
   const double lastRays = static_cast<double>(this->LastCastSize[0]) * this->LastCastSize[1];
+  const double fullRays = static_cast<double>(frame.Viewport[2]) * frame.Viewport[3];
+  return in.LastCastSeconds > 0.0 && lastRays > 0.0 ? in.LastCastSeconds * fullRays / lastRays
+                                                    : -1.0;
+}
+
+double vtkDirectSurfaceMapper::ChooseCoarseSampleDistance(const Frame& frame)
+{
+  // None yet (the first show): the coarsest cast, cheap whatever the mesh.
   if (this->MaximumImageSampleDistance < 2.0)
   {
     return 1.0; // (no reduced frames wanted)
   }
-  if (!(in.LastCastSeconds > 0.0) || !(lastRays > 0.0))
+  const double expected = this->ExpectedFullCastSeconds(frame);
+  if (expected < 0.0)
   {
     return this->MaximumImageSampleDistance;
   }
-  const double expected = in.LastCastSeconds * static_cast<double>(frame.Pixels()) / lastRays;
   if (expected <= kQuickStillSeconds)
   {
     return 1.0;

@@ -24,7 +24,9 @@
 #include "vtkDirectSurfaceAdapter.h"
 #include "tetdsr/render/Upsampling.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -54,6 +56,26 @@ inline glm::dmat4 ToGlm(const vtkMatrix4x4* matrix)
     }
   }
   return result;
+}
+
+/// Whether two image signatures describe one scene up to rounding: a camera set again from its
+/// own parameters (as ParaView does before a still render) moves the matrices and lights by an
+/// ulp or two; 1e-12 of the numbers' size (at least 1) is far below a visible change, and keeps
+/// modification times below 1e12 apart.
+inline bool SameScene(const std::vector<double>& a, const std::vector<double>& b)
+{
+  if (a.size() != b.size())
+  {
+    return false;
+  }
+  for (std::size_t k = 0; k < a.size(); ++k)
+  {
+    if (!(std::abs(a[k] - b[k]) <= 1e-12 * std::max({ 1.0, std::abs(a[k]), std::abs(b[k]) })))
+    {
+      return false;
+    }
+  }
+  return true;
 }
 }
 
@@ -173,6 +195,8 @@ struct vtkDirectSurfaceMapper::ImageCast
 struct vtkDirectSurfaceMapper::Refinement
 {
   std::vector<double> Signature; ///< the view it casts
+  double SampleDistance = 1.0;   ///< its resolution (2: the step before the full one)
+  int Viewport[2] = { 0, 0 };    ///< the size of the viewport it casts
   /// Its frame's SelectionSignature when the frame ServesSelection (else empty): a selection of
   /// the same view waits for this cast instead of casting again.
   std::vector<double> SelectionSignature;
@@ -314,8 +338,9 @@ struct vtkDirectSurfaceMapper::Internals
   ViewResources& ResourcesOf(vtkOpenGLRenderWindow* window, vtkRenderer* renderer, vtkActor* actor);
 
   /// Cancels every view's background cast and waits for its threads: a cast on the GL thread
-  /// may rebuild the prepared meshes they read.
-  void CancelRefinements();
+  /// may rebuild the prepared meshes they read. Not those of the data and settings of
+  /// `sameData`'s frame (its signature's modification times): a cast of them rebuilds nothing.
+  void CancelRefinements(const Frame* sameData = nullptr);
 
   adapter::PreparedMesh& MeshOf(unsigned int block);
 

@@ -80,7 +80,8 @@ void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* acto
     {
       return;
     }
-    in.CancelRefinements(); // (the cast may rebuild the prepared meshes they read)
+    // (A cast of other data or settings may rebuild the prepared meshes they read.)
+    in.CancelRefinements(&frame);
     if (!this->CastBlocks(frame))
     {
       return;

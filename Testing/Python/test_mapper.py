@@ -8,13 +8,12 @@ import unittest
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkFloatArray, vtkPoints, vtkUnsignedCharArray
-from vtkmodules.vtkCommonDataModel import (VTK_QUADRATIC_TETRA, vtkCellArray, vtkDataObject,
-                                           vtkPlane, vtkUnstructuredGrid)
+from vtkmodules.vtkCommonDataModel import (VTK_QUADRATIC_TETRA, vtkCellArray, vtkPlane,
+                                           vtkUnstructuredGrid)
 from vtkmodules.vtkCommonCore import vtkLookupTable
 from vtkmodules.vtkFiltersSources import vtkPlaneSource
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkHardwareSelector, vtkLightKit,
-                                         vtkPolyDataMapper, vtkRenderer, vtkRenderWindow,
-                                         vtkRenderWindowInteractor)
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkLightKit, vtkPolyDataMapper, vtkRenderer,
+                                         vtkRenderWindow, vtkRenderWindowInteractor)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
 import vtkmodules.vtkRenderingUI  # noqa: F401 (the X interactor, whose event loop runs timers)
 
@@ -631,117 +630,6 @@ class Mapper(unittest.TestCase):
         # Waiting for the cancelled cast would take about as long as the refinement did; the
         # interactive frame casts 1/16 of its rays (a ratio, not a time limit: load slows both).
         self.assertLess(cancel_seconds, 0.5 * refinement_seconds)
-
-    def test_still_changes_are_refined_in_the_background(self):
-        # In a window whose event loop runs, a still render after a change (iso-value, camera)
-        # whose full cast is not quick shows a coarse cast of the new scene at once and casts the
-        # full frame in the background; the loop shows it: the exact sphere, as
-        # check_against_sphere. A change while it is cast cancels it (the loop shows the newer
-        # scene's). With SynchronousStillRenders (a capture) the still render is the full cast
-        # before it returns, and setting it re-uses the image. A hardware selection during a
-        # background cast, and after it, selects what a synchronous selection cast selects.
-        width, height = 1200, 900  # (CI's X screen is 1280 x 1024)
-        window = vtkRenderWindow()  # on screen, as an event loop's window is
-        window.SetSize(width, height)
-        window, renderer, mapper, _ = scene(self.mesh, window=window)
-        mapper.SetNumberOfThreads(1)  # full casts of some tenths of a second
-        interactor = vtkRenderWindowInteractor()
-        interactor.SetRenderWindow(window)
-        interactor.SetStillUpdateRate(0.0001)
-        interactor.Initialize()
-        camera = renderer.GetActiveCamera()
-
-        def process_events(until, seconds):
-            end = time.perf_counter() + seconds
-            while not until() and time.perf_counter() < end:
-                interactor.ProcessEvents()
-                time.sleep(0.005)
-            return until()
-
-        def refined():
-            return tuple(mapper.GetLastCastSize()) == (width, height) and not mapper.GetLastRenderRefining()
-
-        def check_exact(radius2, what):
-            truth, margin = sphere_truth(matrix(renderer), radius2, width, height)
-            z = zbuffer(window)
-            clear = margin > 1e-6
-            wrong = int(((z < 1) != (truth < 1))[clear].sum())
-            both = (z < 1) & (truth < 1)
-            error = np.abs(z - truth)[both].max()
-            print("%s: coverage differs from the exact sphere's on %d pixels; max |depth - exact| "
-                  "= %.2e" % (what, wrong, error))
-            self.assertEqual(wrong, 0, what)
-            self.assertLess(error, DEPTH_TOLERANCE, what)
-            return int((truth < 1).sum())
-
-        def changed(change, radius2, what):
-            change()
-            start = time.perf_counter()
-            window.Render()
-            seconds = time.perf_counter() - start, mapper.GetTimeToDraw()
-            cast = tuple(mapper.GetLastCastSize())
-            self.assertTrue(mapper.GetLastRenderRefining(), what + ": refined in the background")
-            self.assertLess(cast[0], width / 1.9, what + ": a coarse cast")
-            # The coarse frame shows the new scene: its coverage within 5% of the exact sphere's.
-            covered = int((zbuffer(window) < 1).sum())
-            exact = int((sphere_truth(matrix(renderer), radius2, width, height)[0] < 1).sum())
-            self.assertLess(abs(covered - exact), 0.05 * exact, what + ": the new scene, coarse")
-            return seconds, cast
-
-        window.Render()  # (the loop is not known yet: the full cast before Render returns)
-        self.assertEqual(tuple(mapper.GetLastCastSize()), (width, height))
-        full_seconds = mapper.GetTimeToDraw()
-        self.assertGreater(full_seconds, 0.25, "the scene must need a background cast")
-        process_events(lambda: False, 0.2)  # (the loop runs: the mapper's first timer fires)
-
-        coarse_seconds, cast = changed(lambda: mapper.SetValue(0, 0.3), 0.3, "iso-value")
-        self.assertLess(coarse_seconds[1], 0.5 * full_seconds, "the coarse frame is quick")
-        self.assertTrue(process_events(refined, 60), "the event loop shows the refined frame")
-        check_exact(0.3, "refined after an iso-value change")
-
-        changed(lambda: camera.Azimuth(25), 0.3, "camera")
-        changed(lambda: mapper.SetValue(0, 0.4), 0.4, "iso-value during a background cast")
-        selected = self.selected_cells(renderer)  # (waits for the background cast)
-        self.assertTrue(process_events(refined, 60))
-        check_exact(0.4, "refined after a cancelled background cast")
-        self.assertEqual(self.selected_cells(renderer), selected, "after the refined frame")
-
-        changed(lambda: mapper.SetValue(0, 0.35), 0.35, "iso-value, then a capture")
-        mapper.SetSynchronousStillRenders(True)  # (a capture: waits for the background cast)
-        window.Render()
-        self.assertFalse(mapper.GetLastRenderRefining())
-        self.assertEqual(tuple(mapper.GetLastCastSize()), (width, height))
-        check_exact(0.35, "a capture during a background cast")
-        camera.Azimuth(25)
-        window.Render()
-        self.assertFalse(mapper.GetLastRenderRefining())
-        self.assertEqual(tuple(mapper.GetLastCastSize()), (width, height))
-        check_exact(0.35, "a synchronous still render")
-        mapper.SetSynchronousStillRenders(False)
-        window.Render()
-        self.assertTrue(mapper.GetLastRenderReusedImage(), "the setting changes no image")
-        mapper.SetValue(0, 0.4)
-        camera.Azimuth(-25)
-        mapper.ProgressiveRefinementOff()  # (the selection cast on this thread, the reference)
-        window.Render()
-        self.assertEqual(self.selected_cells(renderer), selected, "a selection cast of its own")
-        print("full cast %.3f s; coarse frame %.3f s (%d x %d rays), its render %.3f s"
-              % (full_seconds, coarse_seconds[1], cast[0], cast[1], coarse_seconds[0]))
-
-    @staticmethod
-    def selected_cells(renderer):
-        """The cells a hardware selection of the whole viewport selects, sorted."""
-        selector = vtkHardwareSelector()
-        selector.SetRenderer(renderer)
-        selector.SetFieldAssociation(vtkDataObject.FIELD_ASSOCIATION_CELLS)
-        width, height = renderer.GetRenderWindow().GetSize()
-        selector.SetArea(0, 0, width - 1, height - 1)
-        selection = selector.Select()
-        cells = set()
-        for k in range(selection.GetNumberOfNodes()):
-            ids = selection.GetNode(k).GetSelectionList()
-            cells.update(int(ids.GetValue(i)) for i in range(ids.GetNumberOfTuples()))
-        return sorted(cells)
 
     def test_translucent_surfaces_blend_over_opaque_geometry(self):
         # A translucent sphere (opacity a, two crossings per ray: front and back) in front of an
