@@ -13,14 +13,14 @@ Usage (Linux; Xvfb, openbox and xdotool on PATH; the build must have run cmake):
 
 It starts a private X server (Xvfb, 1600 x 1000 x 24, on a free display number) with openbox,
 and the paraview client (--dr) with gui_responsiveness_actions.py as its --script, which plays
-the actions (show, iso, colour, reset, wheel, screenshot) from a timer of the GUI's event loop and logs when
-each starts, returns and shows its refined frame. For each action this script, once it reads
-the start in the log, clicks the File menu (xdotool, at the menu bar's left end) and polls for the
-menu's pop-up window (a new visible window of the client); the time from the action's start to
-the pop-up is the GUI's answer. For "wheel" this script turns the mouse wheel itself (3 notches
-towards the user, over the view's centre), then clicks. The File menu is first opened 3 times with
-the GUI idle: the median is the floor of the measurement (X, Qt and the machine's load), which
---limit allows beyond.
+the actions (show, iso, colour, reset, wheel, screenshot) from a timer of the GUI's event loop
+and logs when each starts, returns and shows its refined frame. For each action this script,
+once it reads the start in the log, clicks the File menu (xdotool, at the menu bar's left end)
+and polls for the menu's pop-up window (a new visible window of the client); the time from the
+action's start to the pop-up is the GUI's answer. For "wheel" this script turns the mouse wheel
+itself (3 notches forward, --wheel-notches: zooming in, over the view), then clicks. The File
+menu is first opened 3 times with the GUI idle: the median is the floor of the measurement (X,
+Qt and the machine's load), which --limit allows beyond.
 """
 import argparse
 import json
@@ -184,7 +184,7 @@ def measure(args):
                 xdotool("mousemove", str(geometry[0] + geometry[2] * 2 // 3),
                         str(geometry[1] + geometry[3] // 2))
                 start = time.time()
-                xdotool("click", "--repeat", "3", "--delay", "30", "5")
+                xdotool("click", "--repeat", str(args.wheel_notches), "--delay", "30", "4")
             cpu = main_thread_cpu(gui.process.pid)
             answered = open_file_menu(gui, geometry, start)
             cpu = main_thread_cpu(gui.process.pid) - cpu
@@ -219,6 +219,7 @@ parser.add_argument("color")
 parser.add_argument("--size", nargs=2, type=int, default=[1148, 746])
 parser.add_argument("--limit", type=float, help="seconds the GUI may take to open the File menu")
 parser.add_argument("--check", default="iso", help="the actions --limit applies to (comma-separated)")
+parser.add_argument("--wheel-notches", type=int, default=3, help="notches of the wheel zoom")
 parser.add_argument("--json", help="write the results there")
 args = parser.parse_args()
 for tool in ("Xvfb", "openbox", "xdotool", "xdpyinfo", "paraview"):
