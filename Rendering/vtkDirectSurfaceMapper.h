@@ -358,16 +358,13 @@ private:
   bool EventLoopRuns(vtkRenderWindowInteractor* interactor);
   /// The full-resolution cast's time expected from the last cast's time per ray; -1 before any.
   double ExpectedFullCastSeconds(const Frame& frame) const;
-  /// ProgressiveRefinement: the frame (set up at `sampleDistance`) cast on worker threads, with a
-  /// timer on `interactor` that asks for a render when it is done; null when there is nothing to
-  /// cast.
-  std::unique_ptr<Refinement> StartRefinement(
-    Frame& frame, vtkRenderWindowInteractor* interactor, double sampleDistance);
-  /// A still frame (set up at full resolution) of a view whose background cast runs: true when
-  /// that cast is of this scene (then the view's image is to be drawn): a finished cast is
-  /// uploaded (one at half the resolution starts the full one), a running one waited for by a
-  /// capture (SynchronousStillRenders; one at half the resolution is dropped then: false).
-  bool ShowRefinement(Frame& frame, vtkRenderer* renderer, vtkRenderWindowInteractor* interactor);
+  /// ProgressiveRefinement: the frame cast on worker threads, with a timer on `interactor` that
+  /// asks for a render when it is done; null when there is nothing to cast.
+  std::unique_ptr<Refinement> StartRefinement(Frame& frame, vtkRenderWindowInteractor* interactor);
+  /// A still frame of a view whose background cast runs: true when that cast is of this scene
+  /// (then the view's image is to be drawn): a finished cast is uploaded, a running one waited for
+  /// by a capture (SynchronousStillRenders).
+  bool ShowRefinement(Frame& frame, vtkRenderer* renderer);
   /// An interactor's TimerEvent: its event loop runs, or a view's background cast is done (then
   /// it asks the interactor for a render).
   void TimerFired(vtkObject* interactor, unsigned long event, void* timerId);

@@ -42,9 +42,6 @@ namespace
 /// coarse frame, sized to take about kCoarseFrameSeconds, is shown and refined behind it.
 constexpr double kQuickStillSeconds = 0.15;
 constexpr double kCoarseFrameSeconds = 0.05;
-/// A background cast expected to take longer than this is preceded by one at half the resolution
-/// (a quarter of the time), shown when done, when the image shown is coarser still.
-constexpr double kHalfStepSeconds = 1.0;
 
 /// A world point, and a world direction (made unit), in model coordinates: rays are cast there.
 glm::dvec3 ToModelPoint(const glm::dmat4& worldToModel, const double p[3])
@@ -368,7 +365,7 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   // drawn again), and dropped when the frame is anything else.
   if (gl.Refining)
   {
-    if (distance == 1.0 && this->ShowRefinement(frame, renderer, interactor))
+    if (distance == 1.0 && this->ShowRefinement(frame, renderer))
     {
       drawImage();
       return;
@@ -440,16 +437,7 @@ bool vtkDirectSurfaceMapper::DrawThenRefine(
     frame.Messages = adapter::Messages(); // (said once, by the coarse cast)
     frame.SetUpView(renderer, 1.0);
   }
-  // The full frame, or first a frame at half its resolution when the full one takes long (a
-  // wheel zoom into curved hexahedra took 5 s): shown in a quarter of the time.
-  const double expected = this->ExpectedFullCastSeconds(frame);
-  const double step =
-    expected > kHalfStepSeconds && gl.ImageSampleDistance > 2.0 ? 2.0 : 1.0;
-  if (step > 1.0)
-  {
-    frame.SetUpView(renderer, step);
-  }
-  gl.Refining = this->StartRefinement(frame, interactor, step);
+  gl.Refining = this->StartRefinement(frame, interactor);
   this->LastRenderReusedImage = shown;
   this->LastRenderRefining = gl.Refining != nullptr;
   if (shown && gl.Refining)

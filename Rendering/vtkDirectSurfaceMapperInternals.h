@@ -195,7 +195,6 @@ struct vtkDirectSurfaceMapper::ImageCast
 struct vtkDirectSurfaceMapper::Refinement
 {
   std::vector<double> Signature; ///< the view it casts
-  double SampleDistance = 1.0;   ///< its resolution (2: the step before the full one)
   int Viewport[2] = { 0, 0 };    ///< the size of the viewport it casts
   /// Its frame's SelectionSignature when the frame ServesSelection (else empty): a selection of
   /// the same view waits for this cast instead of casting again.

@@ -86,7 +86,7 @@ void vtkDirectSurfaceMapper::Refinement::Run(int threads)
 }
 
 std::unique_ptr<vtkDirectSurfaceMapper::Refinement> vtkDirectSurfaceMapper::StartRefinement(
-  Frame& frame, vtkRenderWindowInteractor* interactor, double sampleDistance)
+  Frame& frame, vtkRenderWindowInteractor* interactor)
 {
   std::unique_ptr<Refinement> refinement(new Refinement);
   if (!this->PrepareCast(frame, refinement->Cast))
@@ -94,7 +94,6 @@ std::unique_ptr<vtkDirectSurfaceMapper::Refinement> vtkDirectSurfaceMapper::Star
     return nullptr;
   }
   refinement->Signature = frame.Signature;
-  refinement->SampleDistance = sampleDistance;
   refinement->Viewport[0] = frame.Viewport[2];
   refinement->Viewport[1] = frame.Viewport[3];
   if (frame.ServesSelection())
@@ -117,15 +116,13 @@ std::unique_ptr<vtkDirectSurfaceMapper::Refinement> vtkDirectSurfaceMapper::Star
   return refinement;
 }
 
-bool vtkDirectSurfaceMapper::ShowRefinement(
-  Frame& frame, vtkRenderer* renderer, vtkRenderWindowInteractor* interactor)
+bool vtkDirectSurfaceMapper::ShowRefinement(Frame& frame, vtkRenderer* renderer)
 {
   Internals& in = *this->Internal;
   Internals::ViewResources& gl = in.ResourcesOf(frame.Window, renderer, frame.Actor);
   Refinement& refinement = *gl.Refining;
   if (!SameScene(refinement.Signature, frame.Signature) ||
-    refinement.Viewport[0] != frame.Viewport[2] || refinement.Viewport[1] != frame.Viewport[3] ||
-    (this->SynchronousStillRenders && refinement.SampleDistance > 1.0))
+    refinement.Viewport[0] != frame.Viewport[2] || refinement.Viewport[1] != frame.Viewport[3])
   {
     return false;
   }
@@ -143,25 +140,15 @@ bool vtkDirectSurfaceMapper::ShowRefinement(
   {
     refinement.Worker.join(); // (it has returned; a selection may have joined it)
   }
-  const double distance = refinement.SampleDistance;
-  Internals::Upload(gl, frame.Window, refinement.Cast, refinement.Width, refinement.Height, distance);
-  if (distance == 1.0)
-  {
-    gl.KeepForSelection(frame, refinement.Cast);
-  }
+  Internals::Upload(gl, frame.Window, refinement.Cast, refinement.Width, refinement.Height, 1.0);
+  gl.KeepForSelection(frame, refinement.Cast);
   gl.Signature = refinement.Signature;
   in.LastCastSeconds = refinement.Seconds;
-  in.SampleDistance = distance;
-  this->LastImageSampleDistance = distance;
+  in.SampleDistance = 1.0;
+  this->LastImageSampleDistance = 1.0;
   this->LastCastSize[0] = refinement.Width;
   this->LastCastSize[1] = refinement.Height;
   gl.Refining.reset();
-  // After the half-resolution step, the full frame.
-  if (distance > 1.0 && this->ConvertSettings(frame))
-  {
-    gl.Refining = this->StartRefinement(frame, interactor, 1.0);
-    this->LastRenderRefining = gl.Refining != nullptr;
-  }
   return true;
 }
 
