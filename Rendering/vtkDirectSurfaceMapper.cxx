@@ -499,6 +499,7 @@ void vtkDirectSurfaceMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumImageSampleDistance: " << this->MaximumImageSampleDistance << "\n";
   os << indent << "InteractiveImageSampleDistance: " << this->InteractiveImageSampleDistance << "\n";
   os << indent << "ProgressiveRefinement: " << this->ProgressiveRefinement << "\n";
+  os << indent << "SynchronousStillRenders: " << this->SynchronousStillRenders << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "CompositeOpaqueAcrossProcesses: " << this->CompositeOpaqueAcrossProcesses
      << "\n";

@@ -75,6 +75,7 @@ class vtkMultiProcessController;
 
 class vtkContourValues;
 class vtkRenderWindowInteractor;
+class vtkTimerLog;
 class vtkUnstructuredGrid;
 
 class TETDSRRENDERING_EXPORT vtkDirectSurfaceMapper : public vtkMapper
@@ -200,24 +201,40 @@ public:
 
   ///@{
   /**
-   * Progressive refinement (default on): a still render that follows interactive
-   * (reduced-resolution) frames of the same view, in a window whose interactor runs an event
-   * loop, shows the last reduced image upscaled at once and casts the full resolution on worker
-   * threads (NumberOfThreads); when it is done, a timer on the interactor asks for a render,
-   * which shows it. A new interactive frame, a changed camera, input or setting, or a cast for
-   * another view of this mapper cancels the background cast (it stops within one image tile).
-   * The event loop is known to run once a one-shot timer the mapper sets on the interactor,
-   * when it first draws in its window, has fired (Start, or ProcessEvents). Without one
+   * Progressive refinement (default on): in a window whose interactor runs an event loop, a
+   * still render whose full-resolution cast would take more than a fraction of a second (0.15 s,
+   * judged from the last cast's time per ray; any first render) does not keep the loop's thread
+   * busy: it shows an image at once, the last reduced image of the same view after
+   * interaction, else a coarse cast of its own sized to take about 0.05 s (after a change of
+   * iso-value, colours, camera, input or window size, and on the first render), and casts the
+   * full resolution on worker threads (NumberOfThreads); when it is done, a timer on the
+   * interactor asks for a render, which shows it. A new interactive frame, a changed camera,
+   * input or setting, or a cast for another view of this mapper cancels the background cast (it
+   * stops within one image tile). The event loop is known to run once a one-shot timer the
+   * mapper sets on the interactor, when it first draws in its window, has fired (Start, or
+   * ProcessEvents); every mapper of the process then knows it from its first render. Without one
    * (batch and offscreen scripts, scripts that only call Render, even with an interactor
-   * attached), or off, a still render casts at full resolution before it returns.
+   * attached), with SynchronousStillRenders, or off, a still render casts at full resolution
+   * before it returns.
    * @warning A script that has processed the interactor's events (so the mapper knows the
-   * loop) and reads the window back right after a still render that followed interaction gets
-   * the upscaled image: switch this off, or process the interactor's events until the last
-   * render is no longer refining (GetLastRenderRefining).
+   * loop) and reads the window back right after a still render gets the image shown at once:
+   * switch SynchronousStillRenders on around the capture, or process the interactor's events
+   * until the last render is no longer refining (GetLastRenderRefining).
    */
   vtkSetMacro(ProgressiveRefinement, bool);
   vtkGetMacro(ProgressiveRefinement, bool);
   vtkBooleanMacro(ProgressiveRefinement, bool);
+  ///@}
+
+  ///@{
+  /**
+   * While on (default off), every still render is cast at full resolution before it returns,
+   * even in a window whose event loop runs: for captures of the window (ParaView's
+   * representation turns it on while its view takes a screenshot). The images are the same
+   * either way, so setting it does not modify the mapper (its last image is re-used).
+   */
+  void SetSynchronousStillRenders(bool synchronous) { this->SynchronousStillRenders = synchronous; }
+  bool GetSynchronousStillRenders() const { return this->SynchronousStillRenders; }
   ///@}
 
   ///@{
@@ -247,6 +264,15 @@ public:
   vtkGetMacro(NumberOfRenderedCells, vtkIdType);
 
   void Render(vtkRenderer* renderer, vtkActor* actor) override;
+
+  /**
+   * Tells the mapper that `interactor`'s event loop runs (ProgressiveRefinement needs one), for
+   * an application that embeds its windows in its own event loop and knows it before the first
+   * render (ParaView's GUI: the representation says so when it is added to a view), so that the
+   * first render is shown at once too. Otherwise the mapper finds out from a timer it sets at its
+   * first render.
+   */
+  void DeclareEventLoopRuns(vtkRenderWindowInteractor* interactor);
 
   ///@{
   /**
@@ -283,6 +309,7 @@ protected:
   double InteractiveImageSampleDistance = 2.0;
   bool ProgressiveRefinement = true;
   bool CompositeOpaqueAcrossProcesses = false;
+  bool SynchronousStillRenders = false;
   int NumberOfThreads = 0;
 
   double LastImageSampleDistance = 1.0;
@@ -335,12 +362,27 @@ private:
   /// Makes a block's prepared mesh current (its field checked, its scene built or re-used);
   /// false, with the messages in the frame, when nothing of it can be rendered.
   bool PrepareBlock(Frame& frame, unsigned int index, vtkUnstructuredGrid* grid);
+  /// ProgressiveRefinement for a still frame (the frame set up at full resolution): shown at once
+  /// (the last reduced image of the same scene, or a coarse cast of its own) while the full
+  /// resolution is cast on worker threads. False when the full cast is quick (then the caller
+  /// casts it); true when the frame is done (drawn, or nothing to draw).
+  bool DrawThenRefine(Frame& frame, vtkRenderer* renderer, vtkRenderWindowInteractor* interactor,
+    vtkTimerLog* timer);
+  /// The sample distance of a still frame's coarse cast: about kCoarseFrameSeconds from the last
+  /// cast's time per ray (the maximum before any cast); 1 when the full cast is quick.
+  double ChooseCoarseSampleDistance(const Frame& frame);
+  /// Whether `interactor`'s event loop runs (its timers fire); the first call sets the timer
+  /// that tells, and observes the interactor's timers.
+  bool EventLoopRuns(vtkRenderWindowInteractor* interactor);
+  /// The full-resolution cast's time expected from the last cast's time per ray; -1 before any.
+  double ExpectedFullCastSeconds(const Frame& frame) const;
   /// ProgressiveRefinement: the frame cast on worker threads, with a timer on `interactor` that
   /// asks for a render when it is done; null when there is nothing to cast.
   std::unique_ptr<Refinement> StartRefinement(Frame& frame, vtkRenderWindowInteractor* interactor);
-  /// Whether `interactor`'s event loop runs (its timers fire); the first call sets the timer
-  /// that tells.
-  bool EventLoopRuns(vtkRenderWindowInteractor* interactor);
+  /// A still frame of a view whose background cast runs: true when that cast is of this scene
+  /// (then the view's image is to be drawn): a finished cast is uploaded, a running one waited for
+  /// by a capture (SynchronousStillRenders).
+  bool ShowRefinement(Frame& frame, vtkRenderer* renderer);
   /// An interactor's TimerEvent: its event loop runs, or a view's background cast is done (then
   /// it asks the interactor for a render).
   void TimerFired(vtkObject* interactor, unsigned long event, void* timerId);

@@ -1,5 +1,6 @@
 // vtkDirectSurfaceMapper's view and cast: the frame path (Draw: level of detail, re-use of the
-// last image, the cast, its upload and drawing), the view a frame is cast from (Frame: viewport,
+// last image, a still frame shown at once and refined in the background, the cast, its upload
+// and drawing), the view a frame is cast from (Frame: viewport,
 // matrices, lights), the stages every job shares (the input's blocks, the settings, each block's
 // prepared mesh, the casters and their images: ImageCast) and the sample distance interactive
 // frames are cast at, from the time the last cast took.
@@ -40,25 +41,11 @@
 
 namespace
 {
-/// Whether two image signatures describe one scene up to rounding: a camera set again from its
-/// own parameters (as ParaView does before a still render) moves the matrices and lights by an
-/// ulp or two; 1e-12 of the numbers' size (at least 1) is far below a visible change, and keeps
-/// modification times below 1e12 apart.
-bool SameScene(const std::vector<double>& a, const std::vector<double>& b)
-{
-  if (a.size() != b.size())
-  {
-    return false;
-  }
-  for (std::size_t k = 0; k < a.size(); ++k)
-  {
-    if (!(std::abs(a[k] - b[k]) <= 1e-12 * std::max({ 1.0, std::abs(a[k]), std::abs(b[k]) })))
-    {
-      return false;
-    }
-  }
-  return true;
-}
+/// A still frame in a window with an event loop is cast on the GUI thread only when its cast is
+/// expected to take at most this long (a frame time the user does not notice as a stall); else a
+/// coarse frame, sized to take about kCoarseFrameSeconds, is shown and refined behind it.
+constexpr double kQuickStillSeconds = 0.15;
+constexpr double kCoarseFrameSeconds = 0.05;
 
 /// A switched-on VTK light as the core's, in world coordinates (the cast's are the actor's model
 /// coordinates: Lighting::setModelToWorld shades in the world, as polygons are).
@@ -202,6 +189,15 @@ void vtkDirectSurfaceMapper::Frame::CollectAmbientOcclusion(vtkRenderer* rendere
   this->ViewSpace.NdcToView = glm::inverse(
     ToGlm(camera->GetProjectionTransformMatrix(renderer->GetTiledAspectRatio(), -1.0, 1.0)));
   this->ViewSpace.NormalToView = glm::transpose(glm::inverse(glm::dmat3(modelToView)));
+}
+
+std::vector<double> vtkDirectSurfaceMapper::Frame::SelectionSignature() const
+{
+  std::vector<double> signature(
+    this->Signature.begin(), this->Signature.begin() + this->CellSignatureSize);
+  signature.insert(signature.end(),
+    { static_cast<double>(this->CastWidth), static_cast<double>(this->CastHeight) });
+  return signature;
 }
 
 void vtkDirectSurfaceMapper::Frame::CollectLights(vtkRenderer* renderer)
@@ -372,11 +368,21 @@ void vtkDirectSurfaceMapper::ImageCast::ComputeWindowDepth(const tetdsr::RayGene
 }
 
 //------------------------------------------------------------------------------
-void vtkDirectSurfaceMapper::Internals::CancelRefinements()
+void vtkDirectSurfaceMapper::Internals::CancelRefinements(const Frame* sameData)
 {
+  // (The modification times follow the 16 numbers of the matrix: ComputeSignature.)
+  auto sameTimes = [sameData](const Refinement& refinement) {
+    const std::size_t end = sameData->CellSignatureSize;
+    return end > 16 && refinement.Signature.size() >= end && sameData->Signature.size() >= end &&
+      std::equal(sameData->Signature.begin() + 16, sameData->Signature.begin() + end,
+        refinement.Signature.begin() + 16);
+  };
   for (const auto& view : this->Views)
   {
-    view->Refining.reset();
+    if (view->Refining && !(sameData && sameTimes(*view->Refining)))
+    {
+      view->Refining.reset();
+    }
   }
 }
 
@@ -447,29 +453,12 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
     this->TimeToDraw = timer->GetElapsedTime();
   };
 
-  // This view's background cast: shown once finished, waited for while it runs (the upscaled
-  // image drawn again), and dropped when the frame is anything else.
+  // This view's background cast: shown once finished, waited for while it runs (the image shown
+  // drawn again), and dropped when the frame is anything else.
   if (gl.Refining)
   {
-    Refinement& refinement = *gl.Refining;
-    if (SameScene(refinement.Signature, frame.Signature) && refinement.Width == frame.CastWidth &&
-      refinement.Height == frame.CastHeight)
+    if (distance == 1.0 && this->ShowRefinement(frame, renderer))
     {
-      this->LastRenderReusedImage = !refinement.Finished;
-      this->LastRenderRefining = !refinement.Finished;
-      if (refinement.Finished)
-      {
-        refinement.Worker.join(); // (it has returned)
-        Internals::Upload(gl, window, refinement.Cast, refinement.Width, refinement.Height,
-          distance, frame.AmbientOcclusion);
-        gl.Signature = refinement.Signature;
-        in.LastCastSeconds = refinement.Seconds;
-        in.SampleDistance = distance;
-        this->LastImageSampleDistance = distance;
-        this->LastCastSize[0] = frame.CastWidth;
-        this->LastCastSize[1] = frame.CastHeight;
-        gl.Refining.reset();
-      }
       drawImage();
       return;
     }
@@ -490,19 +479,11 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   // Any cast below may rebuild the prepared meshes that background casts read.
   in.CancelRefinements();
 
-  // A still frame of the scene the last interactive frame showed: that image, upscaled, until the
-  // full resolution cast in the background is done, when the event loop can ask for the render
-  // that shows it.
-  if (eventLoop && gl.TexturesValid && gl.ImageSampleDistance > 1.0 && distance == 1.0 &&
-    SameScene(gl.Signature, frame.Signature))
+  // A still frame in a window whose event loop can show a background cast: drawn at once and
+  // refined behind (unless a full cast is quick, or a capture of the window needs it now).
+  if (eventLoop && distance == 1.0 && !this->SynchronousStillRenders &&
+    this->DrawThenRefine(frame, renderer, interactor, timer))
   {
-    gl.Refining = this->StartRefinement(frame, interactor);
-    if (gl.Refining)
-    {
-      this->LastRenderReusedImage = true;
-      this->LastRenderRefining = true;
-      drawImage();
-    }
     return;
   }
 
@@ -516,9 +497,86 @@ void vtkDirectSurfaceMapper::Draw(vtkRenderer* renderer, vtkActor* actor, bool t
   Internals::Upload(
     gl, window, in.Cast, frame.CastWidth, frame.CastHeight, distance, frame.AmbientOcclusion);
   Internals::Draw(gl, window, translucent, frame.Viewport, viewSpace);
+  gl.KeepForSelection(frame, in.Cast);
   gl.Signature = std::move(frame.Signature);
   timer->StopTimer();
   this->CastFinished(frame, distance, timer->GetElapsedTime());
+}
+
+bool vtkDirectSurfaceMapper::DrawThenRefine(
+  Frame& frame, vtkRenderer* renderer, vtkRenderWindowInteractor* interactor, vtkTimerLog* timer)
+{
+  Internals& in = *this->Internal;
+  Internals::ViewResources& gl = in.ResourcesOf(frame.Window, renderer, frame.Actor, frame.Eye);
+  const vtkDirectSurfaceViewSpace* viewSpace =
+    frame.AmbientOcclusion ? &frame.ViewSpace : nullptr;
+  // Behind the last reduced image when it shows this scene (after interaction), else behind a
+  // coarse cast of its own.
+  const bool shown =
+    gl.TexturesValid && gl.ImageSampleDistance > 1.0 && SameScene(gl.Signature, frame.Signature);
+  if (!shown)
+  {
+    const double coarse = this->ChooseCoarseSampleDistance(frame);
+    if (coarse == 1.0)
+    {
+      return false; // the full cast is quick: made on this thread
+    }
+    if (!frame.SetUpView(renderer, coarse) || !this->CastBlocks(frame))
+    {
+      return true; // nothing to draw
+    }
+    in.Cast.ComputeSampleMasks(frame.Rays, frame.CastWidth, frame.CastHeight, {}, true);
+    in.ComputeWindowDepth(frame);
+    Internals::Upload(gl, frame.Window, in.Cast, frame.CastWidth, frame.CastHeight, coarse,
+      frame.AmbientOcclusion);
+    Internals::Draw(gl, frame.Window, frame.Translucent, frame.Viewport, viewSpace);
+    gl.Signature = frame.Signature;
+    timer->StopTimer();
+    this->CastFinished(frame, coarse, timer->GetElapsedTime());
+    frame.Messages = adapter::Messages(); // (said once, by the coarse cast)
+    frame.SetUpView(renderer, 1.0);
+  }
+  gl.Refining = this->StartRefinement(frame, interactor);
+  this->LastRenderReusedImage = shown;
+  this->LastRenderRefining = gl.Refining != nullptr;
+  if (shown && gl.Refining)
+  {
+    Internals::Draw(gl, frame.Window, frame.Translucent, frame.Viewport, viewSpace);
+    timer->StopTimer();
+    this->TimeToDraw = timer->GetElapsedTime();
+  }
+  return true;
+}
+
+double vtkDirectSurfaceMapper::ExpectedFullCastSeconds(const Frame& frame) const
+{
+  // From the last cast's time per ray (preparing included: the estimate errs on the slow side).
+  const Internals& in = *this->Internal;
+  const double lastRays = static_cast<double>(this->LastCastSize[0]) * this->LastCastSize[1];
+  const double fullRays = static_cast<double>(frame.Viewport[2]) * frame.Viewport[3];
+  return in.LastCastSeconds > 0.0 && lastRays > 0.0 ? in.LastCastSeconds * fullRays / lastRays
+                                                    : -1.0;
+}
+
+double vtkDirectSurfaceMapper::ChooseCoarseSampleDistance(const Frame& frame)
+{
+  // None yet (the first show): the coarsest cast, cheap whatever the mesh.
+  if (this->MaximumImageSampleDistance < 2.0)
+  {
+    return 1.0; // (no reduced frames wanted)
+  }
+  const double expected = this->ExpectedFullCastSeconds(frame);
+  if (expected < 0.0)
+  {
+    return this->MaximumImageSampleDistance;
+  }
+  if (expected <= kQuickStillSeconds)
+  {
+    return 1.0;
+  }
+  // The cast's time goes as its number of rays, 1 / distance^2.
+  return vtkMath::ClampValue(
+    std::sqrt(expected / kCoarseFrameSeconds), 2.0, this->MaximumImageSampleDistance);
 }
 
 void vtkDirectSurfaceMapper::CastFinished(const Frame& frame, double sampleDistance, double seconds)
@@ -636,6 +694,7 @@ void vtkDirectSurfaceMapper::ComputeSignature(Frame& frame, bool shading)
   {
     signature.push_back(static_cast<double>(adapter::MeshModifiedTime(block.second)));
   }
+  frame.CellSignatureSize = signature.size();
   if (!shading)
   {
     return;

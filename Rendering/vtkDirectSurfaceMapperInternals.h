@@ -26,7 +26,9 @@
 #include "tetdsr/render/Multisampling.h"
 #include "tetdsr/render/Upsampling.h"
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -56,6 +58,26 @@ inline glm::dmat4 ToGlm(const vtkMatrix4x4* matrix)
     }
   }
   return result;
+}
+
+/// Whether two image signatures describe one scene up to rounding: a camera set again from its
+/// own parameters (as ParaView does before a still render) moves the matrices and lights by an
+/// ulp or two; 1e-12 of the numbers' size (at least 1) is far below a visible change, and keeps
+/// modification times below 1e12 apart.
+inline bool SameScene(const std::vector<double>& a, const std::vector<double>& b)
+{
+  if (a.size() != b.size())
+  {
+    return false;
+  }
+  for (std::size_t k = 0; k < a.size(); ++k)
+  {
+    if (!(std::abs(a[k] - b[k]) <= 1e-12 * std::max({ 1.0, std::abs(a[k]), std::abs(b[k]) })))
+    {
+      return false;
+    }
+  }
+  return true;
 }
 }
 
@@ -114,6 +136,8 @@ struct vtkDirectSurfaceMapper::Frame
 
   std::vector<double> LightState; ///< the switched-on lights' parameters, for the signature
   std::vector<double> Signature;  ///< everything the image depends on
+  /// The leading part of Signature that decides which cell each pixel shows (not its colour).
+  std::size_t CellSignatureSize = 0;
   std::vector<double> Values;     ///< the iso-values
   tetdsr::RenderSettings Settings;
   adapter::Messages Messages;
@@ -123,6 +147,19 @@ struct vtkDirectSurfaceMapper::Frame
     return static_cast<std::size_t>(this->CastWidth) * this->CastHeight;
   }
   bool SeveralBlocks() const { return this->Blocks.size() > 1; }
+
+  /// What a hardware selection's passes share one cast by: the part of the signature that
+  /// decides which cell each pixel shows, and the cast's size.
+  std::vector<double> SelectionSignature() const;
+
+  /// Whether a selection of this view may take its cast's cells and depths: a single block (a
+  /// selection keeps each pixel's block only when it casts itself), opaque (translucent casts stop
+  /// at the opaque depth), at full resolution.
+  bool ServesSelection() const
+  {
+    return !this->SeveralBlocks() && !this->Translucent && !this->CollectLayers &&
+      this->CastWidth == this->Viewport[2] && this->CastHeight == this->Viewport[3];
+  }
 
   /// The viewport, cast at `sampleDistance` pixels a ray, and the actor seen through the active
   /// camera's projection: with `eye`, as the GL matrices of this render use it (so explicit and
@@ -196,6 +233,10 @@ struct vtkDirectSurfaceMapper::ImageCast
 struct vtkDirectSurfaceMapper::Refinement
 {
   std::vector<double> Signature; ///< the view it casts
+  int Viewport[2] = { 0, 0 };    ///< the size of the viewport it casts
+  /// Its frame's SelectionSignature when the frame ServesSelection (else empty): a selection of
+  /// the same view waits for this cast instead of casting again.
+  std::vector<double> SelectionSignature;
   int Width = 0;
   int Height = 0;
   tetdsr::RayGenerator Rays{ glm::dmat4(1.0), 1, 1 };
@@ -327,6 +368,10 @@ struct vtkDirectSurfaceMapper::Internals
       void EncodePass(int pass, const float* propColor, bool composite);
     } Selection;
 
+    /// Keeps a full-resolution cast of this view (when its frame ServesSelection) for the next
+    /// selection of the same view, so that hovering or selecting casts nothing more.
+    void KeepForSelection(const Frame& frame, const ImageCast& cast);
+
     void Release(vtkWindow* window);
   };
   std::vector<std::unique_ptr<ViewResources>> Views;
@@ -356,8 +401,9 @@ struct vtkDirectSurfaceMapper::Internals
     vtkOpenGLRenderWindow* window, vtkRenderer* renderer, vtkActor* actor, int eye);
 
   /// Cancels every view's background cast and waits for its threads: a cast on the GL thread
-  /// may rebuild the prepared meshes they read.
-  void CancelRefinements();
+  /// may rebuild the prepared meshes they read. Not those of the data and settings of
+  /// `sameData`'s frame (its signature's modification times): a cast of them rebuilds nothing.
+  void CancelRefinements(const Frame* sameData = nullptr);
 
   adapter::PreparedMesh& MeshOf(unsigned int block);
 

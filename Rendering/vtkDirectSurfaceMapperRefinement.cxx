@@ -1,7 +1,8 @@
-// vtkDirectSurfaceMapper's progressive refinement: after interaction, a still frame shows the
-// last reduced image while the full resolution is cast on worker threads (Refinement); the
-// interactor's one-shot timers tell whether its event loop runs at all, and poll the worker, to
-// ask for the render that shows the finished image.
+// vtkDirectSurfaceMapper's progressive refinement: a still frame in a window with an event loop
+// shows an image at once (the last reduced one after interaction, or a coarse cast) while the full
+// resolution is cast on worker threads (Refinement); the interactor's one-shot timers tell whether
+// its event loop runs at all (known process-wide once seen), and poll the worker, to ask for the
+// render that shows the finished image.
 #include "vtkDirectSurfaceMapper.h"
 #include "vtkDirectSurfaceMapperInternals.h"
 
@@ -18,6 +19,18 @@ namespace
 /// How often the event loop asks whether a background cast is done: 25 times a second, so the
 /// refined frame follows within a frame time of a fluid interaction.
 constexpr unsigned long kRefinementPollMilliseconds = 40;
+
+/// The interactors whose event loop some mapper of this process has seen run (on the GUI
+/// thread, as every render): a mapper drawing in one of them for the first time (a new
+/// representation in ParaView's GUI) need not wait for its own timer to fire.
+std::vector<vtkWeakPointer<vtkRenderWindowInteractor>>& RunningEventLoops()
+{
+  static std::vector<vtkWeakPointer<vtkRenderWindowInteractor>> loops;
+  loops.erase(std::remove_if(loops.begin(), loops.end(),
+                [](const vtkWeakPointer<vtkRenderWindowInteractor>& loop) { return !loop; }),
+    loops.end());
+  return loops;
+}
 }
 
 vtkDirectSurfaceMapper::Refinement::~Refinement()
@@ -83,6 +96,12 @@ std::unique_ptr<vtkDirectSurfaceMapper::Refinement> vtkDirectSurfaceMapper::Star
     return nullptr;
   }
   refinement->Signature = frame.Signature;
+  refinement->Viewport[0] = frame.Viewport[2];
+  refinement->Viewport[1] = frame.Viewport[3];
+  if (frame.ServesSelection())
+  {
+    refinement->SelectionSignature = frame.SelectionSignature();
+  }
   refinement->Width = frame.CastWidth;
   refinement->Height = frame.CastHeight;
   refinement->Rays = frame.Rays;
@@ -98,6 +117,43 @@ std::unique_ptr<vtkDirectSurfaceMapper::Refinement> vtkDirectSurfaceMapper::Star
     : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   refinement->Worker = std::thread(&Refinement::Run, refinement.get(), threads);
   return refinement;
+}
+
+bool vtkDirectSurfaceMapper::ShowRefinement(Frame& frame, vtkRenderer* renderer)
+{
+  Internals& in = *this->Internal;
+  Internals::ViewResources& gl = in.ResourcesOf(frame.Window, renderer, frame.Actor, frame.Eye);
+  Refinement& refinement = *gl.Refining;
+  if (!SameScene(refinement.Signature, frame.Signature) ||
+    refinement.Viewport[0] != frame.Viewport[2] || refinement.Viewport[1] != frame.Viewport[3])
+  {
+    return false;
+  }
+  if (this->SynchronousStillRenders && refinement.Worker.joinable())
+  {
+    refinement.Worker.join(); // (a capture needs the full frame now: no sooner cast again)
+  }
+  this->LastRenderReusedImage = !refinement.Finished;
+  this->LastRenderRefining = !refinement.Finished;
+  if (!refinement.Finished)
+  {
+    return true;
+  }
+  if (refinement.Worker.joinable())
+  {
+    refinement.Worker.join(); // (it has returned; a selection may have joined it)
+  }
+  Internals::Upload(gl, frame.Window, refinement.Cast, refinement.Width, refinement.Height, 1.0,
+    frame.AmbientOcclusion);
+  gl.KeepForSelection(frame, refinement.Cast);
+  gl.Signature = refinement.Signature;
+  in.LastCastSeconds = refinement.Seconds;
+  in.SampleDistance = 1.0;
+  this->LastImageSampleDistance = 1.0;
+  this->LastCastSize[0] = refinement.Width;
+  this->LastCastSize[1] = refinement.Height;
+  gl.Refining.reset();
+  return true;
 }
 
 bool vtkDirectSurfaceMapper::EventLoopRuns(vtkRenderWindowInteractor* interactor)
@@ -117,9 +173,30 @@ bool vtkDirectSurfaceMapper::EventLoopRuns(vtkRenderWindowInteractor* interactor
   loop.Interactor = interactor;
   loop.ObserverTag =
     interactor->AddObserver(vtkCommand::TimerEvent, this, &vtkDirectSurfaceMapper::TimerFired);
-  loop.ProbeTimerId = interactor->CreateOneShotTimer(1); // (forgotten by the interactor once fired)
+  const auto& running = RunningEventLoops();
+  loop.Runs = std::find(running.begin(), running.end(), interactor) != running.end();
+  if (!loop.Runs)
+  {
+    loop.ProbeTimerId = interactor->CreateOneShotTimer(1); // (forgotten by the interactor once fired)
+  }
   loops.push_back(loop);
-  return false;
+  return loop.Runs;
+}
+
+void vtkDirectSurfaceMapper::DeclareEventLoopRuns(vtkRenderWindowInteractor* interactor)
+{
+  if (!interactor || this->EventLoopRuns(interactor))
+  {
+    return;
+  }
+  for (auto& loop : this->Internal->EventLoops)
+  {
+    if (loop.Interactor == interactor)
+    {
+      loop.Runs = true;
+      RunningEventLoops().emplace_back(interactor);
+    }
+  }
 }
 
 void vtkDirectSurfaceMapper::TimerFired(vtkObject* caller, unsigned long, void* callData)
@@ -135,6 +212,7 @@ void vtkDirectSurfaceMapper::TimerFired(vtkObject* caller, unsigned long, void* 
     {
       loop.Runs = true;
       loop.ProbeTimerId = 0;
+      RunningEventLoops().emplace_back(loop.Interactor);
       return;
     }
   }

@@ -1,6 +1,8 @@
 // vtkDirectSurfaceMapper's hardware selection (vtkHardwareSelector: ParaView's Select Cells /
-// Points On, hovering, vtkPropPicker): one cast per selection, shared by its passes, and in each
-// pass the ids it asks for drawn at every covered pixel with the surface's exact depth.
+// Points On, hovering, vtkPropPicker): one exact cast per selection, shared by its passes (the
+// last full-resolution frame's when it shows the same view, or the view's background cast of it,
+// waited for), and in each pass the ids it asks for drawn at every covered pixel with the
+// surface's exact depth.
 #include "vtkDirectSurfaceMapper.h"
 #include "vtkDirectSurfaceMapperInternals.h"
 
@@ -45,9 +47,7 @@ void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* acto
   // The passes of one selection share one cast: of the view, the data and the settings that
   // decide what each pixel shows (not its colour).
   this->ComputeSignature(frame, false);
-  std::vector<double> signature = std::move(frame.Signature);
-  signature.insert(
-    signature.end(), { static_cast<double>(frame.CastWidth), static_cast<double>(frame.CastHeight) });
+  std::vector<double> signature = frame.SelectionSignature();
   vtkIdType maximumPointId = 0, maximumCellId = 0;
   for (const auto& block : frame.Blocks)
   {
@@ -58,6 +58,20 @@ void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* acto
   {
     return; // (said at this selection's first pass; the other passes say nothing more)
   }
+  // The exact image is needed now: the last full-resolution frame's (KeepForSelection), or this
+  // view's background cast of the same view, waited for (it is no longer than a new cast).
+  Refinement* refining = gl.Refining.get();
+  if (signature != image.Signature && refining && refining->SelectionSignature == signature)
+  {
+    if (refining->Worker.joinable())
+    {
+      refining->Worker.join();
+    }
+    if (refining->Finished)
+    {
+      image.Keep(frame, refining->Cast, signature);
+    }
+  }
   if (signature != image.Signature)
   {
     image.Signature.clear();
@@ -66,7 +80,8 @@ void vtkDirectSurfaceMapper::DrawSelection(vtkRenderer* renderer, vtkActor* acto
     {
       return;
     }
-    in.CancelRefinements(); // (the cast may rebuild the prepared meshes they read)
+    // (A cast of other data or settings may rebuild the prepared meshes they read.)
+    in.CancelRefinements(&frame);
     if (!this->CastBlocks(frame))
     {
       return;
@@ -119,6 +134,15 @@ void vtkDirectSurfaceMapper::Internals::ViewResources::SelectionImage::Keep(
   }
   this->PointIds.clear();
   this->Signature = std::move(signature);
+}
+
+void vtkDirectSurfaceMapper::Internals::ViewResources::KeepForSelection(
+  const Frame& frame, const ImageCast& cast)
+{
+  if (frame.ServesSelection())
+  {
+    this->Selection.Keep(frame, cast, frame.SelectionSignature());
+  }
 }
 
 void vtkDirectSurfaceMapper::Internals::ViewResources::SelectionImage::FindNearestPoints(

@@ -23,6 +23,7 @@
 #include "vtkPointData.h"
 #include "vtkPlane.h"
 #include "vtkProperty.h"
+#include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
 #include "vtkTransform.h"
 #include "vtkUnstructuredGrid.h"
@@ -42,6 +43,17 @@ namespace
 {
 using tetdsr::Messages;
 using tetdsr::NumberSetting;
+
+/// Whether `view` is between PrepareForScreenshot and CleanupAfterScreenshot (ParaView 5.11 keeps
+/// the getter protected: reached through a member pointer named in a subclass's scope).
+bool TakingScreenshot(vtkPVView* view)
+{
+  struct Access : vtkPVView
+  {
+    static bool Of(vtkPVView* view) { return (view->*(&Access::GetInCaptureScreenshot))(); }
+  };
+  return Access::Of(view);
+}
 
 /// The unstructured grids of an input (itself, or a composite's blocks).
 std::vector<vtkUnstructuredGrid*> GridsOf(vtkDataObject* input)
@@ -276,6 +288,10 @@ int vtkDirectSurfaceRepresentation::ProcessViewRequest(
   else if (request == vtkPVView::REQUEST_RENDER())
   {
     this->CheckInput();
+    // A screenshot is read back right after its render: exact then, shown at once and refined in
+    // the background otherwise (in the GUI).
+    auto* view = vtkPVView::SafeDownCast(inInfo->Get(vtkPVView::VIEW()));
+    this->Mapper->SetSynchronousStillRenders(view && TakingScreenshot(view));
     vtkAlgorithmOutput* producer = vtkPVRenderView::GetPieceProducer(inInfo, this);
     this->Mapper->SetInputConnection(producer);
     // What the view delivered this render: a grid without cells (before the first delivery, as
@@ -375,6 +391,13 @@ bool vtkDirectSurfaceRepresentation::AddToView(vtkView* view)
     // Selection (Select Cells / Points On, hovering): the actor's pixels name this representation.
     renderView->RegisterPropForHardwareSelection(this, this->Actor);
     this->Renderer = renderView->GetRenderer();
+    if (vtkPVView::GetUseGenericOpenGLRenderWindow())
+    {
+      // The GUI (pqApplicationCore asks for windows embedded in its widgets): the interactor's
+      // event loop runs, so that even the first render of the surface is shown at once and
+      // refined in the background.
+      this->Mapper->DeclareEventLoopRuns(renderView->GetInteractor());
+    }
     // Before the synchronized renderers' own EndEvent observers (priority 0), which put IceT's
     // composited image on process 0's screen and send it to a client.
     this->DrawTranslucentTag = this->Renderer->AddObserver(

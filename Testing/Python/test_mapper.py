@@ -132,12 +132,12 @@ def window_depth(composite, points):
     return 0.5 * clip[:, 2] / clip[:, 3] + 0.5
 
 
-def pixel_rays(composite):
+def pixel_rays(composite, width=W, height=H):
     """Rays through pixel centres from the inverse composite projection (near to far plane)."""
     inverse = np.linalg.inv(composite)
-    i, j = np.meshgrid(np.arange(W), np.arange(H))
-    x = (2 * (i.ravel() + 0.5) / W - 1)
-    y = (2 * (j.ravel() + 0.5) / H - 1)
+    i, j = np.meshgrid(np.arange(width), np.arange(height))
+    x = (2 * (i.ravel() + 0.5) / width - 1)
+    y = (2 * (j.ravel() + 0.5) / height - 1)
     def unproject(z):
         p = np.c_[x, y, np.full_like(x, z), np.ones_like(x)] @ inverse.T
         return p[:, :3] / p[:, 3:]
@@ -146,10 +146,10 @@ def pixel_rays(composite):
     return near, direction / np.linalg.norm(direction, axis=1)[:, None]
 
 
-def sphere_truth(composite, radius2=RADIUS2):
+def sphere_truth(composite, radius2=RADIUS2, width=W, height=H):
     """Exact first hit of each pixel ray with |x|^2 = radius2, as window depth (1 on a miss),
     and each ray's margin: how far from grazing (|discriminant| / radius^2)."""
-    origin, direction = pixel_rays(composite)
+    origin, direction = pixel_rays(composite, width, height)
     b = np.sum(origin * direction, axis=1)
     c = np.sum(origin * origin, axis=1) - radius2
     disc = b * b - c
@@ -157,7 +157,7 @@ def sphere_truth(composite, radius2=RADIUS2):
     hit = disc >= 0
     depth = np.ones(len(t))
     depth[hit] = window_depth(composite, origin[hit] + t[hit, None] * direction[hit])
-    return depth.reshape(H, W), np.abs(disc).reshape(H, W) / radius2
+    return depth.reshape(height, width), np.abs(disc).reshape(height, width) / radius2
 
 
 def nested_spheres(mapper, actor, renderer):
