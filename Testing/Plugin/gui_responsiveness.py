@@ -32,6 +32,8 @@ import sys
 import tempfile
 import time
 
+from mpi_private_displays import start_server, stop_server
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ACTIONS = ("show", "iso", "colour", "reset", "wheel", "screenshot")
 MENU_TIMEOUT = 60.0  # seconds to wait for the File menu before calling the GUI hung
@@ -47,24 +49,13 @@ def xdotool(*args, check=True):
 
 
 def start_display():
-    """A private Xvfb on a free display number, with openbox; returns (display, processes)."""
-    for number in range(150, 250):
-        if os.path.exists(f"/tmp/.X{number}-lock") or os.path.exists(f"/tmp/.X11-unix/X{number}"):
-            continue
-        server = subprocess.Popen(["Xvfb", f":{number}", "-screen", "0", "1600x1000x24", "-nolisten",
-                                   "tcp"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        display = f":{number}"
-        for _ in range(100):
-            if subprocess.run(["xdpyinfo", "-display", display], capture_output=True).returncode == 0:
-                manager = subprocess.Popen(["openbox"], env={**os.environ, "DISPLAY": display},
-                                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-                time.sleep(0.5)
-                return display, [manager, server]
-            if server.poll() is not None:
-                break
-            time.sleep(0.1)
-        server.kill()
-    sys.exit("no free X display number")
+    """A private Xvfb (mpi_private_displays.start_server: a display of its own, stopped so that it
+    removes its lock file) with openbox; returns (display, server, window manager)."""
+    server, display = start_server(screen="1600x1000x24")
+    manager = subprocess.Popen(["openbox"], env={**os.environ, "DISPLAY": display},
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    time.sleep(0.5)
+    return display, server, manager
 
 
 class Gui:
@@ -165,7 +156,7 @@ def main_thread_cpu(pid):
 
 def measure(args):
     work = tempfile.mkdtemp(prefix="tetdsr-gui-responsiveness-")
-    display, helpers = start_display()
+    display, server, manager = start_display()
     os.environ["DISPLAY"] = display
     gui = Gui(args, work)
     results = {"log": gui.log_path}
@@ -209,8 +200,8 @@ def measure(args):
     finally:
         if gui.process.poll() is None:
             gui.process.kill()
-        for process in helpers:
-            process.kill()
+        manager.terminate()
+        stop_server(server)
     return results
 
 

@@ -30,7 +30,7 @@ SERVER_ENVIRONMENT = {key: value for key, value in os.environ.items()
                       if key not in ("LD_PRELOAD", "ASAN_OPTIONS", "UBSAN_OPTIONS")}
 
 
-def start_server():
+def start_server(screen="1280x1024x24"):
     """An Xvfb on a display of its own: a random number in [100, 900) without a lock file (not
     the lowest free one, which every other -displayfd user on the machine picks too: two servers
     racing for a stale lock of :0 were seen to leave a rank's connection refused on every
@@ -45,7 +45,7 @@ def start_server():
             continue
         read, write = os.pipe()
         server = subprocess.Popen(
-            ["Xvfb", f":{number}", "-displayfd", str(write), "-screen", "0", "1280x1024x24",
+            ["Xvfb", f":{number}", "-displayfd", str(write), "-screen", "0", screen,
              "-nolisten", "tcp", "-noreset"],
             pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=SERVER_ENVIRONMENT)
         os.close(write)
