@@ -108,6 +108,25 @@ def polygon_actor(source, color):
     return actor
 
 
+def event_loop(window):
+    """An interactor on `window` whose events the test processes itself (an event loop, as far as
+    the mapper can tell), and process_events(until, seconds): processes them until `until()` or
+    `seconds` have passed; returns until()."""
+    interactor = vtkRenderWindowInteractor()
+    interactor.SetRenderWindow(window)
+    interactor.SetStillUpdateRate(0.0001)
+    interactor.Initialize()
+
+    def process_events(until, seconds):
+        end = time.perf_counter() + seconds
+        while not until() and time.perf_counter() < end:
+            interactor.ProcessEvents()
+            time.sleep(0.005)
+        return until()
+
+    return interactor, process_events
+
+
 def zbuffer(window):
     width, height = window.GetSize()
     z = vtkFloatArray()
@@ -577,18 +596,8 @@ class Mapper(unittest.TestCase):
         mapper.SetNumberOfThreads(1)  # a background cast of some tenths of a second
         mapper.AutoAdjustSampleDistancesOff()
         mapper.SetInteractiveImageSampleDistance(4)
-        interactor = vtkRenderWindowInteractor()
-        interactor.SetRenderWindow(window)
-        interactor.SetStillUpdateRate(0.0001)
-        interactor.Initialize()
+        interactor, process_events = event_loop(window)
         camera = renderer.GetActiveCamera()
-
-        def process_events(until, seconds):
-            end = time.perf_counter() + seconds
-            while not until() and time.perf_counter() < end:
-                interactor.ProcessEvents()
-                time.sleep(0.005)
-            return until()
 
         def interact():
             camera.Azimuth(10)

@@ -11,12 +11,11 @@ import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkDataObject
 from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
-from vtkmodules.vtkRenderingCore import (vtkHardwareSelector, vtkRenderWindow,
-                                         vtkRenderWindowInteractor)
+from vtkmodules.vtkRenderingCore import vtkHardwareSelector, vtkRenderWindow
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (OpenGL factories)
 import vtkmodules.vtkRenderingUI  # noqa: F401 (the X interactor, whose event loop runs timers)
 
-from test_mapper import DEPTH_TOLERANCE, matrix, pixel_rays, scene, window_depth, zbuffer
+from test_mapper import DEPTH_TOLERANCE, event_loop, matrix, pixel_rays, scene, window_depth, zbuffer
 from tetdsr import vtkDirectSurfaceRayCaster
 
 
@@ -47,18 +46,8 @@ class StillRefinement(unittest.TestCase):
             renderer.GetActiveCamera().SetFocalPoint(0, 0, 0)
         window, renderer, mapper, _ = scene(ball, iso=0.15, configure=linear, window=window)
         mapper.SetNumberOfThreads(1)  # curved cells: full casts of about a second
-        interactor = vtkRenderWindowInteractor()
-        interactor.SetRenderWindow(window)
-        interactor.SetStillUpdateRate(0.0001)
-        interactor.Initialize()
+        interactor, process_events = event_loop(window)
         camera = renderer.GetActiveCamera()
-
-        def process_events(until, seconds):
-            end = time.perf_counter() + seconds
-            while not until() and time.perf_counter() < end:
-                interactor.ProcessEvents()
-                time.sleep(0.005)
-            return until()
 
         def refined():
             return tuple(mapper.GetLastCastSize()) == (width, height) and not mapper.GetLastRenderRefining()
